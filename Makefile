@@ -1,0 +1,30 @@
+# The two commands of README.md: `make race` and `make test`. Both set up the machine first (scripts/setup
+# installs only what is missing) and build. Debian's ROS needs Debian's python, hence /usr/bin first.
+SHELL := /bin/bash
+BUILD := build
+export PATH := /usr/bin:$(PATH)
+MAKEFLAGS += --no-print-directory
+
+.PHONY: all setup build race test bench clean
+all: build
+
+setup:
+	@bash scripts/setup
+
+build: setup
+	@cmake -S . -B $(BUILD) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCATKIN_ENABLE_TESTING=ON > $(BUILD).configure.log 2>&1 \
+	  || { cat $(BUILD).configure.log; exit 1; }
+	@cmake --build $(BUILD) -j2
+
+race: build
+	@bash scripts/race
+
+test: build
+	@bash scripts/test
+
+bench: build
+	@$(BUILD)/devel/lib/roar_ros/roar_bench
+
+clean:
+	rm -rf $(BUILD) $(BUILD).configure.log

@@ -1,0 +1,37 @@
+#pragma once
+// Conversions between roar_ros / standard ROS messages and the ROS-free core types. Free functions,
+// each tested by a round trip in test/unit/msg_conversion_test.cpp.
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/time.h>
+#include <roar_ros/CollisionEvent.h>
+#include <roar_ros/VehicleControl.h>
+#include <roar_ros/VehicleStatus.h>
+
+#include "roar/sim/world.h"
+
+namespace roar::ros_bridge {
+
+sim::VehicleControl fromMessage(const roar_ros::VehicleControl& msg);
+roar_ros::VehicleControl toMessage(const sim::VehicleControl& control);
+
+sim::Pose fromMessage(const geometry_msgs::Pose& msg);
+geometry_msgs::Pose toMessage(const sim::Pose& pose);
+
+// Simulated seconds since the start <-> ROS time (the simulator's /clock starts at zero).
+ros::Time toRosTime(double seconds);
+
+// Pose of base_link in `map_frame`; twist in base_link (nav_msgs/Odometry convention).
+nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
+                              const std::string& base_frame);
+roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame);
+geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
+                                           const std::string& child);
+roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
+                                          const std::string& map_frame);
+
+// Yaw (rad) of a quaternion message, for planar drivers.
+double yawOf(const geometry_msgs::Quaternion& q);
+
+}  // namespace roar::ros_bridge

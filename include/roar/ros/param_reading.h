@@ -1,0 +1,30 @@
+#pragma once
+// Reading ROS parameters in one place per node, failing loudly with the parameter's full name.
+#include <ros/node_handle.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace roar::ros_bridge {
+
+class ParamError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The value, or `fallback` when unset; throws ParamError when set with the wrong type or outside [lo, hi].
+double readDouble(const ros::NodeHandle& nh, const std::string& name, double fallback, double lo, double hi);
+int readInt(const ros::NodeHandle& nh, const std::string& name, int fallback, int lo, int hi);
+bool readBool(const ros::NodeHandle& nh, const std::string& name, bool fallback);
+std::string readString(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback);
+// One of `choices`.
+std::string readChoice(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback,
+                       const std::vector<std::string>& choices);
+std::vector<std::string> readStringList(const ros::NodeHandle& nh, const std::string& name,
+                                        const std::vector<std::string>& fallback);
+
+// The package's own folder (for default paths of maps, URDFs and vehicle configs).
+std::string packagePath();
+
+}  // namespace roar::ros_bridge

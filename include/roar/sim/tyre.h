@@ -1,0 +1,34 @@
+#pragma once
+// Tyre forces from the Pacejka magic formula F = D sin(C atan(B s - E (B s - atan(B s)))), with
+//  - load sensitivity: the friction coefficient falls as the load rises above the nominal load, and
+//  - combined slip by normalised slip: each slip is divided by the slip of its pure-slip peak, the
+//    resultant rho = |(kappa/kappa_peak, alpha/alpha_peak)| is fed to each curve and the force shared out
+//    in proportion, so that pure slip gives the pure curves and combined slip stays inside the friction ellipse.
+#include "roar/sim/vehicle_params.h"
+
+namespace roar::sim {
+
+struct TyreForce {
+  double longitudinal = 0.0;  // N, along the wheel heading
+  double lateral = 0.0;       // N, to the wheel's left
+};
+
+class TyreModel {
+ public:
+  explicit TyreModel(const TyreParams& params);
+
+  // slip_ratio = (omega r - vx) / |vx|; slip_angle = atan(vy / |vx|) in radians (vy: contact patch velocity to
+  // the left); load in N; mu: road friction. The lateral force opposes the slip angle.
+  TyreForce force(double slip_ratio, double slip_angle, double load, double mu) const;
+  // Friction force available at this load and road: the magic formula's D.
+  double peakForce(double load, double mu) const;
+  double peakSlipRatio() const { return peak_slip_ratio_; }
+  double peakSlipAngle() const { return peak_slip_angle_; }
+
+ private:
+  TyreParams params_;
+  double peak_slip_ratio_;
+  double peak_slip_angle_;
+};
+
+}  // namespace roar::sim

@@ -1,0 +1,28 @@
+#pragma once
+#include <stdexcept>
+#include <string>
+
+#include "roar/sim/vehicle_params.h"
+
+namespace roar::sim {
+
+class VehicleConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Mass, inertia, centre of mass, body box and wheel positions and sizes from a URDF (urdfdom).
+// The wheels are the links named wheel_front_left, wheel_front_right, wheel_rear_left, wheel_rear_right.
+void readVehicleUrdf(const std::string& urdf_path, VehicleParams* params);
+void readVehicleUrdfString(const std::string& urdf_xml, const std::string& source, VehicleParams* params);
+
+// Drivetrain, tyres, suspension, steering, brakes and aero from YAML; every error names the file and field.
+void readVehicleYaml(const std::string& yaml_path, VehicleParams* params);
+
+// `<urdf_dir>/<model>.urdf` and `<config_dir>/<model>.yaml`; an unknown model lists the known ones.
+VehicleParams loadVehicleModel(const std::string& model, const std::string& urdf_dir, const std::string& config_dir);
+
+// Throws VehicleConfigError naming the first implausible value.
+void validate(const VehicleParams& params, const std::string& source);
+
+}  // namespace roar::sim

@@ -1,0 +1,108 @@
+#pragma once
+// Everything the simulator knows about a car model, in SI units. Geometry and mass come from the URDF,
+// drivetrain, tyres and aerodynamics from config/vehicles/<model>.yaml (see vehicle_config.h).
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace roar::sim {
+
+struct ChassisParams {
+  double mass = 1850.0;                                  // kg
+  Eigen::Vector3d inertia{600.0, 2800.0, 3100.0};        // kg m^2, principal, about the centre of mass
+  Eigen::Vector3d centre_of_mass{0.0, 0.0, 0.5};        // m, in base_link
+  Eigen::Vector3d box_size{4.7, 1.85, 1.0};              // m, collision box of the body
+  Eigen::Vector3d box_centre{0.0, 0.0, 0.85};            // m, in base_link
+};
+
+struct WheelParams {
+  std::string name;             // URDF link name
+  Eigen::Vector3d position;     // m, wheel centre in base_link at static ride height
+  double radius = 0.34;         // m
+  double width = 0.235;         // m
+  bool front = false;
+  bool left = false;
+};
+
+struct SuspensionParams {
+  double stiffness = 45000.0;  // N/m at the wheel
+  double damping = 3500.0;     // N s/m at the wheel
+  double travel = 0.12;        // m of compression from static ride height before the bump stop
+  double droop = 0.12;         // m of extension from static ride height before the wheel leaves the ground
+  // Anti-roll bars: N/m of left-right compression difference. More front than rear makes the car
+  // understeer at the limit, as road cars are set up.
+  double anti_roll_front = 25000.0;
+  double anti_roll_rear = 8000.0;
+};
+
+struct TyreParams {
+  // Pacejka magic formula, pure slip, with normalised combined slip (see tyre.h).
+  double long_b = 20.0, long_c = 1.55, long_e = 0.3;
+  double lat_b = 18.0, lat_c = 1.45, lat_e = 0.3;
+  double nominal_load = 4500.0;     // N, Fz0
+  double load_sensitivity = 0.08;   // friction drop per unit of (Fz - Fz0) / Fz0
+  double rolling_resistance = 0.012;
+  double wheel_inertia = 1.2;       // kg m^2, wheel and tyre about the axle
+};
+
+struct EngineParams {
+  std::vector<std::pair<double, double>> torque_curve;  // (rpm, N m) at full throttle, rising rpm
+  double idle_rpm = 900.0;
+  double redline_rpm = 7000.0;
+  double engine_brake_torque = 60.0;  // N m at redline with the throttle closed, proportional to rpm
+};
+
+struct GearboxParams {
+  std::vector<double> ratios;  // forward gears, first to top
+  double reverse_ratio = 3.2;
+  double final_drive = 3.5;
+  double efficiency = 0.9;
+  double shift_up_rpm = 6500.0;
+  double shift_down_rpm = 3000.0;
+  double shift_time = 0.15;  // s without drive torque while shifting
+};
+
+struct BrakeParams {
+  double max_torque_front = 3200.0;  // N m per wheel at brake = 1
+  double max_torque_rear = 2000.0;
+  double hand_brake_torque = 3000.0;  // N m per rear wheel
+  bool abs = true;                    // keeps braking slip below the tyre's peak
+  // Electronic brake-force distribution: the rear wheels brake with at most this share of their grip,
+  // keeping lateral grip at the rear when braking into a corner.
+  double rear_grip_share = 0.8;
+};
+
+struct SteeringParams {
+  double max_angle = 0.61;  // rad, road wheel angle at steer = 1
+  double max_rate = 2.5;    // rad/s
+};
+
+struct AeroParams {
+  double drag_area = 0.58;     // m^2, Cd * A
+  double downforce_area = 0.25;  // m^2, Cl * A, positive pushes down
+  double front_downforce_share = 0.45;
+  double air_density = 1.2;    // kg/m^3
+};
+
+struct VehicleParams {
+  std::string model;
+  ChassisParams chassis;
+  std::array<WheelParams, 4> wheels;  // front left, front right, rear left, rear right
+  SuspensionParams suspension;
+  TyreParams tyre;
+  EngineParams engine;
+  GearboxParams gearbox;
+  BrakeParams brakes;
+  SteeringParams steering;
+  AeroParams aero;
+  double front_drive_share = 0.4;  // share of drive torque to the front axle (0: rear-wheel drive)
+  bool traction_control = true;    // keeps driving slip below the tyre's peak
+  double rear_grip_share = 0.8;    // traction control lets the rear wheels drive with at most this share of their grip
+
+  double wheelbase() const { return wheels[0].position.x() - wheels[2].position.x(); }
+  double track_width() const { return wheels[0].position.y() - wheels[1].position.y(); }
+};
+
+}  // namespace roar::sim

@@ -1,0 +1,110 @@
+#pragma once
+// The simulated world: a track's road, barriers and ground in Bullet, and vehicles driving on it.
+// Time advances in fixed control ticks, each split into fixed physics substeps; the same inputs give the
+// same trajectory bit for bit. Bullet stays behind this header (pimpl) to keep its headers out of users.
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "roar/sim/vehicle_control.h"
+#include "roar/sim/vehicle_params.h"
+#include "roar/track/track.h"
+
+namespace roar::sim {
+
+struct WorldOptions {
+  double control_dt = 0.05;     // s, one tick: controls are applied and states reported once per tick
+  double physics_dt = 0.005;    // s, Bullet substep; control_dt must be a whole multiple of it
+  double gravity = 9.81;        // m/s^2
+  double control_timeout = 0.5; // s of simulated time without a new control before the car brakes (0: never)
+};
+
+struct Pose {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+struct WheelState {
+  double angular_velocity = 0.0;  // rad/s about the axle, positive rolling forward
+  double steer_angle = 0.0;       // rad
+  double load = 0.0;              // N
+  double slip_ratio = 0.0;
+  double slip_angle = 0.0;        // rad
+  double compression = 0.0;       // m from static ride height, positive compressed
+  bool in_contact = false;
+  bool on_road = false;
+};
+
+struct VehicleState {
+  Pose pose;                         // base_link in the map frame
+  Eigen::Vector3d linear_velocity;   // m/s of base_link, map frame
+  Eigen::Vector3d angular_velocity;  // rad/s, map frame
+  Eigen::Vector3d body_linear_velocity;   // m/s, base_link frame
+  Eigen::Vector3d body_angular_velocity;  // rad/s, base_link frame
+  Eigen::Vector3d body_acceleration;      // m/s^2 over the last tick, base_link frame (gravity not included)
+  double speed = 0.0;
+  double forward_speed = 0.0;
+  int gear = 0;
+  double engine_rpm = 0.0;
+  double steering_angle = 0.0;  // rad, mean of the front wheels
+  std::array<WheelState, 4> wheels;
+  bool on_track = false;        // every wheel on the road surface
+  VehicleControl applied_control;
+};
+
+// A contact of a vehicle's body during the last tick, summed per other body.
+struct Contact {
+  std::string other;              // vehicle name, "barrier" or "ground"
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();   // N s on this vehicle, map frame
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // impulse-weighted contact point, map frame
+};
+
+class SpawnError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class World {
+ public:
+  // Throws std::invalid_argument for inconsistent options.
+  World(const track::Track& track, const WorldOptions& options);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  const track::Track& track() const;
+  const WorldOptions& options() const;
+
+  // Places the car at rest on the ground at the pose's x, y and yaw (z, roll and pitch are taken from
+  // the ground). Throws SpawnError with the reason: a taken name, overlap with another car, no ground.
+  void spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose);
+  void destroyVehicle(const std::string& name);  // throws SpawnError for an unknown name
+  void resetVehicle(const std::string& name, const Pose& pose);
+  bool hasVehicle(const std::string& name) const;
+  std::vector<std::string> vehicleNames() const;
+  const VehicleParams& vehicleParams(const std::string& name) const;
+
+  // The control stays until replaced; it must have passed checkControl.
+  void setControl(const std::string& name, const VehicleControl& control);
+
+  // One control tick.
+  void step();
+  std::uint64_t tick() const;
+  double time() const;  // s, tick * control_dt
+
+  VehicleState vehicleState(const std::string& name) const;
+  const std::vector<Contact>& contacts(const std::string& name) const;  // during the last tick
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// A spawn pose on the track surface at a track pose (heading along the driving direction).
+Pose poseOnTrack(const track::TrackPose& track_pose);
+
+}  // namespace roar::sim

@@ -1,0 +1,22 @@
+#pragma once
+// Builds a smooth closed circuit from a few control points: a centripetal Catmull-Rom spline (no cusps or
+// self-loops between close points), resampled at an even spacing, with widths interpolated along it.
+#include <vector>
+
+#include "roar/track/track.h"
+
+namespace roar::track {
+
+struct ControlPoint {
+  double x = 0.0;
+  double y = 0.0;
+  double width = 12.0;  // full road width at this point, metres, split evenly left and right
+};
+
+// Throws std::invalid_argument for fewer than 3 control points or a non-positive spacing or width.
+std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& controls, double spacing);
+
+// Resamples a closed centre line at an even spacing (the last gap absorbs the remainder).
+std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing);
+
+}  // namespace roar::track

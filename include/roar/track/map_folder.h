@@ -1,0 +1,39 @@
+#pragma once
+// Reading a map folder: `track.yaml` plus a centre-line CSV in the TUMFTM racetrack-database format
+// (`x_m,y_m,w_tr_right_m,w_tr_left_m`, optional `#` header). Every error names the file and, where there
+// is one, the line.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "roar/track/track.h"
+
+namespace roar::track {
+
+class MapError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CentreLineFile {
+  std::vector<CentreLinePoint> points;
+  std::vector<int> lines;  // the file line each point came from, for error messages
+};
+
+CentreLineFile readCentreLineCsv(const std::string& path);
+void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoint>& points);
+
+// Throws MapError when the road edges of the track cross themselves or each other.
+// `lines` maps point indices to file lines for the message (may be empty).
+void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines);
+
+TrackInfo readTrackYaml(const std::string& path);
+
+// Loads `<folder>/track.yaml` and the centre line it names (default `centerline.csv`), validated.
+Track loadMapFolder(const std::string& folder);
+
+// `map` is a folder path, or a name looked up as `<maps_dir>/<map>`.
+std::string resolveMapFolder(const std::string& map, const std::string& maps_dir);
+std::vector<std::string> listMaps(const std::string& maps_dir);
+
+}  // namespace roar::track

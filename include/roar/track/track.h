@@ -1,0 +1,97 @@
+#pragma once
+// A closed circuit: a centre line with right and left widths, in the map frame (x east, y north, metres).
+// The driving direction is the order of the points; progress `s` is the distance along the centre line.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace roar::track {
+
+struct CentreLinePoint {
+  double x = 0.0;
+  double y = 0.0;
+  double width_right = 0.0;  // metres from the centre line to the right edge
+  double width_left = 0.0;   // metres from the centre line to the left edge
+};
+
+struct GeoOrigin {
+  double latitude = 0.0;   // degrees
+  double longitude = 0.0;  // degrees
+  double altitude = 0.0;   // metres
+};
+
+struct TrackInfo {
+  std::string name;
+  GeoOrigin origin;              // geodetic position of the map frame's origin
+  double friction = 1.0;         // tyre-road friction coefficient of the road surface
+  double ground_friction = 0.6;  // off the road (grass, gravel)
+  double start_finish_s = 0.0;   // progress of the start/finish line along the centre line, metres
+  int sectors = 3;               // equal-length sectors starting at the start/finish line
+  double barrier_offset = 3.0;   // run-off: barriers stand this far outside each road edge, metres
+  double barrier_height = 1.0;   // metres
+};
+
+// A pose on the track at some progress, interpolated between centre-line points.
+struct TrackPose {
+  Eigen::Vector2d position;
+  double heading = 0.0;  // radians, direction of travel
+  double width_right = 0.0;
+  double width_left = 0.0;
+};
+
+// Where a point lies relative to the track.
+struct Projection {
+  std::size_t segment = 0;  // index of the centre-line segment [segment, segment+1)
+  double s = 0.0;           // progress of the nearest centre-line point, in [0, length)
+  double lateral = 0.0;     // signed distance from the centre line, positive to the left
+  double heading = 0.0;     // track heading at s
+  double width_right = 0.0;
+  double width_left = 0.0;
+  bool on_track() const { return lateral <= width_left && -lateral <= width_right; }
+};
+
+class Track {
+ public:
+  // Throws std::invalid_argument when there are fewer than 3 points or two consecutive points coincide.
+  Track(std::vector<CentreLinePoint> points, TrackInfo info);
+
+  const TrackInfo& info() const { return info_; }
+  std::size_t size() const { return points_.size(); }
+  double length() const { return length_; }
+  const std::vector<CentreLinePoint>& points() const { return points_; }
+  const CentreLinePoint& point(std::size_t i) const { return points_[i]; }
+  Eigen::Vector2d position(std::size_t i) const { return {points_[i].x, points_[i].y}; }
+  double s(std::size_t i) const { return s_[i]; }
+  double heading(std::size_t i) const { return heading_[i]; }
+  // Signed curvature (1/m), positive for a left turn.
+  double curvature(std::size_t i) const { return curvature_[i]; }
+  Eigen::Vector2d leftEdge(std::size_t i, double extra = 0.0) const;
+  Eigen::Vector2d rightEdge(std::size_t i, double extra = 0.0) const;
+
+  double wrap(double s) const;
+  // Distance travelled forward from s_from to reach s_to, in [0, length).
+  double forwardDistance(double s_from, double s_to) const;
+  TrackPose poseAt(double s) const;
+  double curvatureAt(double s) const;
+  Projection project(const Eigen::Vector2d& p) const;
+  // Only segments within `window` metres of progress `near_s`: cheap for a car that was near there recently.
+  Projection projectNear(const Eigen::Vector2d& p, double near_s, double window) const;
+
+  // Start grid: slot 0 (pole) `first_gap` metres behind the start/finish line, then alternating sides.
+  std::vector<TrackPose> gridSpawnPoints(int count, double first_gap = 10.0, double spacing = 8.0) const;
+
+ private:
+  std::size_t segmentAt(double s) const;
+  Projection projectOnSegment(const Eigen::Vector2d& p, std::size_t i, double* dist2) const;
+
+  std::vector<CentreLinePoint> points_;
+  TrackInfo info_;
+  std::vector<double> s_;
+  std::vector<double> heading_;
+  std::vector<double> curvature_;
+  double length_ = 0.0;
+};
+
+double wrapAngle(double a);
+
+}  // namespace roar::track

@@ -1,0 +1,13 @@
+# Sourced by scripts/race and scripts/test: the built package's ROS environment.
+export PATH=/usr/bin:$PATH
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+# Debian's ROS profile scripts read unset variables: source them without `set -u`.
+restore_u=$([[ $- == *u* ]] && echo 1 || true)
+set +u
+# shellcheck disable=SC1091
+source "$root/build/devel/setup.bash"
+[ -n "$restore_u" ] && set -u
+export ROS_PACKAGE_PATH="$root${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}"
+export ROS_HOME="$root/build/ros_home"
+export ROS_LOG_DIR="$root/build/ros_log"
+mkdir -p "$ROS_HOME" "$ROS_LOG_DIR"

@@ -1,0 +1,128 @@
+#include "roar/ros/msg_conversion.h"
+
+#include <cmath>
+
+namespace roar::ros_bridge {
+
+sim::VehicleControl fromMessage(const roar_ros::VehicleControl& msg) {
+  sim::VehicleControl c;
+  c.throttle = msg.throttle;
+  c.steer = msg.steer;
+  c.brake = msg.brake;
+  c.hand_brake = msg.hand_brake;
+  c.reverse = msg.reverse;
+  c.manual_gear_shift = msg.manual_gear_shift;
+  c.gear = msg.gear;
+  return c;
+}
+
+roar_ros::VehicleControl toMessage(const sim::VehicleControl& c) {
+  roar_ros::VehicleControl msg;
+  msg.throttle = static_cast<float>(c.throttle);
+  msg.steer = static_cast<float>(c.steer);
+  msg.brake = static_cast<float>(c.brake);
+  msg.hand_brake = c.hand_brake;
+  msg.reverse = c.reverse;
+  msg.manual_gear_shift = c.manual_gear_shift;
+  msg.gear = c.gear;
+  return msg;
+}
+
+sim::Pose fromMessage(const geometry_msgs::Pose& msg) {
+  sim::Pose pose;
+  pose.position = Eigen::Vector3d(msg.position.x, msg.position.y, msg.position.z);
+  Eigen::Quaterniond q(msg.orientation.w, msg.orientation.x, msg.orientation.y, msg.orientation.z);
+  // An all-zero quaternion (a default-constructed message) means "no rotation".
+  pose.orientation = q.norm() > 1e-9 ? q.normalized() : Eigen::Quaterniond::Identity();
+  return pose;
+}
+
+geometry_msgs::Pose toMessage(const sim::Pose& pose) {
+  geometry_msgs::Pose msg;
+  msg.position.x = pose.position.x();
+  msg.position.y = pose.position.y();
+  msg.position.z = pose.position.z();
+  msg.orientation.w = pose.orientation.w();
+  msg.orientation.x = pose.orientation.x();
+  msg.orientation.y = pose.orientation.y();
+  msg.orientation.z = pose.orientation.z();
+  return msg;
+}
+
+ros::Time toRosTime(double seconds) {
+  ros::Time t;
+  t.fromSec(seconds);
+  return t;
+}
+
+nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
+                              const std::string& base_frame) {
+  nav_msgs::Odometry odom;
+  odom.header.stamp = stamp;
+  odom.header.frame_id = map_frame;
+  odom.child_frame_id = base_frame;
+  odom.pose.pose = toMessage(state.pose);
+  odom.twist.twist.linear.x = state.body_linear_velocity.x();
+  odom.twist.twist.linear.y = state.body_linear_velocity.y();
+  odom.twist.twist.linear.z = state.body_linear_velocity.z();
+  odom.twist.twist.angular.x = state.body_angular_velocity.x();
+  odom.twist.twist.angular.y = state.body_angular_velocity.y();
+  odom.twist.twist.angular.z = state.body_angular_velocity.z();
+  // Ground truth: tiny variances, so consumers that invert covariances stay finite.
+  for (int i = 0; i < 6; ++i) {
+    odom.pose.covariance[i * 7] = 1e-9;
+    odom.twist.covariance[i * 7] = 1e-9;
+  }
+  return odom;
+}
+
+roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame) {
+  roar_ros::VehicleStatus msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = base_frame;
+  msg.speed = state.speed;
+  msg.forward_speed = state.forward_speed;
+  msg.gear = state.gear;
+  msg.engine_rpm = state.engine_rpm;
+  msg.steering_angle = state.steering_angle;
+  for (int i = 0; i < 4; ++i) msg.wheel_speeds[i] = state.wheels[i].angular_velocity;
+  msg.on_track = state.on_track;
+  msg.applied_control = toMessage(state.applied_control);
+  msg.applied_control.header.stamp = stamp;
+  return msg;
+}
+
+geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
+                                           const std::string& child) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  const auto p = toMessage(pose);
+  t.transform.translation.x = p.position.x;
+  t.transform.translation.y = p.position.y;
+  t.transform.translation.z = p.position.z;
+  t.transform.rotation = p.orientation;
+  return t;
+}
+
+roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
+                                          const std::string& map_frame) {
+  roar_ros::CollisionEvent msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = map_frame;
+  msg.other = contact.other;
+  msg.impulse.x = contact.impulse.x();
+  msg.impulse.y = contact.impulse.y();
+  msg.impulse.z = contact.impulse.z();
+  msg.position.x = contact.position.x();
+  msg.position.y = contact.position.y();
+  msg.position.z = contact.position.z();
+  return msg;
+}
+
+double yawOf(const geometry_msgs::Quaternion& q) {
+  return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+}
+
+}  // namespace roar::ros_bridge

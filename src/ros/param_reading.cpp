@@ -1,0 +1,89 @@
+#include "roar/ros/param_reading.h"
+
+#include <ros/package.h>
+
+#include <cmath>
+
+namespace roar::ros_bridge {
+
+namespace {
+
+std::string fullName(const ros::NodeHandle& nh, const std::string& name) { return nh.resolveName(name); }
+
+// XmlRpc keeps ints and doubles apart; a YAML "3" for a double parameter is fine.
+bool asDouble(const XmlRpc::XmlRpcValue& v, double* out) {
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return *out = static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return *out = static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
+  return false;
+}
+
+}  // namespace
+
+double readDouble(const ros::NodeHandle& nh, const std::string& name, double fallback, double lo, double hi) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(name, v)) return fallback;
+  double value;
+  if (!asDouble(v, &value)) throw ParamError("parameter " + fullName(nh, name) + " must be a number");
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    throw ParamError("parameter " + fullName(nh, name) + " = " + std::to_string(value) + " must be in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return value;
+}
+
+int readInt(const ros::NodeHandle& nh, const std::string& name, int fallback, int lo, int hi) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(name, v)) return fallback;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeInt) throw ParamError("parameter " + fullName(nh, name) + " must be an integer");
+  const int value = static_cast<int>(v);
+  if (value < lo || value > hi) {
+    throw ParamError("parameter " + fullName(nh, name) + " = " + std::to_string(value) + " must be in [" +
+                     std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return value;
+}
+
+bool readBool(const ros::NodeHandle& nh, const std::string& name, bool fallback) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(name, v)) return fallback;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) throw ParamError("parameter " + fullName(nh, name) + " must be true or false");
+  return static_cast<bool>(v);
+}
+
+std::string readString(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(name, v)) return fallback;
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + fullName(nh, name) + " must be a string");
+  return static_cast<std::string>(v);
+}
+
+std::string readChoice(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback,
+                       const std::vector<std::string>& choices) {
+  const std::string value = readString(nh, name, fallback);
+  std::string listed;
+  for (const auto& c : choices) {
+    if (c == value) return value;
+    listed += (listed.empty() ? "" : ", ") + c;
+  }
+  throw ParamError("parameter " + fullName(nh, name) + " = '" + value + "' must be one of: " + listed);
+}
+
+std::vector<std::string> readStringList(const ros::NodeHandle& nh, const std::string& name,
+                                        const std::vector<std::string>& fallback) {
+  XmlRpc::XmlRpcValue v;
+  if (!nh.getParam(name, v)) return fallback;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeString) return {static_cast<std::string>(v)};
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) throw ParamError("parameter " + fullName(nh, name) + " must be a list of strings");
+  std::vector<std::string> out;
+  for (int i = 0; i < v.size(); ++i) {
+    if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {
+      throw ParamError("parameter " + fullName(nh, name) + "[" + std::to_string(i) + "] must be a string");
+    }
+    out.push_back(static_cast<std::string>(v[i]));
+  }
+  return out;
+}
+
+std::string packagePath() { return ros::package::getPath("roar_ros"); }
+
+}  // namespace roar::ros_bridge

@@ -1,0 +1,234 @@
+#include "sim_node.h"
+
+#include <ros/callback_queue.h>
+#include <rosgraph_msgs/Clock.h>
+
+#include "roar/ros/msg_conversion.h"
+#include "roar/ros/param_reading.h"
+#include "roar/sim/vehicle_config.h"
+#include "roar/track/map_folder.h"
+
+namespace roar::ros_bridge {
+
+namespace {
+constexpr int kGridSlots = 20;  // spawn points: the start grid behind the start/finish line
+}
+
+SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options)
+    : nh_(nh), private_nh_(private_nh), options_(options), track_(track::loadMapFolder(options.map_folder)) {
+  world_ = std::make_unique<sim::World>(track_, options_.world);
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  for (const auto& v : options_.vehicles) {
+    if (v.spawn_point >= kGridSlots) {
+      throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
+                       std::to_string(kGridSlots - 1) + ")");
+    }
+    addVehicle(v.name, v.model, spawnPose(v.spawn_point));
+  }
+  services_.push_back(private_nh_.advertiseService("spawn_vehicle", &SimNode::onSpawn, this));
+  services_.push_back(private_nh_.advertiseService("destroy_vehicle", &SimNode::onDestroy, this));
+  services_.push_back(private_nh_.advertiseService("reset_vehicle", &SimNode::onReset, this));
+  services_.push_back(private_nh_.advertiseService("step", &SimNode::onStep, this));
+  ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s", track_.info().name.c_str(),
+           track_.length(), options_.vehicles.size(), options_.world.control_dt, options_.world.physics_dt);
+}
+
+sim::Pose SimNode::spawnPose(int spawn_point) const {
+  return sim::poseOnTrack(track_.gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
+}
+
+void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose) {
+  const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
+  world_->spawnVehicle(name, params, pose);
+  VehicleIo io;
+  io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
+  io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);
+  io.collision = nh_.advertise<roar_ros::CollisionEvent>(name + "/collision", 50);
+  io.control = nh_.subscribe<roar_ros::VehicleControl>(
+      name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
+      ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+  io_[name] = io;
+  ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), model.c_str(), pose.position.x(),
+           pose.position.y());
+}
+
+bool SimNode::applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why) {
+  const int gears = static_cast<int>(world_->vehicleParams(name).gearbox.ratios.size());
+  const sim::CheckedControl checked = sim::checkControl(fromMessage(msg), gears);
+  std::string problems;
+  for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
+  if (checked.rejected) {
+    *why = "control for '" + name + "' rejected: " + problems;
+    return false;
+  }
+  if (!problems.empty()) *why = "control for '" + name + "': " + problems;
+  world_->setControl(name, checked.control);
+  return true;
+}
+
+void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg) {
+  auto it = io_.find(name);
+  if (it == io_.end() || !world_->hasVehicle(name)) return;
+  std::string why;
+  const bool applied = applyControl(name, *msg, &why);
+  if (!why.empty()) ROS_WARN_THROTTLE(1.0, "roar_sim: %s", why.c_str());
+  if (applied) {
+    it->second.last_control_stamp = msg->header.stamp;
+    it->second.control_seen = true;
+  }
+}
+
+void SimNode::tick() {
+  world_->step();
+  publishState();
+}
+
+void SimNode::publishState() {
+  const ros::Time stamp = toRosTime(world_->time());
+  rosgraph_msgs::Clock clock;
+  clock.clock = stamp;
+  clock_pub_.publish(clock);
+  std::vector<geometry_msgs::TransformStamped> transforms;
+  for (auto& [name, io] : io_) {
+    const sim::VehicleState state = world_->vehicleState(name);
+    const std::string base = name + "/base_link";
+    io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
+    io.status.publish(toStatus(state, stamp, base));
+    transforms.push_back(toTransform(state.pose, stamp, options_.map_frame, base));
+    for (const auto& contact : world_->contacts(name)) io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
+  }
+  tf_.sendTransform(transforms);
+}
+
+bool SimNode::controlsArrived() const {
+  const ros::Time now = toRosTime(world_->time());
+  for (const auto& [name, io] : io_) {
+    // Only drivers that are connected are waited for; a car nobody drives stays parked.
+    if (io.control.getNumPublishers() == 0) continue;
+    if (!io.control_seen || io.last_control_stamp < now) return false;
+  }
+  return true;
+}
+
+void SimNode::run() {
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  // Give subscribers a moment to connect before the first state goes out.
+  const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(0.5);
+  while (ros::ok() && ros::WallTime::now() < settle) queue->callAvailable(ros::WallDuration(0.05));
+  publishState();
+
+  const ros::WallTime start = ros::WallTime::now();
+  const std::uint64_t start_tick = world_->tick();
+  ros::WallTime waiting_since = ros::WallTime::now();
+  while (ros::ok()) {
+    switch (options_.mode) {
+      case SteppingMode::kStep:
+        queue->callAvailable(ros::WallDuration(0.01));
+        break;
+      case SteppingMode::kLockstep: {
+        queue->callAvailable(ros::WallDuration(0.001));
+        const bool timed_out = (ros::WallTime::now() - waiting_since).toSec() > options_.lockstep_timeout;
+        if (controlsArrived() || timed_out) {
+          if (timed_out) {
+            ROS_WARN_THROTTLE(5.0, "roar_sim: no control for t=%.2f s within %.1f s of wall time; stepping without it",
+                              world_->time(), options_.lockstep_timeout);
+          }
+          tick();
+          waiting_since = ros::WallTime::now();
+        }
+        break;
+      }
+      case SteppingMode::kAsync: {
+        queue->callAvailable(ros::WallDuration(0));
+        tick();
+        if (options_.real_time_factor > 0) {
+          const double sim_elapsed = static_cast<double>(world_->tick() - start_tick) * options_.world.control_dt;
+          const ros::WallTime due = start + ros::WallDuration(sim_elapsed / options_.real_time_factor);
+          while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
+        }
+        break;
+      }
+    }
+  }
+}
+
+bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res) {
+  try {
+    if (req.spawn_point >= kGridSlots || req.spawn_point < -1) {
+      throw std::invalid_argument("spawn_point " + std::to_string(req.spawn_point) + " does not exist (-1 for pose, 0.." +
+                                  std::to_string(kGridSlots - 1) + ")");
+    }
+    if (req.name.empty() || req.name.find_first_of(" /") != std::string::npos) {
+      throw std::invalid_argument("name '" + req.name + "' must be non-empty, without spaces or '/'");
+    }
+    const sim::Pose pose = req.spawn_point >= 0 ? spawnPose(req.spawn_point) : fromMessage(req.pose);
+    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, pose);
+    res.success = true;
+    res.message = "spawned " + req.name;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    ROS_WARN("roar_sim: spawn_vehicle refused: %s", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res) {
+  try {
+    world_->destroyVehicle(req.name);
+    io_.erase(req.name);
+    res.success = true;
+    res.message = "destroyed " + req.name;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+  }
+  return true;
+}
+
+bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
+  try {
+    if (req.spawn_point >= kGridSlots || req.spawn_point < -1) {
+      throw std::invalid_argument("spawn_point " + std::to_string(req.spawn_point) + " does not exist");
+    }
+    world_->resetVehicle(req.name, req.spawn_point >= 0 ? spawnPose(req.spawn_point) : fromMessage(req.pose));
+    res.success = true;
+    res.message = "reset " + req.name;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+  }
+  return true;
+}
+
+bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res) {
+  res.tick = world_->tick();
+  res.stamp = toRosTime(world_->time());
+  auto fail = [&](const std::string& why) {
+    res.success = false;
+    res.message = why;
+    return true;
+  };
+  if (options_.mode != SteppingMode::kStep) return fail("step is only served in mode 'step' (parameter ~mode)");
+  if (req.ticks < 1 || req.ticks > 1000000) return fail("ticks must be in [1, 1000000]");
+  if (req.vehicle_names.size() != req.controls.size()) {
+    return fail("vehicle_names and controls must have the same length");
+  }
+  for (const auto& name : req.vehicle_names) {
+    if (!world_->hasVehicle(name)) return fail("no vehicle named '" + name + "'");
+  }
+  std::string warnings;
+  for (std::size_t i = 0; i < req.controls.size(); ++i) {
+    std::string why;
+    if (!applyControl(req.vehicle_names[i], req.controls[i], &why)) return fail(why);
+    if (!why.empty()) warnings += why + "; ";
+  }
+  for (std::uint32_t k = 0; k < req.ticks; ++k) tick();
+  res.success = true;
+  res.message = warnings;
+  res.tick = world_->tick();
+  res.stamp = toRosTime(world_->time());
+  return true;
+}
+
+}  // namespace roar::ros_bridge

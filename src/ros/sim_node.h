@@ -1,0 +1,60 @@
+#pragma once
+// The roar_sim node: owns the World, wires vehicles' topics and the simulator's services to it, and runs
+// the stepping loop. Parameters come from sim_parameters.h, messages from msg_conversion.h.
+//
+// The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
+// /clock) cannot drive it. Everything it publishes is stamped with simulated time.
+#include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <map>
+#include <memory>
+
+#include "roar/sim/world.h"
+#include "roar/track/track.h"
+#include "roar_ros/DestroyVehicle.h"
+#include "roar_ros/ResetVehicle.h"
+#include "roar_ros/SpawnVehicle.h"
+#include "roar_ros/Step.h"
+#include "sim_parameters.h"
+
+namespace roar::ros_bridge {
+
+class SimNode {
+ public:
+  SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options);
+  // Runs until ROS shuts down.
+  void run();
+
+ private:
+  struct VehicleIo {
+    ros::Publisher odom, status, collision;
+    ros::Subscriber control;
+    ros::Time last_control_stamp{0, 0};
+    bool control_seen = false;
+  };
+
+  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose);
+  sim::Pose spawnPose(int spawn_point) const;
+  void onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg);
+  bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
+  void tick();
+  void publishState();
+  bool controlsArrived() const;
+
+  bool onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res);
+  bool onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res);
+  bool onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res);
+  bool onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res);
+
+  ros::NodeHandle nh_, private_nh_;
+  SimNodeOptions options_;
+  track::Track track_;
+  std::unique_ptr<sim::World> world_;
+  std::map<std::string, VehicleIo> io_;
+  ros::Publisher clock_pub_;
+  tf2_ros::TransformBroadcaster tf_;
+  std::vector<ros::ServiceServer> services_;
+};
+
+}  // namespace roar::ros_bridge

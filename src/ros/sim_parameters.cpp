@@ -1,0 +1,80 @@
+#include "sim_parameters.h"
+
+#include <set>
+
+#include "roar/ros/param_reading.h"
+#include "roar/track/map_folder.h"
+
+namespace roar::ros_bridge {
+
+namespace {
+
+// ~vehicles: a list of {name, model, spawn_point}; model and spawn_point are optional.
+std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::string& default_model) {
+  XmlRpc::XmlRpcValue list;
+  if (!nh.getParam("vehicles", list)) return {{"ego", default_model, 0}};
+  const std::string where = nh.resolveName("vehicles");
+  if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
+    throw ParamError("parameter " + where + " must be a list of {name, model, spawn_point}");
+  }
+  std::vector<VehicleSpawn> out;
+  std::set<std::string> names;
+  std::set<int> points;
+  for (int i = 0; i < list.size(); ++i) {
+    const std::string item = where + "[" + std::to_string(i) + "]";
+    XmlRpc::XmlRpcValue& v = list[i];
+    if (v.getType() != XmlRpc::XmlRpcValue::TypeStruct || !v.hasMember("name") ||
+        v["name"].getType() != XmlRpc::XmlRpcValue::TypeString) {
+      throw ParamError("parameter " + item + " must have a string 'name'");
+    }
+    VehicleSpawn spawn;
+    spawn.name = static_cast<std::string>(v["name"]);
+    spawn.model = default_model;
+    spawn.spawn_point = i;
+    if (v.hasMember("model")) {
+      if (v["model"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".model must be a string");
+      spawn.model = static_cast<std::string>(v["model"]);
+    }
+    if (v.hasMember("spawn_point")) {
+      if (v["spawn_point"].getType() != XmlRpc::XmlRpcValue::TypeInt || static_cast<int>(v["spawn_point"]) < 0) {
+        throw ParamError("parameter " + item + ".spawn_point must be a non-negative integer");
+      }
+      spawn.spawn_point = static_cast<int>(v["spawn_point"]);
+    }
+    if (!names.insert(spawn.name).second) throw ParamError("parameter " + item + ": vehicle name '" + spawn.name + "' is used twice");
+    if (!points.insert(spawn.spawn_point).second) {
+      throw ParamError("parameter " + item + ": spawn point " + std::to_string(spawn.spawn_point) + " is taken by another vehicle");
+    }
+    out.push_back(spawn);
+  }
+  return out;
+}
+
+}  // namespace
+
+SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
+  SimNodeOptions o;
+  const std::string pkg = packagePath();
+  const std::string maps_dir = readString(nh, "maps_dir", pkg + "/maps");
+  const std::string map = readString(nh, "map", "roar_ring");
+  try {
+    o.map_folder = track::resolveMapFolder(map, maps_dir);
+  } catch (const track::MapError& e) {
+    throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
+  }
+  o.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
+  o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
+  o.default_model = readString(nh, "default_model", o.default_model);
+  o.map_frame = readString(nh, "map_frame", o.map_frame);
+  o.world.control_dt = readDouble(nh, "control_dt", o.world.control_dt, 1e-4, 1.0);
+  o.world.physics_dt = readDouble(nh, "physics_dt", o.world.physics_dt, 1e-4, 0.05);
+  o.world.control_timeout = readDouble(nh, "control_timeout", o.world.control_timeout, 0.0, 1e6);
+  const std::string mode = readChoice(nh, "mode", "async", {"async", "step", "lockstep"});
+  o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
+  o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);
+  o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
+  o.vehicles = readVehicles(nh, o.default_model);
+  return o;
+}
+
+}  // namespace roar::ros_bridge

@@ -1,0 +1,40 @@
+#pragma once
+// Every parameter of the roar_sim node, read and validated in one place.
+#include <ros/node_handle.h>
+
+#include <string>
+#include <vector>
+
+#include "roar/sim/world.h"
+
+namespace roar::ros_bridge {
+
+enum class SteppingMode {
+  kAsync,     // free run at real_time_factor (0: as fast as possible)
+  kStep,      // time advances only through the ~step service
+  kLockstep,  // each tick waits for a control stamped with the previous tick's time from every connected driver
+};
+
+struct VehicleSpawn {
+  std::string name;
+  std::string model;
+  int spawn_point = 0;
+};
+
+struct SimNodeOptions {
+  std::string map_folder;
+  std::string urdf_dir;
+  std::string vehicle_config_dir;
+  std::string default_model = "sedan";
+  std::string map_frame = "map";
+  sim::WorldOptions world;
+  SteppingMode mode = SteppingMode::kAsync;
+  double real_time_factor = 1.0;
+  double lockstep_timeout = 5.0;  // wall seconds a tick waits for a connected driver before going on without it
+  std::vector<VehicleSpawn> vehicles;
+};
+
+// Throws ParamError naming the parameter.
+SimNodeOptions readSimParameters(const ros::NodeHandle& private_nh);
+
+}  // namespace roar::ros_bridge

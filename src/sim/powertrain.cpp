@@ -1,0 +1,85 @@
+#include "roar/sim/powertrain.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace roar::sim {
+
+namespace {
+constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
+}
+
+Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
+
+void Powertrain::reset() {
+  gear_ = 1;
+  shift_timer_ = 0.0;
+  rpm_ = engine_.idle_rpm;
+}
+
+double Powertrain::ratio(int gear) const {
+  if (gear == 0) return 0.0;
+  if (gear < 0) return -gearbox_.reverse_ratio * gearbox_.final_drive;
+  return gearbox_.ratios[static_cast<std::size_t>(gear - 1)] * gearbox_.final_drive;
+}
+
+double Powertrain::engineTorqueAt(double rpm) const {
+  const auto& curve = engine_.torque_curve;
+  if (rpm <= curve.front().first) return curve.front().second;
+  if (rpm >= curve.back().first) return curve.back().second;
+  auto hi = std::upper_bound(curve.begin(), curve.end(), rpm, [](double r, const auto& p) { return r < p.first; });
+  auto lo = hi - 1;
+  const double t = (rpm - lo->first) / (hi->first - lo->first);
+  return lo->second + t * (hi->second - lo->second);
+}
+
+double Powertrain::update(const DriveRequest& request, double driven_wheel_omega, double dt) {
+  const int top = static_cast<int>(gearbox_.ratios.size());
+  int wanted = gear_;
+  if (request.manual) {
+    wanted = std::clamp(request.gear, -1, top);
+  } else if (request.reverse) {
+    wanted = -1;
+  } else if (gear_ <= 0) {
+    wanted = 1;
+  }
+  if (wanted != gear_) {
+    gear_ = wanted;
+    shift_timer_ = gearbox_.shift_time;
+  }
+
+  const double wheel_rpm = std::abs(driven_wheel_omega) * kRadPerSecToRpm;
+  if (!request.manual && gear_ > 0 && shift_timer_ <= 0) {
+    const double rpm = wheel_rpm * ratio(gear_);
+    if (rpm > gearbox_.shift_up_rpm && gear_ < top) {
+      ++gear_;
+      shift_timer_ = gearbox_.shift_time;
+    } else if (rpm < gearbox_.shift_down_rpm && gear_ > 1) {
+      --gear_;
+      shift_timer_ = gearbox_.shift_time;
+    }
+  }
+  shift_timer_ = std::max(0.0, shift_timer_ - dt);
+
+  const double r = ratio(gear_);
+  const double throttle = std::clamp(request.throttle, 0.0, 1.0);
+  if (r == 0.0) {
+    rpm_ = engine_.idle_rpm + throttle * (engine_.redline_rpm - engine_.idle_rpm);
+    return 0.0;
+  }
+  const double coupled_rpm = wheel_rpm * std::abs(r);
+  rpm_ = std::max(engine_.idle_rpm, coupled_rpm);
+  if (shift_timer_ > 0) return 0.0;
+
+  double engine_torque = rpm_ > engine_.redline_rpm ? 0.0 : throttle * engineTorqueAt(rpm_);
+  // Engine braking only once the clutch is closed (the wheels turn the engine above idle).
+  if (coupled_rpm > engine_.idle_rpm) {
+    engine_torque -= (1.0 - throttle) * engine_.engine_brake_torque * (rpm_ / engine_.redline_rpm);
+  }
+  if (engine_torque >= 0) return engine_torque * r * gearbox_.efficiency;
+  // Engine braking opposes the wheels' rotation, whichever way the gear turns them.
+  const double rolling_direction = driven_wheel_omega >= 0 ? 1.0 : -1.0;
+  return engine_torque * std::abs(r) * gearbox_.efficiency * rolling_direction;
+}
+
+}  // namespace roar::sim

@@ -1,0 +1,291 @@
+#include "vehicle_dynamics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "surface.h"
+
+namespace roar::sim {
+
+namespace {
+
+// Below this speed the slips use it as their denominator: keeps the tyre forces finite (they become a
+// stiff damper) and the explicit chassis integration stable at the physics substep.
+constexpr double kLowSpeed = 1.5;  // m/s
+
+btVector3 toBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
+Eigen::Vector3d toEigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
+
+// Nearest hit below a wheel, ignoring the car's own body.
+struct WheelRay : public btCollisionWorld::ClosestRayResultCallback {
+  WheelRay(const btVector3& from, const btVector3& to, const btCollisionObject* self)
+      : ClosestRayResultCallback(from, to), self_(self) {}
+  bool needsCollision(btBroadphaseProxy* proxy) const override {
+    return static_cast<const btCollisionObject*>(proxy->m_clientObject) != self_ &&
+           ClosestRayResultCallback::needsCollision(proxy);
+  }
+  const btCollisionObject* self_;
+};
+
+}  // namespace
+
+VehicleDynamics::VehicleDynamics(std::string name, const VehicleParams& params, btDiscreteDynamicsWorld* world,
+                                 int user_index, const btTransform& base_link_pose)
+    : name_(std::move(name)), params_(params), tyre_(params.tyre), powertrain_(params), world_(world) {
+  const auto& ch = params_.chassis;
+  // The rigid body's frame is the centre of mass with base_link's axes (the URDF inertia is principal).
+  com_from_base_.setIdentity();
+  com_from_base_.setOrigin(toBt(ch.centre_of_mass));
+  box_ = std::make_unique<btBoxShape>(toBt(ch.box_size * 0.5));
+  shape_ = std::make_unique<btCompoundShape>();
+  btTransform box_in_com;
+  box_in_com.setIdentity();
+  box_in_com.setOrigin(toBt(ch.box_centre - ch.centre_of_mass));
+  shape_->addChildShape(box_in_com, box_.get());
+
+  btRigidBody::btRigidBodyConstructionInfo info(ch.mass, nullptr, shape_.get(), toBt(ch.inertia));
+  info.m_startWorldTransform = base_link_pose * com_from_base_;
+  info.m_friction = 0.4;
+  info.m_restitution = 0.1;
+  body_ = std::make_unique<btRigidBody>(info);
+  body_->setActivationState(DISABLE_DEACTIVATION);
+  body_->setUserIndex(user_index);
+  world_->addRigidBody(body_.get());
+
+  // Static loads from the centre of mass position, so the car rests at the URDF's ride height.
+  const double wheelbase = params_.wheelbase();
+  const double rear_x = params_.wheels[2].position.x();
+  const double front_share = std::clamp((ch.centre_of_mass.x() - rear_x) / wheelbase, 0.05, 0.95);
+  const double weight = ch.mass * 9.81;
+  for (int i = 0; i < 4; ++i) {
+    wheels_[i].centre = toBt(params_.wheels[i].position - ch.centre_of_mass);
+    wheels_[i].static_load = 0.5 * weight * (i < 2 ? front_share : 1.0 - front_share);
+  }
+}
+
+VehicleDynamics::~VehicleDynamics() { world_->removeRigidBody(body_.get()); }
+
+btTransform VehicleDynamics::baseLinkPose() const {
+  return body_->getCenterOfMassTransform() * com_from_base_.inverse();
+}
+
+void VehicleDynamics::reset(const btTransform& base_link_pose) {
+  const btTransform com = base_link_pose * com_from_base_;
+  body_->setCenterOfMassTransform(com);
+  body_->setInterpolationWorldTransform(com);
+  body_->setLinearVelocity(btVector3(0, 0, 0));
+  body_->setAngularVelocity(btVector3(0, 0, 0));
+  body_->clearForces();
+  world_->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body_->getBroadphaseHandle(),
+                                                                         world_->getDispatcher());
+  world_->updateSingleAabb(body_.get());
+  for (auto& w : wheels_) {
+    w.omega = 0.0;
+    w.steer = 0.0;
+    w.state = WheelState();
+  }
+  steering_ = 0.0;
+  anti_roll_load_.fill(0.0);
+  powertrain_.reset();
+  control_ = parkedControl();
+  tick_start_velocity_ = btVector3(0, 0, 0);
+  last_acceleration_ = btVector3(0, 0, 0);
+}
+
+std::array<double, 4> VehicleDynamics::wheelSteerAngles() const {
+  // Ackermann: both front wheels point at one turning centre on the rear axle line.
+  std::array<double, 4> angles{0.0, 0.0, 0.0, 0.0};
+  if (std::abs(steering_) < 1e-6) return angles;
+  const double wheelbase = params_.wheelbase(), half_track = 0.5 * params_.track_width();
+  const double radius = wheelbase / std::tan(steering_);
+  angles[0] = std::atan(wheelbase / (radius - half_track));
+  angles[1] = std::atan(wheelbase / (radius + half_track));
+  return angles;
+}
+
+void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
+  const double target = control_.steer * params_.steering.max_angle;
+  const double max_change = params_.steering.max_rate * dt;
+  steering_ += std::clamp(target - steering_, -max_change, max_change);
+  const auto angles = wheelSteerAngles();
+  for (int i = 0; i < 4; ++i) wheels_[i].steer = angles[i];
+
+  DriveRequest request;
+  request.throttle = control_.throttle;
+  request.reverse = control_.reverse;
+  request.manual = control_.manual_gear_shift;
+  request.gear = control_.gear;
+  const double front = params_.front_drive_share, rear = 1.0 - front;
+  const double driven_omega = 0.5 * front * (wheels_[0].omega + wheels_[1].omega) +
+                              0.5 * rear * (wheels_[2].omega + wheels_[3].omega);
+  const double drive = powertrain_.update(request, driven_omega, dt);
+  // Anti-roll bars from the last substep's compressions (one substep of lag, far below the roll mode).
+  const double bars[2] = {params_.suspension.anti_roll_front, params_.suspension.anti_roll_rear};
+  for (int axle = 0; axle < 2; ++axle) {
+    const WheelState &l = wheels_[2 * axle].state, &r = wheels_[2 * axle + 1].state;
+    const double twist = (l.in_contact && r.in_contact) ? l.compression - r.compression : 0.0;
+    anti_roll_load_[2 * axle] = bars[axle] * twist;
+    anti_roll_load_[2 * axle + 1] = -bars[axle] * twist;
+  }
+  for (int i = 0; i < 4; ++i) updateWheel(i, 0.5 * drive * (i < 2 ? front : rear), dt, friction);
+
+  // Aerodynamics: drag against the motion, downforce on each axle.
+  const btMatrix3x3& basis = body_->getCenterOfMassTransform().getBasis();
+  const btVector3 v = body_->getLinearVelocity();
+  const auto& aero = params_.aero;
+  body_->applyCentralForce(-0.5 * aero.air_density * aero.drag_area * v.length() * v);
+  const double forward = v.dot(basis.getColumn(0));
+  const double downforce = 0.5 * aero.air_density * aero.downforce_area * forward * forward;
+  const btVector3 down = -basis.getColumn(2);
+  const btVector3 front_axle = basis * (0.5 * (wheels_[0].centre + wheels_[1].centre));
+  const btVector3 rear_axle = basis * (0.5 * (wheels_[2].centre + wheels_[3].centre));
+  body_->applyForce(down * (downforce * aero.front_downforce_share), front_axle);
+  body_->applyForce(down * (downforce * (1.0 - aero.front_downforce_share)), rear_axle);
+}
+
+void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, const SurfaceFriction& friction) {
+  Wheel& wheel = wheels_[index];
+  const WheelParams& wp = params_.wheels[index];
+  const auto& susp = params_.suspension;
+  const btTransform& com = body_->getCenterOfMassTransform();
+  const btMatrix3x3& basis = com.getBasis();
+  const btVector3 up = basis.getColumn(2);
+
+  // The ray starts at the wheel centre at full bump and reaches the tyre's bottom at full droop.
+  const btVector3 from = com * (wheel.centre + btVector3(0, 0, susp.travel));
+  const double reach = susp.travel + susp.droop + wp.radius;
+  const btVector3 to = from - up * reach;
+  WheelRay ray(from, to, body_.get());
+  world_->rayTest(from, to, ray);
+  WheelState& st = wheel.state;
+  st.steer_angle = wheel.steer;
+  const double r = wp.radius;
+  const double inertia = params_.tyre.wheel_inertia;
+  const bool rear = index >= 2;
+  double brake_torque = control_.brake * (rear ? params_.brakes.max_torque_rear : params_.brakes.max_torque_front);
+  const double hand_brake_torque = (rear && control_.hand_brake) ? params_.brakes.hand_brake_torque : 0.0;
+
+  if (!ray.hasHit()) {
+    st = WheelState();
+    st.steer_angle = wheel.steer;
+    // Airborne: the wheel spins up under drive and down under the brakes.
+    double omega = wheel.omega + dt * drive_torque / inertia;
+    const double stop = dt * (brake_torque + hand_brake_torque) / inertia;
+    omega = std::abs(omega) <= stop ? 0.0 : omega - std::copysign(stop, omega);
+    wheel.omega = omega;
+    st.angular_velocity = omega;
+    return;
+  }
+
+  const double distance = ray.m_closestHitFraction * reach;
+  const double compression = susp.travel + r - distance;
+  const btVector3 normal = ray.m_hitNormalWorld.normalized();
+  const btVector3 contact = ray.m_hitPointWorld;
+  const btVector3 rel = contact - com.getOrigin();
+  const btVector3 v_contact = body_->getVelocityInLocalPoint(rel);
+  const double compression_rate = -v_contact.dot(normal) / std::max(0.2, static_cast<double>(up.dot(normal)));
+
+  double load = wheel.static_load + susp.stiffness * compression + susp.damping * compression_rate +
+                anti_roll_load_[index];
+  if (compression > susp.travel) load += 20.0 * susp.stiffness * (compression - susp.travel);  // bump stop
+  load = std::max(0.0, load);
+
+  const int surface = ray.m_collisionObject->getUserIndex();
+  const double mu = surface == kRoad ? friction.road : friction.ground;
+
+  // Wheel axes in the contact plane.
+  const btVector3 heading = basis * btVector3(std::cos(wheel.steer), std::sin(wheel.steer), 0);
+  btVector3 fwd = heading - normal * heading.dot(normal);
+  fwd.normalize();
+  const btVector3 left = normal.cross(fwd);
+  const double vx = v_contact.dot(fwd), vy = v_contact.dot(left);
+  const double denom = std::max(std::abs(vx), kLowSpeed);
+  const double slip_angle = std::atan(vy / denom);
+  auto longitudinal = [&](double omega) {
+    return tyre_.force((omega * r - vx) / denom, slip_angle, load, mu).longitudinal;
+  };
+
+  // Wheel spin, integrated implicitly in the tyre force (linearised), which is stiff at low speed.
+  const double f0 = longitudinal(wheel.omega);
+  const double eps = 1e-3;
+  const double stiffness = std::max(0.0, (longitudinal(wheel.omega + eps) - f0) / eps);
+  // ABS and traction control act alike: below the tyre's peak slip they pass no more torque than the tyre
+  // can put on the road at this slip angle; above it they ease off to a torque the road force overcomes, so
+  // the wheel comes back without overshooting (a full release would, within one substep at low speed).
+  const double slip_now = (wheel.omega * r - vx) / denom;
+  const double share = std::clamp(std::abs(slip_angle) / tyre_.peakSlipAngle(), 0.0, 1.0);
+  const double grip_torque = 0.95 * tyre_.peakForce(load, mu) * std::sqrt(1.0 - share * share) * r;
+  const double release_slip = 1.2 * tyre_.peakSlipRatio();
+  if (params_.brakes.abs && brake_torque > 0) {
+    const double distribution = rear ? params_.brakes.rear_grip_share : 1.0;
+    brake_torque = std::min(brake_torque, distribution * (std::abs(slip_now) > release_slip ? 0.6 : 1.0) * grip_torque);
+  }
+  if (params_.traction_control && drive_torque * slip_now > 0) {
+    const double distribution = rear ? params_.rear_grip_share : 1.0;
+    const double limit = distribution * (std::abs(slip_now) > release_slip ? 0.6 : 1.0) * grip_torque;
+    drive_torque = std::clamp(drive_torque, -limit, limit);
+  }
+  const double resist = brake_torque + hand_brake_torque + params_.tyre.rolling_resistance * load * r;
+  const double free_torque = drive_torque - r * f0;
+  const double implicit = 1.0 + dt * r * stiffness / inertia;  // d(r Fx)/d(omega) = r * stiffness
+  double omega;
+  if (std::abs(wheel.omega) < 1e-9) {
+    // At rest: the brakes hold the wheel unless the other torques overcome them.
+    omega = std::abs(free_torque) <= resist
+                ? 0.0
+                : wheel.omega + dt * (free_torque - std::copysign(resist, free_torque)) / inertia / implicit;
+  } else {
+    omega = wheel.omega + dt * (free_torque - std::copysign(resist, wheel.omega)) / inertia / implicit;
+    if (omega * wheel.omega < 0) omega = 0.0;  // the brakes stop the wheel, they do not turn it back
+  }
+  wheel.omega = omega;
+
+  const double slip_ratio = (omega * r - vx) / denom;
+  const TyreForce tyre = tyre_.force(slip_ratio, slip_angle, load, mu);
+  body_->applyForce(up * load + fwd * tyre.longitudinal + left * tyre.lateral, rel);
+
+  st.angular_velocity = omega;
+  st.load = load;
+  st.slip_ratio = slip_ratio;
+  st.slip_angle = slip_angle;
+  st.compression = compression;
+  st.in_contact = true;
+  st.on_road = surface == kRoad;
+}
+
+void VehicleDynamics::beginTick() { tick_start_velocity_ = body_->getLinearVelocity(); }
+
+void VehicleDynamics::endTick(double tick_dt) {
+  last_acceleration_ = (body_->getLinearVelocity() - tick_start_velocity_) / tick_dt;
+}
+
+VehicleState VehicleDynamics::state() const {
+  VehicleState s;
+  const btTransform base = baseLinkPose();
+  const btQuaternion q = base.getRotation();
+  s.pose.position = toEigen(base.getOrigin());
+  s.pose.orientation = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z());
+  const btVector3 rel = base.getOrigin() - body_->getCenterOfMassPosition();
+  const btVector3 v = body_->getVelocityInLocalPoint(rel);
+  const btVector3 w = body_->getAngularVelocity();
+  const btMatrix3x3 to_body = base.getBasis().transpose();
+  s.linear_velocity = toEigen(v);
+  s.angular_velocity = toEigen(w);
+  s.body_linear_velocity = toEigen(to_body * v);
+  s.body_angular_velocity = toEigen(to_body * w);
+  s.body_acceleration = toEigen(to_body * last_acceleration_);
+  s.speed = v.length();
+  s.forward_speed = s.body_linear_velocity.x();
+  s.gear = powertrain_.gear();
+  s.engine_rpm = powertrain_.engineRpm();
+  s.steering_angle = 0.5 * (wheels_[0].steer + wheels_[1].steer);
+  s.on_track = true;
+  for (int i = 0; i < 4; ++i) {
+    s.wheels[i] = wheels_[i].state;
+    s.on_track = s.on_track && wheels_[i].state.on_road;
+  }
+  s.applied_control = control_;
+  return s;
+}
+
+}  // namespace roar::sim

@@ -1,0 +1,71 @@
+#pragma once
+// One car in the Bullet world: a rigid chassis held up by four raycast suspensions, driven by tyre forces.
+// Internal to the sim library (it includes Bullet).
+#include <btBulletDynamicsCommon.h>
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "roar/sim/powertrain.h"
+#include "roar/sim/tyre.h"
+#include "roar/sim/world.h"
+
+namespace roar::sim {
+
+struct SurfaceFriction {
+  double road = 1.0;
+  double ground = 0.6;
+};
+
+class VehicleDynamics {
+ public:
+  VehicleDynamics(std::string name, const VehicleParams& params, btDiscreteDynamicsWorld* world, int user_index,
+                  const btTransform& base_link_pose);
+  ~VehicleDynamics();
+  VehicleDynamics(const VehicleDynamics&) = delete;
+  VehicleDynamics& operator=(const VehicleDynamics&) = delete;
+
+  const std::string& name() const { return name_; }
+  const VehicleParams& params() const { return params_; }
+  btRigidBody* body() { return body_.get(); }
+
+  void setControl(const VehicleControl& control) { control_ = control; }
+  // Suspension, tyre, drivetrain and aero forces for one substep, to be integrated by Bullet next.
+  void applyForces(double dt, const SurfaceFriction& friction);
+  void beginTick();            // remembers the velocity for the tick's acceleration
+  void endTick(double tick_dt);
+  void reset(const btTransform& base_link_pose);
+  btTransform baseLinkPose() const;
+  VehicleState state() const;
+
+ private:
+  struct Wheel {
+    btVector3 centre;             // static wheel centre relative to the centre of mass, body frame
+    double static_load = 0.0;     // N at rest, the spring preload
+    double omega = 0.0;           // rad/s
+    double steer = 0.0;           // rad
+    WheelState state;
+  };
+
+  std::array<double, 4> wheelSteerAngles() const;
+  void updateWheel(int index, double drive_torque, double dt, const SurfaceFriction& friction);
+
+  std::string name_;
+  VehicleParams params_;
+  TyreModel tyre_;
+  Powertrain powertrain_;
+  btDiscreteDynamicsWorld* world_;
+  std::unique_ptr<btCompoundShape> shape_;
+  std::unique_ptr<btBoxShape> box_;
+  std::unique_ptr<btRigidBody> body_;
+  btTransform com_from_base_;  // base_link -> centre of mass
+  std::array<Wheel, 4> wheels_;
+  std::array<double, 4> anti_roll_load_{0.0, 0.0, 0.0, 0.0};  // N added to each wheel's spring
+  VehicleControl control_ = parkedControl();
+  double steering_ = 0.0;  // rad, commanded road-wheel angle after the rate limit
+  btVector3 tick_start_velocity_{0, 0, 0};
+  btVector3 last_acceleration_{0, 0, 0};
+};
+
+}  // namespace roar::sim

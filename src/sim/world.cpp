@@ -1,0 +1,308 @@
+#include "roar/sim/world.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "roar/track/road_mesh.h"
+#include "surface.h"
+#include "vehicle_dynamics.h"
+
+namespace roar::sim {
+
+namespace {
+
+constexpr double kGroundDrop = 0.02;  // m: the ground lies this far below the road so a ray's first hit is clear
+
+std::unique_ptr<btTriangleMesh> toBullet(const track::TriangleMesh& mesh) {
+  auto out = std::make_unique<btTriangleMesh>(true, false);
+  for (const auto& t : mesh.triangles) {
+    const auto &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    out->addTriangle(btVector3(a.x(), a.y(), a.z()), btVector3(b.x(), b.y(), b.z()), btVector3(c.x(), c.y(), c.z()));
+  }
+  return out;
+}
+
+// Footprint corners of a car, for the spawn overlap check.
+std::array<Eigen::Vector2d, 4> footprint(const VehicleParams& p, const Eigen::Vector2d& at, double yaw, double margin) {
+  const Eigen::Vector2d c = p.chassis.box_centre.head<2>();
+  const double hx = 0.5 * p.chassis.box_size.x() + margin, hy = 0.5 * p.chassis.box_size.y() + margin;
+  const Eigen::Rotation2Dd rot(yaw);
+  return {at + rot * (c + Eigen::Vector2d(hx, hy)), at + rot * (c + Eigen::Vector2d(-hx, hy)),
+          at + rot * (c + Eigen::Vector2d(-hx, -hy)), at + rot * (c + Eigen::Vector2d(hx, -hy))};
+}
+
+bool footprintsOverlap(const std::array<Eigen::Vector2d, 4>& a, const std::array<Eigen::Vector2d, 4>& b) {
+  // Separating axis theorem on the four edge normals of two rectangles.
+  for (const auto* shape : {&a, &b}) {
+    for (int e = 0; e < 2; ++e) {
+      const Eigen::Vector2d edge = (*shape)[e + 1] - (*shape)[e];
+      const Eigen::Vector2d axis(-edge.y(), edge.x());
+      double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+      for (const auto& p : a) amin = std::min(amin, p.dot(axis)), amax = std::max(amax, p.dot(axis));
+      for (const auto& p : b) bmin = std::min(bmin, p.dot(axis)), bmax = std::max(bmax, p.dot(axis));
+      if (amax < bmin || bmax < amin) return false;
+    }
+  }
+  return true;
+}
+
+double yawOf(const Eigen::Quaterniond& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+}  // namespace
+
+Pose poseOnTrack(const track::TrackPose& track_pose) {
+  Pose pose;
+  pose.position = Eigen::Vector3d(track_pose.position.x(), track_pose.position.y(), 0.0);
+  pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(track_pose.heading, Eigen::Vector3d::UnitZ()));
+  return pose;
+}
+
+struct World::Impl {
+  Impl(const track::Track& t, const WorldOptions& o) : track(t), options(o) {}
+
+  struct StaticBody {
+    std::unique_ptr<btTriangleMesh> mesh;
+    std::unique_ptr<btCollisionShape> shape;
+    std::unique_ptr<btRigidBody> body;
+  };
+
+  struct Slot {
+    std::unique_ptr<VehicleDynamics> dynamics;
+    double last_control_time = 0.0;
+    bool has_control = false;
+    std::map<std::string, Contact> tick_contacts;
+    std::vector<Contact> contacts;
+  };
+
+  void addStatic(StaticBody& sb, int surface, double friction) {
+    btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, sb.shape.get());
+    info.m_friction = friction;
+    info.m_restitution = 0.1;
+    sb.body = std::make_unique<btRigidBody>(info);
+    sb.body->setUserIndex(surface);
+    dynamics->addRigidBody(sb.body.get());
+  }
+
+  std::string nameOf(const btCollisionObject* object) const {
+    const int id = object->getUserIndex();
+    if (id == kBarrier) return "barrier";
+    if (id == kRoad || id == kGround) return "ground";
+    for (const auto& [name, slot] : vehicles) {
+      if (slot.dynamics->body() == object) return name;
+    }
+    return "unknown";
+  }
+
+  Slot* findSlot(const btCollisionObject* object) {
+    for (auto& [name, slot] : vehicles) {
+      if (slot.dynamics->body() == object) return &slot;
+    }
+    return nullptr;
+  }
+
+  void gatherContacts() {
+    btDispatcher* dispatcher = dynamics->getDispatcher();
+    for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher->getManifoldByIndexInternal(m);
+      const btCollisionObject* a = manifold->getBody0();
+      const btCollisionObject* b = manifold->getBody1();
+      Slot* slot_a = a->getUserIndex() >= kVehicleBase ? findSlot(a) : nullptr;
+      Slot* slot_b = b->getUserIndex() >= kVehicleBase ? findSlot(b) : nullptr;
+      if (!slot_a && !slot_b) continue;
+      for (int c = 0; c < manifold->getNumContacts(); ++c) {
+        const btManifoldPoint& pt = manifold->getContactPoint(c);
+        if (pt.getAppliedImpulse() <= 0) continue;
+        // normalWorldOnB points from B towards A: the impulse on A.
+        const btVector3 on_a = pt.m_normalWorldOnB * pt.getAppliedImpulse();
+        const btVector3 where = pt.getPositionWorldOnB();
+        auto add = [&](Slot* slot, const btCollisionObject* other, const btVector3& impulse) {
+          Contact& contact = slot->tick_contacts[nameOf(other)];
+          contact.other = nameOf(other);
+          const double weight = impulse.length();
+          const double total = contact.impulse.norm() + weight;
+          const Eigen::Vector3d p(where.x(), where.y(), where.z());
+          contact.position = total > 0 ? (contact.position * contact.impulse.norm() + p * weight) / total : p;
+          contact.impulse += Eigen::Vector3d(impulse.x(), impulse.y(), impulse.z());
+        };
+        if (slot_a) add(slot_a, b, on_a);
+        if (slot_b) add(slot_b, a, -on_a);
+      }
+    }
+  }
+
+  const Slot& slot(const std::string& name) const {
+    auto it = vehicles.find(name);
+    if (it == vehicles.end()) throw SpawnError("no vehicle named '" + name + "'");
+    return it->second;
+  }
+  Slot& slot(const std::string& name) { return const_cast<Slot&>(std::as_const(*this).slot(name)); }
+
+  // Ground height under (x, y) from the static scene, or NaN when there is none.
+  double groundHeight(double x, double y) const {
+    const btVector3 from(x, y, 1000.0), to(x, y, -1000.0);
+    btCollisionWorld::ClosestRayResultCallback ray(from, to);
+    ray.m_collisionFilterMask = btBroadphaseProxy::StaticFilter;
+    dynamics->rayTest(from, to, ray);
+    return ray.hasHit() ? ray.m_hitPointWorld.z() : std::nan("");
+  }
+
+  btTransform placement(const std::string& name, const VehicleParams& params, const Pose& pose) const {
+    const double yaw = yawOf(pose.orientation);
+    const auto mine = footprint(params, pose.position.head<2>(), yaw, 0.3);
+    for (const auto& [other, s] : vehicles) {
+      if (other == name) continue;
+      const btTransform t = s.dynamics->baseLinkPose();
+      const btVector3 o = t.getOrigin();
+      const double other_yaw = yawOf(Eigen::Quaterniond(t.getRotation().w(), t.getRotation().x(), t.getRotation().y(),
+                                                        t.getRotation().z()));
+      if (footprintsOverlap(mine, footprint(s.dynamics->params(), Eigen::Vector2d(o.x(), o.y()), other_yaw, 0.3))) {
+        throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +
+                         std::to_string(pose.position.y()) + "): it would overlap vehicle '" + other + "'");
+      }
+    }
+    const double z = groundHeight(pose.position.x(), pose.position.y());
+    if (!std::isfinite(z)) {
+      throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +
+                       std::to_string(pose.position.y()) + "): no ground there");
+    }
+    btTransform t;
+    t.setIdentity();
+    t.setOrigin(btVector3(pose.position.x(), pose.position.y(), z));
+    t.setRotation(btQuaternion(btVector3(0, 0, 1), yaw));
+    return t;
+  }
+
+  track::Track track;
+  WorldOptions options;
+  int substeps = 1;
+  std::uint64_t tick = 0;
+  SurfaceFriction friction;
+  std::unique_ptr<btDefaultCollisionConfiguration> config;
+  std::unique_ptr<btCollisionDispatcher> dispatcher;
+  std::unique_ptr<btBroadphaseInterface> broadphase;
+  std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
+  std::unique_ptr<btDiscreteDynamicsWorld> dynamics;
+  StaticBody road, barriers, ground;
+  std::map<std::string, Slot> vehicles;  // ordered: every loop over cars runs in the same order
+  int next_vehicle_index = kVehicleBase;
+};
+
+World::World(const track::Track& track, const WorldOptions& options) : impl_(std::make_unique<Impl>(track, options)) {
+  auto& w = *impl_;
+  if (!(options.physics_dt > 0) || !(options.control_dt >= options.physics_dt)) {
+    throw std::invalid_argument("physics_dt must be positive and no larger than control_dt");
+  }
+  const double ratio = options.control_dt / options.physics_dt;
+  w.substeps = static_cast<int>(std::lround(ratio));
+  if (std::abs(ratio - w.substeps) > 1e-9 * ratio) {
+    throw std::invalid_argument("control_dt (" + std::to_string(options.control_dt) +
+                                ") must be a whole multiple of physics_dt (" + std::to_string(options.physics_dt) + ")");
+  }
+  if (options.control_timeout < 0) throw std::invalid_argument("control_timeout must not be negative");
+  w.friction.road = track.info().friction;
+  w.friction.ground = track.info().ground_friction;
+
+  w.config = std::make_unique<btDefaultCollisionConfiguration>();
+  w.dispatcher = std::make_unique<btCollisionDispatcher>(w.config.get());
+  w.broadphase = std::make_unique<btDbvtBroadphase>();
+  w.solver = std::make_unique<btSequentialImpulseConstraintSolver>();
+  w.dynamics = std::make_unique<btDiscreteDynamicsWorld>(w.dispatcher.get(), w.broadphase.get(), w.solver.get(),
+                                                         w.config.get());
+  w.dynamics->setGravity(btVector3(0, 0, -options.gravity));
+
+  w.road.mesh = toBullet(track::roadSurfaceMesh(track));
+  w.road.shape = std::make_unique<btBvhTriangleMeshShape>(w.road.mesh.get(), true);
+  w.addStatic(w.road, kRoad, track.info().friction);
+  w.barriers.mesh = toBullet(track::barrierMesh(track));
+  w.barriers.shape = std::make_unique<btBvhTriangleMeshShape>(w.barriers.mesh.get(), true);
+  w.addStatic(w.barriers, kBarrier, 0.3);
+  w.ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), -kGroundDrop);
+  w.addStatic(w.ground, kGround, track.info().ground_friction);
+}
+
+World::~World() {
+  auto& w = *impl_;
+  w.vehicles.clear();
+  for (auto* sb : {&w.road, &w.barriers, &w.ground}) w.dynamics->removeRigidBody(sb->body.get());
+}
+
+const track::Track& World::track() const { return impl_->track; }
+const WorldOptions& World::options() const { return impl_->options; }
+
+void World::spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose) {
+  auto& w = *impl_;
+  if (name.empty()) throw SpawnError("a vehicle needs a name");
+  if (w.vehicles.count(name)) throw SpawnError("a vehicle named '" + name + "' already exists");
+  const btTransform at = w.placement(name, params, pose);
+  Impl::Slot slot;
+  slot.dynamics = std::make_unique<VehicleDynamics>(name, params, w.dynamics.get(), w.next_vehicle_index++, at);
+  slot.last_control_time = time();
+  w.vehicles.emplace(name, std::move(slot));
+}
+
+void World::destroyVehicle(const std::string& name) {
+  impl_->slot(name);
+  impl_->vehicles.erase(name);
+}
+
+void World::resetVehicle(const std::string& name, const Pose& pose) {
+  auto& w = *impl_;
+  Impl::Slot& slot = w.slot(name);
+  slot.dynamics->reset(w.placement(name, slot.dynamics->params(), pose));
+  slot.has_control = false;
+  slot.last_control_time = time();
+  slot.contacts.clear();
+}
+
+bool World::hasVehicle(const std::string& name) const { return impl_->vehicles.count(name) > 0; }
+
+std::vector<std::string> World::vehicleNames() const {
+  std::vector<std::string> names;
+  for (const auto& [name, slot] : impl_->vehicles) names.push_back(name);
+  return names;
+}
+
+const VehicleParams& World::vehicleParams(const std::string& name) const { return impl_->slot(name).dynamics->params(); }
+
+void World::setControl(const std::string& name, const VehicleControl& control) {
+  Impl::Slot& slot = impl_->slot(name);
+  slot.dynamics->setControl(control);
+  slot.has_control = true;
+  slot.last_control_time = time();
+}
+
+void World::step() {
+  auto& w = *impl_;
+  const double dt = w.options.physics_dt;
+  for (auto& [name, slot] : w.vehicles) {
+    const bool stale = w.options.control_timeout > 0 && time() - slot.last_control_time > w.options.control_timeout;
+    if (!slot.has_control || stale) slot.dynamics->setControl(parkedControl());
+    slot.dynamics->beginTick();
+    slot.tick_contacts.clear();
+  }
+  for (int k = 0; k < w.substeps; ++k) {
+    for (auto& [name, slot] : w.vehicles) slot.dynamics->applyForces(dt, w.friction);
+    w.dynamics->stepSimulation(dt, 0, dt);
+    w.gatherContacts();
+  }
+  ++w.tick;
+  for (auto& [name, slot] : w.vehicles) {
+    slot.dynamics->endTick(w.options.control_dt);
+    slot.contacts.clear();
+    for (auto& [other, contact] : slot.tick_contacts) slot.contacts.push_back(contact);
+  }
+}
+
+std::uint64_t World::tick() const { return impl_->tick; }
+double World::time() const { return static_cast<double>(impl_->tick) * impl_->options.control_dt; }
+
+VehicleState World::vehicleState(const std::string& name) const { return impl_->slot(name).dynamics->state(); }
+
+const std::vector<Contact>& World::contacts(const std::string& name) const { return impl_->slot(name).contacts; }
+
+}  // namespace roar::sim

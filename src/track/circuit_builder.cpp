@@ -1,0 +1,81 @@
+#include "roar/track/circuit_builder.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace roar::track {
+
+namespace {
+
+// One centripetal Catmull-Rom segment between p1 and p2 (Barry-Goldman pyramid), t in [0, 1].
+Eigen::Vector3d catmullRom(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                           const Eigen::Vector3d& p3, double u) {
+  auto knot = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::sqrt(std::max((b.head<2>() - a.head<2>()).norm(), 1e-9));
+  };
+  const double t0 = 0, t1 = t0 + knot(p0, p1), t2 = t1 + knot(p1, p2), t3 = t2 + knot(p2, p3);
+  const double t = t1 + u * (t2 - t1);
+  const Eigen::Vector3d a1 = (t1 - t) / (t1 - t0) * p0 + (t - t0) / (t1 - t0) * p1;
+  const Eigen::Vector3d a2 = (t2 - t) / (t2 - t1) * p1 + (t - t1) / (t2 - t1) * p2;
+  const Eigen::Vector3d a3 = (t3 - t) / (t3 - t2) * p2 + (t - t2) / (t3 - t2) * p3;
+  const Eigen::Vector3d b1 = (t2 - t) / (t2 - t0) * a1 + (t - t0) / (t2 - t0) * a2;
+  const Eigen::Vector3d b2 = (t3 - t) / (t3 - t1) * a2 + (t - t1) / (t3 - t1) * a3;
+  return (t2 - t) / (t2 - t1) * b1 + (t - t1) / (t2 - t1) * b2;
+}
+
+}  // namespace
+
+std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing) {
+  if (spacing <= 0) throw std::invalid_argument("resampling spacing must be positive");
+  const std::size_t n = points.size();
+  if (n < 3) throw std::invalid_argument("a closed centre line needs at least 3 points");
+  std::vector<double> s(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto &a = points[i], &b = points[(i + 1) % n];
+    s[i + 1] = s[i] + std::hypot(b.x - a.x, b.y - a.y);
+  }
+  const double length = s[n];
+  const std::size_t count = std::max<std::size_t>(3, static_cast<std::size_t>(std::round(length / spacing)));
+  const double step = length / static_cast<double>(count);
+  std::vector<CentreLinePoint> out;
+  out.reserve(count);
+  std::size_t seg = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double target = step * static_cast<double>(k);
+    while (seg + 1 < n && s[seg + 1] <= target) ++seg;
+    const auto &a = points[seg], &b = points[(seg + 1) % n];
+    const double t = (target - s[seg]) / (s[seg + 1] - s[seg]);
+    out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.width_right + t * (b.width_right - a.width_right),
+                   a.width_left + t * (b.width_left - a.width_left)});
+  }
+  return out;
+}
+
+std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& controls, double spacing) {
+  const std::size_t n = controls.size();
+  if (n < 3) throw std::invalid_argument("a circuit needs at least 3 control points, got " + std::to_string(n));
+  if (spacing <= 0) throw std::invalid_argument("spacing must be positive");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (controls[i].width <= 0) throw std::invalid_argument("control point " + std::to_string(i) + ": width must be positive");
+  }
+  auto at = [&](std::size_t i) {
+    const auto& c = controls[i % n];
+    return Eigen::Vector3d(c.x, c.y, c.width);
+  };
+  // Dense sampling first, then an even resampling by arc length.
+  std::vector<CentreLinePoint> dense;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p0 = at(i + n - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
+    const double chord = (p2.head<2>() - p1.head<2>()).norm();
+    if (chord < 1e-6) throw std::invalid_argument("control points " + std::to_string(i) + " and " +
+                                                  std::to_string((i + 1) % n) + " coincide");
+    const int steps = std::max(4, static_cast<int>(std::ceil(chord / (spacing * 0.1))));
+    for (int k = 0; k < steps; ++k) {
+      const Eigen::Vector3d p = catmullRom(p0, p1, p2, p3, static_cast<double>(k) / steps);
+      dense.push_back({p.x(), p.y(), 0.5 * p.z(), 0.5 * p.z()});
+    }
+  }
+  return resampleClosed(dense, spacing);
+}
+
+}  // namespace roar::track

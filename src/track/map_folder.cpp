@@ -1,0 +1,234 @@
+#include "roar/track/map_folder.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "roar/track/segment_intersection.h"
+
+namespace roar::track {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> splitFields(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string f;
+  while (std::getline(ss, f, ',')) out.push_back(trim(f));
+  return out;
+}
+
+bool parseDouble(const std::string& text, double* value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  *value = std::strtod(text.c_str(), &end);
+  return end == text.c_str() + text.size();
+}
+
+}  // namespace
+
+CentreLineFile readCentreLineCsv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw MapError(path + ": cannot open the centre-line file");
+  static const char* kColumns[] = {"x_m", "y_m", "w_tr_right_m", "w_tr_left_m"};
+  CentreLineFile file;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string text = trim(line);
+    if (text.empty() || text[0] == '#') continue;
+    const auto fields = splitFields(text);
+    double v[4];
+    bool numeric = fields.size() >= 4;
+    for (int k = 0; numeric && k < 4; ++k) numeric = parseDouble(fields[k], &v[k]);
+    if (!numeric && file.points.empty() && !fields.empty() && !parseDouble(fields[0], &v[0])) {
+      continue;  // a header line without '#'
+    }
+    if (fields.size() < 4) {
+      throw MapError(path + ":" + std::to_string(line_no) + ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m, found " +
+                     std::to_string(fields.size()));
+    }
+    for (int k = 0; k < 4; ++k) {
+      if (!parseDouble(fields[k], &v[k])) {
+        throw MapError(path + ":" + std::to_string(line_no) + ": column " + kColumns[k] + " is not a number: '" +
+                       fields[k] + "'");
+      }
+      if (!std::isfinite(v[k])) {
+        throw MapError(path + ":" + std::to_string(line_no) + ": column " + kColumns[k] + " is not finite");
+      }
+    }
+    for (int k = 2; k < 4; ++k) {
+      if (v[k] <= 0) {
+        throw MapError(path + ":" + std::to_string(line_no) + ": " + kColumns[k] + " must be positive, got " + fields[k]);
+      }
+    }
+    if (!file.points.empty()) {
+      const auto& last = file.points.back();
+      if (std::hypot(v[0] - last.x, v[1] - last.y) < 1e-6) {
+        throw MapError(path + ":" + std::to_string(line_no) + ": point repeats the previous one");
+      }
+    }
+    file.points.push_back({v[0], v[1], v[2], v[3]});
+    file.lines.push_back(line_no);
+  }
+  // A closed loop written with its first point repeated at the end is the same circuit.
+  if (file.points.size() > 3 && std::hypot(file.points.front().x - file.points.back().x,
+                                           file.points.front().y - file.points.back().y) < 1e-6) {
+    file.points.pop_back();
+    file.lines.pop_back();
+  }
+  if (file.points.size() < 3) {
+    throw MapError(path + ": a circuit needs at least 3 centre-line points, found " + std::to_string(file.points.size()));
+  }
+  return file;
+}
+
+void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoint>& points) {
+  std::ofstream out(path);
+  if (!out) throw MapError(path + ": cannot write the centre-line file");
+  out << "# x_m,y_m,w_tr_right_m,w_tr_left_m\n" << std::setprecision(17);
+  for (const auto& p : points) out << p.x << "," << p.y << "," << p.width_right << "," << p.width_left << "\n";
+}
+
+void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines) {
+  const std::size_t n = track.size();
+  std::vector<Eigen::Vector2d> left(n), right(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    left[i] = track.leftEdge(i);
+    right[i] = track.rightEdge(i);
+  }
+  auto where = [&](std::size_t i) {
+    return lines.empty() ? "centre-line point " + std::to_string(i) : "line " + std::to_string(lines[i]);
+  };
+  // An edge offset further than the corner's radius runs backwards there: the corner is too tight for the width.
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    const Eigen::Vector2d centre = track.position(j) - track.position(i);
+    for (const auto* edge : {&left, &right}) {
+      if (((*edge)[j] - (*edge)[i]).dot(centre) <= 0) {
+        const double radius = std::abs(track.curvature(i)) > 0 ? 1.0 / std::abs(track.curvature(i)) : 0.0;
+        throw MapError(path + ":" + (lines.empty() ? "" : std::to_string(lines[i]) + ":") + " the " +
+                       (edge == &left ? "left" : "right") + " edge runs backwards after " + where(i) +
+                       ": a corner of radius " + std::to_string(radius) + " m is too tight for the width");
+      }
+    }
+  }
+  const struct {
+    const std::vector<Eigen::Vector2d>* a;
+    const std::vector<Eigen::Vector2d>* b;
+    const char* what;
+  } pairs[] = {{&left, &left, "the left edge crosses itself"},
+               {&right, &right, "the right edge crosses itself"},
+               {&left, &right, "the left edge crosses the right edge"}};
+  for (const auto& pair : pairs) {
+    if (auto hit = findClosedPolylineCrossing(*pair.a, *pair.b)) {
+      throw MapError(path + ":" + (lines.empty() ? "" : std::to_string(lines[hit->first]) + ":") + " " + pair.what +
+                     " between " + where(hit->first) + " and " + where(hit->second) +
+                     " (a corner too tight for the width, or the centre line crosses itself)");
+    }
+  }
+}
+
+TrackInfo readTrackYaml(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw MapError(path + ": " + e.what());
+  }
+  if (!root.IsMap()) throw MapError(path + ": expected a mapping of track properties");
+  TrackInfo info;
+  auto number = [&](const YAML::Node& node, const std::string& field, double fallback) {
+    if (!node) return fallback;
+    try {
+      const double v = node.as<double>();
+      if (!std::isfinite(v)) throw MapError(path + ": field '" + field + "' is not finite");
+      return v;
+    } catch (const YAML::Exception&) {
+      throw MapError(path + ": field '" + field + "' is not a number");
+    }
+  };
+  try {
+    info.name = root["name"] ? root["name"].as<std::string>() : fs::path(path).parent_path().filename().string();
+  } catch (const YAML::Exception&) {
+    throw MapError(path + ": field 'name' is not a string");
+  }
+  if (const auto origin = root["origin"]) {
+    info.origin.latitude = number(origin["latitude"], "origin.latitude", 0.0);
+    info.origin.longitude = number(origin["longitude"], "origin.longitude", 0.0);
+    info.origin.altitude = number(origin["altitude"], "origin.altitude", 0.0);
+    if (std::abs(info.origin.latitude) > 90) throw MapError(path + ": field 'origin.latitude' must be in [-90, 90]");
+    if (std::abs(info.origin.longitude) > 180) throw MapError(path + ": field 'origin.longitude' must be in [-180, 180]");
+  }
+  info.friction = number(root["friction"], "friction", info.friction);
+  info.ground_friction = number(root["ground_friction"], "ground_friction", info.ground_friction);
+  if (info.friction <= 0 || info.friction > 3) throw MapError(path + ": field 'friction' must be in (0, 3]");
+  if (info.ground_friction <= 0 || info.ground_friction > 3) {
+    throw MapError(path + ": field 'ground_friction' must be in (0, 3]");
+  }
+  if (const auto sf = root["start_finish"]) info.start_finish_s = number(sf["s"], "start_finish.s", 0.0);
+  info.sectors = static_cast<int>(number(root["sectors"], "sectors", info.sectors));
+  if (info.sectors < 1 || info.sectors > 100) throw MapError(path + ": field 'sectors' must be in [1, 100]");
+  info.barrier_offset = number(root["barrier_offset"], "barrier_offset", info.barrier_offset);
+  info.barrier_height = number(root["barrier_height"], "barrier_height", info.barrier_height);
+  if (info.barrier_offset < 0) throw MapError(path + ": field 'barrier_offset' must not be negative");
+  if (info.barrier_height <= 0) throw MapError(path + ": field 'barrier_height' must be positive");
+  return info;
+}
+
+Track loadMapFolder(const std::string& folder) {
+  const fs::path yaml_path = fs::path(folder) / "track.yaml";
+  if (!fs::exists(yaml_path)) throw MapError(yaml_path.string() + ": no such file (is '" + folder + "' a map folder?)");
+  TrackInfo info = readTrackYaml(yaml_path.string());
+  std::string centreline = "centerline.csv";
+  try {
+    const YAML::Node root = YAML::LoadFile(yaml_path.string());
+    if (root["centerline"]) centreline = root["centerline"].as<std::string>();
+  } catch (const YAML::Exception& e) {
+    throw MapError(yaml_path.string() + ": field 'centerline': " + e.what());
+  }
+  const std::string csv_path = (fs::path(folder) / centreline).string();
+  CentreLineFile file = readCentreLineCsv(csv_path);
+  Track track(std::move(file.points), std::move(info));
+  if (track.info().start_finish_s < 0 || track.info().start_finish_s >= track.length()) {
+    throw MapError(yaml_path.string() + ": field 'start_finish.s' must be in [0, track length " +
+                   std::to_string(track.length()) + ")");
+  }
+  checkEdges(track, csv_path, file.lines);
+  return track;
+}
+
+std::string resolveMapFolder(const std::string& map, const std::string& maps_dir) {
+  if (fs::exists(fs::path(map) / "track.yaml")) return map;
+  const fs::path named = fs::path(maps_dir) / map;
+  if (fs::exists(named / "track.yaml")) return named.string();
+  std::string known;
+  for (const auto& name : listMaps(maps_dir)) known += (known.empty() ? "" : ", ") + name;
+  throw MapError("unknown map '" + map + "': not a map folder and not in " + maps_dir + " (available: " + known + ")");
+}
+
+std::vector<std::string> listMaps(const std::string& maps_dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(maps_dir, ec)) {
+    if (entry.is_directory() && fs::exists(entry.path() / "track.yaml")) names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+}  // namespace roar::track

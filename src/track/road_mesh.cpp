@@ -1,0 +1,62 @@
+#include "roar/track/road_mesh.h"
+
+namespace roar::track {
+
+TriangleMesh roadSurfaceMesh(const Track& track, double z) {
+  TriangleMesh mesh;
+  const int n = static_cast<int>(track.size());
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d l = track.leftEdge(i), r = track.rightEdge(i);
+    mesh.vertices.emplace_back(l.x(), l.y(), z);
+    mesh.vertices.emplace_back(r.x(), r.y(), z);
+  }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    const int li = 2 * i, ri = 2 * i + 1, lj = 2 * j, rj = 2 * j + 1;
+    mesh.triangles.push_back({ri, rj, lj});
+    mesh.triangles.push_back({ri, lj, li});
+  }
+  return mesh;
+}
+
+namespace {
+
+// Adds a closed wall along a loop of base points; `outward` points away from the road.
+void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, const std::vector<Eigen::Vector2d>& outer,
+             double height) {
+  const int n = static_cast<int>(inner.size());
+  const int base = static_cast<int>(mesh->vertices.size());
+  for (int i = 0; i < n; ++i) {
+    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), 0.0);
+    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), height);
+    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), height);
+    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), 0.0);
+  }
+  for (int i = 0; i < n; ++i) {
+    const int a = base + 4 * i, b = base + 4 * ((i + 1) % n);
+    for (int f = 0; f < 3; ++f) {  // inner face, top, outer face
+      mesh->triangles.push_back({a + f, b + f, b + f + 1});
+      mesh->triangles.push_back({a + f, b + f + 1, a + f + 1});
+    }
+  }
+}
+
+}  // namespace
+
+TriangleMesh barrierMesh(const Track& track, double thickness) {
+  TriangleMesh mesh;
+  const std::size_t n = track.size();
+  const double offset = track.info().barrier_offset;
+  std::vector<Eigen::Vector2d> left_in(n), left_out(n), right_in(n), right_out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    left_in[i] = track.leftEdge(i, offset);
+    left_out[i] = track.leftEdge(i, offset + thickness);
+    right_in[i] = track.rightEdge(i, offset);
+    right_out[i] = track.rightEdge(i, offset + thickness);
+  }
+  addWall(&mesh, left_in, left_out, track.info().barrier_height);
+  addWall(&mesh, right_in, right_out, track.info().barrier_height);
+  return mesh;
+}
+
+}  // namespace roar::track

@@ -1,0 +1,150 @@
+#include "roar/track/track.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace roar::track {
+
+double wrapAngle(double a) {
+  a = std::fmod(a + M_PI, 2.0 * M_PI);
+  if (a < 0) a += 2.0 * M_PI;
+  return a - M_PI;
+}
+
+Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std::move(points)), info_(std::move(info)) {
+  const std::size_t n = points_.size();
+  if (n < 3) throw std::invalid_argument("a track needs at least 3 centre-line points, got " + std::to_string(n));
+  s_.resize(n);
+  heading_.resize(n);
+  curvature_.resize(n);
+  double s = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    s_[i] = s;
+    const double seg = (position((i + 1) % n) - position(i)).norm();
+    if (seg < 1e-9) {
+      throw std::invalid_argument("centre-line points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
+                                  " coincide");
+    }
+    s += seg;
+  }
+  length_ = s;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d prev = position((i + n - 1) % n), cur = position(i), next = position((i + 1) % n);
+    const Eigen::Vector2d d = next - prev;
+    heading_[i] = std::atan2(d.y(), d.x());
+    // Menger curvature of the three points: 4 * area / product of the sides, signed by the turn direction.
+    const Eigen::Vector2d a = cur - prev, b = next - cur;
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    const double denom = a.norm() * b.norm() * (next - prev).norm();
+    curvature_[i] = denom > 0 ? 2.0 * cross / denom : 0.0;
+  }
+}
+
+Eigen::Vector2d Track::leftEdge(std::size_t i, double extra) const {
+  const double h = heading_[i];
+  return position(i) + (points_[i].width_left + extra) * Eigen::Vector2d(-std::sin(h), std::cos(h));
+}
+
+Eigen::Vector2d Track::rightEdge(std::size_t i, double extra) const {
+  const double h = heading_[i];
+  return position(i) - (points_[i].width_right + extra) * Eigen::Vector2d(-std::sin(h), std::cos(h));
+}
+
+double Track::wrap(double s) const {
+  s = std::fmod(s, length_);
+  return s < 0 ? s + length_ : s;
+}
+
+double Track::forwardDistance(double s_from, double s_to) const { return wrap(s_to - s_from); }
+
+std::size_t Track::segmentAt(double s) const {
+  s = wrap(s);
+  auto it = std::upper_bound(s_.begin(), s_.end(), s);
+  return static_cast<std::size_t>(std::distance(s_.begin(), it)) - 1;
+}
+
+TrackPose Track::poseAt(double s) const {
+  s = wrap(s);
+  const std::size_t i = segmentAt(s), j = (i + 1) % size();
+  const double seg = (j == 0 ? length_ : s_[j]) - s_[i];
+  const double t = (s - s_[i]) / seg;
+  TrackPose pose;
+  pose.position = (1 - t) * position(i) + t * position(j);
+  pose.heading = heading_[i] + t * wrapAngle(heading_[j] - heading_[i]);
+  pose.width_right = (1 - t) * points_[i].width_right + t * points_[j].width_right;
+  pose.width_left = (1 - t) * points_[i].width_left + t * points_[j].width_left;
+  return pose;
+}
+
+double Track::curvatureAt(double s) const {
+  s = wrap(s);
+  const std::size_t i = segmentAt(s), j = (i + 1) % size();
+  const double seg = (j == 0 ? length_ : s_[j]) - s_[i];
+  const double t = (s - s_[i]) / seg;
+  return (1 - t) * curvature_[i] + t * curvature_[j];
+}
+
+Projection Track::projectOnSegment(const Eigen::Vector2d& p, std::size_t i, double* dist2) const {
+  const std::size_t j = (i + 1) % size();
+  const Eigen::Vector2d a = position(i), d = position(j) - a;
+  const double seg2 = d.squaredNorm();
+  const double t = std::clamp((p - a).dot(d) / seg2, 0.0, 1.0);
+  const Eigen::Vector2d foot = a + t * d;
+  *dist2 = (p - foot).squaredNorm();
+  Projection pr;
+  pr.segment = i;
+  pr.s = wrap(s_[i] + t * std::sqrt(seg2));
+  const Eigen::Vector2d rel = p - foot;
+  pr.lateral = (d.x() * rel.y() - d.y() * rel.x()) / std::sqrt(seg2);
+  pr.heading = heading_[i] + t * wrapAngle(heading_[j] - heading_[i]);
+  pr.width_right = (1 - t) * points_[i].width_right + t * points_[j].width_right;
+  pr.width_left = (1 - t) * points_[i].width_left + t * points_[j].width_left;
+  return pr;
+}
+
+Projection Track::project(const Eigen::Vector2d& p) const {
+  Projection best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < size(); ++i) {
+    double d2;
+    Projection pr = projectOnSegment(p, i, &d2);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = pr;
+    }
+  }
+  return best;
+}
+
+Projection Track::projectNear(const Eigen::Vector2d& p, double near_s, double window) const {
+  if (window * 2 >= length_) return project(p);
+  Projection best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  std::size_t i = segmentAt(near_s - window);
+  const std::size_t last = segmentAt(near_s + window);
+  for (;; i = (i + 1) % size()) {
+    double d2;
+    Projection pr = projectOnSegment(p, i, &d2);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = pr;
+    }
+    if (i == last) break;
+  }
+  return best;
+}
+
+std::vector<TrackPose> Track::gridSpawnPoints(int count, double first_gap, double spacing) const {
+  std::vector<TrackPose> grid;
+  for (int k = 0; k < count; ++k) {
+    TrackPose pose = poseAt(info_.start_finish_s - first_gap - spacing * k);
+    const double side = (k % 2 == 0) ? 0.25 * pose.width_left : -0.25 * pose.width_right;
+    pose.position += side * Eigen::Vector2d(-std::sin(pose.heading), std::cos(pose.heading));
+    grid.push_back(pose);
+  }
+  return grid;
+}
+
+}  // namespace roar::track

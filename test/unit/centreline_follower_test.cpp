@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include "roar/control/centreline_follower.h"
+#include "roar/sim/world.h"
+#include "roar/track/map_folder.h"
+#include "test_tracks.h"
+
+using namespace roar;
+
+TEST(CentrelineFollower, SpeedProfileRespectsCornerAndBrakingLimits) {
+  const auto track = test::circleTrack(50.0);
+  control::FollowerOptions o;
+  control::CentrelineFollower f(track, o);
+  for (double s = 0; s < track.length(); s += 7) {
+    EXPECT_LE(f.targetSpeedAt(s), std::sqrt(o.lateral_accel * 50.0) * 1.01);
+    EXPECT_GT(f.targetSpeedAt(s), std::sqrt(o.lateral_accel * 50.0) * 0.95);
+  }
+  EXPECT_THROW(control::CentrelineFollower(track, [] {
+                 control::FollowerOptions bad;
+                 bad.lateral_accel = 0;
+                 return bad;
+               }()),
+               std::invalid_argument);
+}
+
+TEST(CentrelineFollower, SteersBackTowardsTheLine) {
+  const auto track = test::circleTrack(200.0);
+  control::CentrelineFollower f(track, {});
+  // On the line, heading along it: nearly the circle's own steering angle, to the left.
+  auto on = f.update({{200.0, 0.0}, M_PI / 2, 10.0});
+  EXPECT_GT(on.steer, 0.0);
+  EXPECT_LT(on.steer, 0.1);
+  // 3 m outside (to the right of the driver): steer harder left; 3 m inside: steer right of that.
+  auto outside = f.update({{203.0, 0.0}, M_PI / 2, 10.0});
+  auto inside = f.update({{197.0, 0.0}, M_PI / 2, 10.0});
+  EXPECT_GT(outside.steer, on.steer);
+  EXPECT_LT(inside.steer, on.steer);
+  // Too fast for the corner: brake.
+  auto fast = f.update({{200.0, 0.0}, M_PI / 2, 60.0});
+  EXPECT_GT(fast.brake, 0.5);
+  EXPECT_EQ(fast.throttle, 0.0);
+}
+
+TEST(CentrelineFollower, DrivesALapOfTheDefaultCircuitWithoutLeavingTheRoad) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  sim::WorldOptions wo;
+  sim::World world(track, wo);
+  const auto car = test::sedan();
+  world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
+  control::FollowerOptions o;
+  o.wheelbase = car.wheelbase();
+  o.max_steer_angle = car.steering.max_angle;
+  control::CentrelineFollower follower(track, o);
+  double travelled = 0, max_offset = 0;
+  Eigen::Vector3d last = world.vehicleState("ego").pose.position;
+  int barrier_hits = 0;
+  while (travelled < track.length() + 50 && world.time() < 400) {
+    const auto s = world.vehicleState("ego");
+    const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
+    world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed}));
+    world.step();
+    const auto now = world.vehicleState("ego").pose.position;
+    travelled += (now - last).head<2>().norm();
+    last = now;
+    max_offset = std::max(max_offset, std::abs(track.project(now.head<2>()).lateral));
+    for (const auto& c : world.contacts("ego")) barrier_hits += c.other == "barrier";
+  }
+  EXPECT_GE(travelled, track.length()) << "a whole lap in " << world.time() << " s";
+  EXPECT_EQ(barrier_hits, 0);
+  EXPECT_LT(max_offset, 5.0);
+  RecordProperty("lap_sim_time_s", std::to_string(world.time()));
+  RecordProperty("max_lateral_offset_m", std::to_string(max_offset));
+}

@@ -1,0 +1,36 @@
+#pragma once
+// Tracks made in code for unit tests, and paths to the shipped data.
+#include <cmath>
+#include <string>
+
+#include "roar/sim/vehicle_config.h"
+#include "roar/track/track.h"
+
+namespace roar::test {
+
+inline std::string sourceDir() { return ROAR_SOURCE_DIR; }
+
+// A circle of `radius` around `centre`, driven counter-clockwise, sampled every `spacing` metres.
+inline track::Track circleTrack(double radius, double width = 12.0, Eigen::Vector2d centre = {0, 0},
+                                double friction = 1.0, double spacing = 2.0) {
+  std::vector<track::CentreLinePoint> pts;
+  const int n = static_cast<int>(std::round(2 * M_PI * radius / spacing));
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    pts.push_back({centre.x() + radius * std::cos(a), centre.y() + radius * std::sin(a), width / 2, width / 2});
+  }
+  track::TrackInfo info;
+  info.name = "circle";
+  info.friction = friction;
+  info.ground_friction = friction;  // uniform grip everywhere: physics tests drive on the open ground
+  return track::Track(pts, info);
+}
+
+// Open ground for physics tests: a small circuit far away, so the area near the origin is free plane.
+inline track::Track openGround(double friction = 1.0) { return circleTrack(60.0, 12.0, {5000.0, 5000.0}, friction); }
+
+inline sim::VehicleParams sedan() {
+  return sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+}
+
+}  // namespace roar::test

@@ -1,0 +1,225 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "roar/track/circuit_builder.h"
+#include "roar/track/map_folder.h"
+#include "roar/track/road_mesh.h"
+#include "test_tracks.h"
+
+using namespace roar;
+namespace fs = std::filesystem;
+
+namespace {
+
+class TempDir {
+ public:
+  TempDir() : path_(fs::temp_directory_path() / ("roar_track_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++))) {
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return (path_ / name).string();
+  }
+  std::string str() const { return path_.string(); }
+
+ private:
+  static inline int counter_ = 0;
+  fs::path path_;
+};
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Track, CircleGeometry) {
+  const auto track = test::circleTrack(50.0);
+  EXPECT_NEAR(track.length(), 2 * M_PI * 50.0, 0.1);
+  for (std::size_t i = 0; i < track.size(); i += 17) {
+    EXPECT_NEAR(track.curvature(i), 1.0 / 50.0, 1e-3);  // counter-clockwise: left turn, positive
+  }
+  // heading at angle 0 (point (50, 0)) is +y
+  EXPECT_NEAR(track::wrapAngle(track.heading(0) - M_PI / 2), 0.0, 1e-3);
+}
+
+TEST(Track, ProjectionSignAndProgress) {
+  const auto track = test::circleTrack(50.0);
+  // Inside the circle is to the left of a counter-clockwise driver.
+  const auto inside = track.project({45.0, 0.0});
+  EXPECT_NEAR(inside.lateral, 5.0, 0.05);
+  EXPECT_TRUE(inside.on_track());
+  const auto outside = track.project({57.0, 0.0});
+  EXPECT_NEAR(outside.lateral, -7.0, 0.05);
+  EXPECT_FALSE(outside.on_track());
+  // progress rises monotonically along the lap
+  double last = -1;
+  for (int k = 0; k < 100; ++k) {
+    const double a = 2 * M_PI * k / 100.0;
+    const auto pr = track.project({50 * std::cos(a), 50 * std::sin(a)});
+    EXPECT_GT(pr.s, last);
+    last = pr.s;
+    EXPECT_NEAR(track.projectNear({50 * std::cos(a), 50 * std::sin(a)}, pr.s, 30).s, pr.s, 1e-9);
+  }
+}
+
+TEST(Track, PoseAtAndForwardDistance) {
+  const auto track = test::circleTrack(50.0);
+  const auto pose = track.poseAt(track.length() / 4);
+  EXPECT_NEAR(pose.position.x(), 0.0, 0.05);
+  EXPECT_NEAR(pose.position.y(), 50.0, 0.05);
+  EXPECT_NEAR(track.forwardDistance(track.length() - 10, 5), 15.0, 1e-9);
+  EXPECT_NEAR(track.wrap(-1.0), track.length() - 1.0, 1e-9);
+}
+
+TEST(Track, GridSpawnPointsBehindTheLineFacingForward) {
+  const auto track = test::circleTrack(100.0);
+  const auto grid = track.gridSpawnPoints(4);
+  ASSERT_EQ(grid.size(), 4u);
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    const auto pr = track.project(grid[k].position);
+    EXPECT_TRUE(pr.on_track());
+    EXPECT_NEAR(track.forwardDistance(pr.s, 0.0), 10.0 + 8.0 * k, 0.2);
+    EXPECT_NEAR(track::wrapAngle(grid[k].heading - pr.heading), 0.0, 0.01);
+  }
+  EXPECT_LT(grid[0].position.norm(), 99.0) << "pole is on the left: the inside of a counter-clockwise circle";
+  EXPECT_GT(grid[1].position.norm(), 101.0);
+}
+
+TEST(Track, ShippedDefaultMapLoadsAndCloses) {
+  const auto maps = track::listMaps(test::sourceDir() + "/maps");
+  ASSERT_FALSE(maps.empty());
+  for (const auto& name : maps) {
+    SCOPED_TRACE(name);
+    const auto track = track::loadMapFolder(track::resolveMapFolder(name, test::sourceDir() + "/maps"));
+    EXPECT_GT(track.length(), 1000.0);
+    const auto gap = (track.position(0) - track.position(track.size() - 1)).norm();
+    EXPECT_LT(gap, 10.0) << "closes";
+  }
+}
+
+TEST(MapFolder, CsvWithTumftmHeader) {
+  TempDir dir;
+  const auto path = dir.write("c.csv", "# x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n0,0,5,5\n");
+  const auto file = track::readCentreLineCsv(path);
+  ASSERT_EQ(file.points.size(), 4u) << "a repeated closing point is dropped";
+  EXPECT_EQ(file.lines[1], 3);
+}
+
+TEST(MapFolder, MissingColumnNamesFileAndLine) {
+  TempDir dir;
+  const auto path = dir.write("c.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,5,5\n100,0,5\n100,100,5,5\n");
+  const auto msg = errorOf([&] { track::readCentreLineCsv(path); });
+  EXPECT_NE(msg.find(path + ":3:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("expected 4 columns"), std::string::npos) << msg;
+}
+
+TEST(MapFolder, FewerThanThreePoints) {
+  TempDir dir;
+  const auto path = dir.write("c.csv", "0,0,5,5\n100,0,5,5\n");
+  const auto msg = errorOf([&] { track::readCentreLineCsv(path); });
+  EXPECT_NE(msg.find("at least 3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+}
+
+TEST(MapFolder, NegativeWidthAndNaN) {
+  TempDir dir;
+  const auto neg = dir.write("n.csv", "0,0,5,5\n100,0,-5,5\n100,100,5,5\n");
+  auto msg = errorOf([&] { track::readCentreLineCsv(neg); });
+  EXPECT_NE(msg.find(neg + ":2: w_tr_right_m must be positive"), std::string::npos) << msg;
+  const auto nan = dir.write("nan.csv", "0,0,5,5\n100,nan,5,5\n100,100,5,5\n");
+  msg = errorOf([&] { track::readCentreLineCsv(nan); });
+  EXPECT_NE(msg.find(nan + ":2: column y_m is not finite"), std::string::npos) << msg;
+  const auto text = dir.write("t.csv", "0,0,5,5\n100,abc,5,5\n100,100,5,5\n");
+  msg = errorOf([&] { track::readCentreLineCsv(text); });
+  EXPECT_NE(msg.find(text + ":2: column y_m is not a number"), std::string::npos) << msg;
+}
+
+TEST(MapFolder, SelfIntersectingEdgeIsRefused) {
+  TempDir dir;
+  // A figure eight: the centre line (and so both edges) crosses itself.
+  std::string csv = "# x_m,y_m,w_tr_right_m,w_tr_left_m\n";
+  for (int i = 0; i < 80; ++i) {
+    const double t = 2 * M_PI * i / 80;
+    csv += std::to_string(200 * std::sin(t)) + "," + std::to_string(100 * std::sin(2 * t)) + ",4,4\n";
+  }
+  dir.write("centerline.csv", csv);
+  dir.write("track.yaml", "name: eight\n");
+  const auto msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("centerline.csv:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("crosses"), std::string::npos) << msg;
+}
+
+TEST(MapFolder, CornerTooTightForTheWidthIsRefused) {
+  TempDir dir;
+  std::string csv;
+  for (int i = 0; i < 60; ++i) {
+    const double t = 2 * M_PI * i / 60;
+    csv += std::to_string(8 * std::cos(t)) + "," + std::to_string(8 * std::sin(t)) + ",3,10\n";  // left (inner) edge past the centre
+  }
+  dir.write("centerline.csv", csv);
+  dir.write("track.yaml", "name: tight\n");
+  const auto msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("left edge runs backwards"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("too tight for the width"), std::string::npos) << msg;
+}
+
+TEST(MapFolder, TrackYamlErrorsNameTheField) {
+  TempDir dir;
+  dir.write("centerline.csv", "0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n");
+  dir.write("track.yaml", "name: x\nfriction: lots\n");
+  auto msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("track.yaml: field 'friction' is not a number"), std::string::npos) << msg;
+  dir.write("track.yaml", "name: x\nsectors: 0\n");
+  msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("'sectors'"), std::string::npos) << msg;
+  dir.write("track.yaml", "name: x\norigin: {latitude: 37.87, longitude: -122.26, altitude: 50}\nfriction: 0.9\n");
+  const auto track = track::loadMapFolder(dir.str());
+  EXPECT_DOUBLE_EQ(track.info().origin.latitude, 37.87);
+  EXPECT_DOUBLE_EQ(track.info().friction, 0.9);
+  msg = errorOf([&] { track::resolveMapFolder("no_such_map", dir.str()); });
+  EXPECT_NE(msg.find("unknown map 'no_such_map'"), std::string::npos) << msg;
+}
+
+TEST(MapFolder, CsvRoundTrip) {
+  TempDir dir;
+  const auto track = test::circleTrack(40.0);
+  const auto path = (fs::path(dir.str()) / "c.csv").string();
+  track::writeCentreLineCsv(path, track.points());
+  const auto back = track::readCentreLineCsv(path);
+  ASSERT_EQ(back.points.size(), track.size());
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    EXPECT_EQ(back.points[i].x, track.point(i).x);
+    EXPECT_EQ(back.points[i].y, track.point(i).y);
+  }
+}
+
+TEST(CircuitBuilder, ClosedSmoothEvenlySpaced) {
+  const std::vector<track::ControlPoint> controls = {{0, 0, 12}, {300, 0, 12}, {350, 100, 10}, {0, 150, 12}};
+  const auto pts = track::buildCircuit(controls, 3.0);
+  track::Track track(pts, {});
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    const double seg = (track.position((i + 1) % track.size()) - track.position(i)).norm();
+    EXPECT_NEAR(seg, 3.0, 0.3);
+  }
+  EXPECT_THROW(track::buildCircuit({{0, 0, 10}, {1, 1, 10}}, 3.0), std::invalid_argument);
+}
+
+TEST(RoadMesh, CoversTheRoadAndWallsStandOutside) {
+  const auto track = test::circleTrack(50.0);
+  const auto road = track::roadSurfaceMesh(track);
+  EXPECT_EQ(road.triangles.size(), 2 * track.size());
+  const auto walls = track::barrierMesh(track);
+  for (const auto& v : walls.vertices) {
+    const double r = v.head<2>().norm();
+    EXPECT_TRUE(r <= 50 - 6 - track.info().barrier_offset + 1e-6 || r >= 50 + 6 + track.info().barrier_offset - 1e-6) << r;
+  }
+}

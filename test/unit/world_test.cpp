@@ -1,0 +1,148 @@
+#include <gtest/gtest.h>
+
+#include "roar/sim/world.h"
+#include "test_tracks.h"
+
+using namespace roar;
+using sim::Pose;
+using sim::World;
+
+namespace {
+
+Pose at(double x, double y, double yaw = 0.0) {
+  Pose p;
+  p.position = {x, y, 0};
+  p.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  return p;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(World, OptionsMustBeConsistent) {
+  const auto track = test::openGround();
+  sim::WorldOptions o;
+  o.control_dt = 0.05;
+  o.physics_dt = 0.003;
+  EXPECT_NE(errorOf([&] { World w(track, o); }).find("whole multiple"), std::string::npos);
+  o.physics_dt = 0.1;
+  EXPECT_THROW(World(track, o), std::invalid_argument);
+}
+
+TEST(World, TimeAdvancesByExactControlTicks) {
+  const auto track = test::openGround();
+  World world(track, {});
+  for (int i = 0; i < 7; ++i) world.step();
+  EXPECT_EQ(world.tick(), 7u);
+  EXPECT_DOUBLE_EQ(world.time(), 7 * 0.05);
+}
+
+TEST(World, SpawnRestsOnTheGroundAtTheRideHeight) {
+  const auto track = test::openGround();
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), at(10, 20, 0.5));
+  for (int i = 0; i < 40; ++i) world.step();
+  const auto s = world.vehicleState("ego");
+  EXPECT_NEAR(s.pose.position.z(), -0.02, 0.01) << "base_link on the ground (2 cm below road level)";
+  EXPECT_NEAR(s.pose.position.x(), 10, 0.01);
+  EXPECT_NEAR(s.pose.position.y(), 20, 0.01);
+  const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::atan2(fwd.y(), fwd.x()), 0.5, 1e-3);
+  for (const auto& w : s.wheels) {
+    EXPECT_TRUE(w.in_contact);
+    EXPECT_NEAR(w.compression, 0.0, 0.01) << "static sag matches the URDF wheel height";
+  }
+}
+
+TEST(World, SpawnErrorsGiveReasons) {
+  const auto track = test::openGround();
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), at(0, 0));
+  EXPECT_NE(errorOf([&] { world.spawnVehicle("ego", test::sedan(), at(50, 0)); }).find("already exists"), std::string::npos);
+  const auto msg = errorOf([&] { world.spawnVehicle("rival", test::sedan(), at(2, 1)); });
+  EXPECT_NE(msg.find("overlap vehicle 'ego'"), std::string::npos) << msg;
+  EXPECT_FALSE(world.hasVehicle("rival"));
+  world.spawnVehicle("rival", test::sedan(), at(0, 4));  // side by side with a gap
+  EXPECT_EQ(world.vehicleNames(), (std::vector<std::string>{"ego", "rival"}));
+  EXPECT_NE(errorOf([&] { world.destroyVehicle("ghost"); }).find("no vehicle named 'ghost'"), std::string::npos);
+  world.destroyVehicle("rival");
+  EXPECT_FALSE(world.hasVehicle("rival"));
+  world.step();
+}
+
+TEST(World, ResetPutsTheCarBackAtRest) {
+  const auto track = test::openGround();
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), at(0, 0));
+  sim::VehicleControl go;
+  go.throttle = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    world.setControl("ego", go);
+    world.step();
+  }
+  ASSERT_GT(world.vehicleState("ego").speed, 10.0);
+  world.resetVehicle("ego", at(-100, 0, M_PI));
+  world.step();
+  const auto s = world.vehicleState("ego");
+  EXPECT_NEAR(s.pose.position.x(), -100, 0.05);
+  EXPECT_LT(s.speed, 0.2);
+  EXPECT_EQ(s.gear, 1);
+  for (const auto& w : s.wheels) EXPECT_LT(std::abs(w.angular_velocity), 0.5);
+}
+
+TEST(World, StaleControlBrakesTheCar) {
+  const auto track = test::openGround();
+  sim::WorldOptions o;
+  o.control_timeout = 0.5;
+  World world(track, o);
+  world.spawnVehicle("ego", test::sedan(), at(0, 0));
+  sim::VehicleControl go;
+  go.throttle = 1.0;
+  world.setControl("ego", go);
+  for (int i = 0; i < 11; ++i) world.step();  // the last of these ticks starts exactly 0.5 s after the control
+  EXPECT_EQ(world.vehicleState("ego").applied_control.throttle, 1.0);
+  world.step();
+  EXPECT_EQ(world.vehicleState("ego").applied_control.throttle, 0.0) << "driver silent for longer than the timeout";
+  EXPECT_EQ(world.vehicleState("ego").applied_control.brake, 1.0);
+}
+
+TEST(World, BarrierAndCarContactsAreReportedWithTheOtherBody) {
+  // A car driven straight off a circle track's road hits the outer barrier.
+  const auto track = test::circleTrack(60.0);
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), at(60, 0, 0.0));  // on the road facing outwards (+x)
+  sim::VehicleControl go;
+  go.throttle = 0.6;
+  bool hit = false;
+  for (int i = 0; i < 100 && !hit; ++i) {
+    world.setControl("ego", go);
+    world.step();
+    for (const auto& c : world.contacts("ego")) {
+      if (c.other == "barrier") {
+        hit = true;
+        EXPECT_LT(c.impulse.x(), 0) << "the wall pushes the car back towards the centre";
+        EXPECT_NEAR(c.position.head<2>().norm(), 60 + 6 + track.info().barrier_offset, 1.0);
+      }
+    }
+  }
+  EXPECT_TRUE(hit);
+
+  World open(test::openGround(), {});
+  open.spawnVehicle("a", test::sedan(), at(0, 0));
+  open.spawnVehicle("b", test::sedan(), at(30, 0));
+  bool touched = false;
+  for (int i = 0; i < 100 && !touched; ++i) {
+    open.setControl("a", go);
+    open.step();
+    for (const auto& c : open.contacts("b")) touched = touched || c.other == "a";
+  }
+  EXPECT_TRUE(touched);
+}
