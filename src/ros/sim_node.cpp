@@ -37,6 +37,14 @@ sim::Pose SimNode::spawnPose(int spawn_point) const {
   return sim::poseOnTrack(track_.gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
 }
 
+sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const {
+  if (spawn_point >= kGridSlots || spawn_point < -1) {
+    throw std::invalid_argument("spawn_point " + std::to_string(spawn_point) + " does not exist (-1 for pose, 0.." +
+                                std::to_string(kGridSlots - 1) + ")");
+  }
+  return spawn_point >= 0 ? spawnPose(spawn_point) : fromMessage(pose);
+}
+
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose) {
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
   world_->spawnVehicle(name, params, pose);
@@ -154,15 +162,10 @@ void SimNode::run() {
 
 bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res) {
   try {
-    if (req.spawn_point >= kGridSlots || req.spawn_point < -1) {
-      throw std::invalid_argument("spawn_point " + std::to_string(req.spawn_point) + " does not exist (-1 for pose, 0.." +
-                                  std::to_string(kGridSlots - 1) + ")");
-    }
     if (req.name.empty() || req.name.find_first_of(" /") != std::string::npos) {
       throw std::invalid_argument("name '" + req.name + "' must be non-empty, without spaces or '/'");
     }
-    const sim::Pose pose = req.spawn_point >= 0 ? spawnPose(req.spawn_point) : fromMessage(req.pose);
-    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, pose);
+    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose));
     res.success = true;
     res.message = "spawned " + req.name;
   } catch (const std::exception& e) {
@@ -188,10 +191,7 @@ bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::Destro
 
 bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
   try {
-    if (req.spawn_point >= kGridSlots || req.spawn_point < -1) {
-      throw std::invalid_argument("spawn_point " + std::to_string(req.spawn_point) + " does not exist");
-    }
-    world_->resetVehicle(req.name, req.spawn_point >= 0 ? spawnPose(req.spawn_point) : fromMessage(req.pose));
+    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose));
     res.success = true;
     res.message = "reset " + req.name;
   } catch (const std::exception& e) {

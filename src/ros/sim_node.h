@@ -36,6 +36,8 @@ class SimNode {
 
   void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose);
   sim::Pose spawnPose(int spawn_point) const;
+  // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.
+  sim::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
   void onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg);
   bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
   void tick();

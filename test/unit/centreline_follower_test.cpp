@@ -3,7 +3,7 @@
 #include "roar/control/centreline_follower.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
 

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "roar/race/lap_timer.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
 

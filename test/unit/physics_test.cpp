@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "roar/sim/world.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
 

@@ -6,9 +6,10 @@
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/road_mesh.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
+using test::errorOf;
 namespace fs = std::filesystem;
 
 namespace {
@@ -30,14 +31,6 @@ class TempDir {
   fs::path path_;
 };
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 

@@ -4,20 +4,11 @@
 #include <fstream>
 
 #include "roar/sim/vehicle_config.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
+using test::errorOf;
 
-namespace {
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
 
 TEST(VehicleConfig, SedanLoadsFromUrdfAndYaml) {
   const auto p = test::sedan();

@@ -1,9 +1,10 @@
 #include <gtest/gtest.h>
 
 #include "roar/sim/world.h"
-#include "test_tracks.h"
+#include "test_support.h"
 
 using namespace roar;
+using test::errorOf;
 using sim::Pose;
 using sim::World;
 
@@ -16,14 +17,6 @@ Pose at(double x, double y, double yaw = 0.0) {
   return p;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 #pragma once
-// Tracks made in code for unit tests, and paths to the shipped data.
+// Shared by the unit tests: tracks made in code, the shipped data, and reading error messages.
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "roar/sim/vehicle_config.h"
@@ -9,6 +10,16 @@
 namespace roar::test {
 
 inline std::string sourceDir() { return ROAR_SOURCE_DIR; }
+
+// The message of the exception f throws, or "" when it throws none.
+inline std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
 
 // A circle of `radius` around `centre`, driven counter-clockwise, sampled every `spacing` metres.
 inline track::Track circleTrack(double radius, double width = 12.0, Eigen::Vector2d centre = {0, 0},
