@@ -88,7 +88,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   anti_roll_load_.fill(0.0);
   powertrain_.reset();
   control_ = parkedControl();
-  tick_start_velocity_ = btVector3(0, 0, 0);
+  substep_start_velocity_ = btVector3(0, 0, 0);
   last_acceleration_ = btVector3(0, 0, 0);
 }
 
@@ -253,10 +253,10 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   st.on_road = surface == kRoad;
 }
 
-void VehicleDynamics::beginTick() { tick_start_velocity_ = body_->getLinearVelocity(); }
+void VehicleDynamics::beginSubstep() { substep_start_velocity_ = body_->getLinearVelocity(); }
 
-void VehicleDynamics::endTick(double tick_dt) {
-  last_acceleration_ = (body_->getLinearVelocity() - tick_start_velocity_) / tick_dt;
+void VehicleDynamics::endSubstep(double dt) {
+  last_acceleration_ = (body_->getLinearVelocity() - substep_start_velocity_) / dt;
 }
 
 VehicleState VehicleDynamics::state() const {

@@ -33,8 +33,8 @@ class VehicleDynamics {
   void setControl(const VehicleControl& control) { control_ = control; }
   // Suspension, tyre, drivetrain and aero forces for one substep, to be integrated by Bullet next.
   void applyForces(double dt, const SurfaceFriction& friction);
-  void beginTick();            // remembers the velocity for the tick's acceleration
-  void endTick(double tick_dt);
+  void beginSubstep();  // remembers the velocity for the substep's acceleration
+  void endSubstep(double dt);
   void reset(const btTransform& base_link_pose);
   btTransform baseLinkPose() const;
   VehicleState state() const;
@@ -64,7 +64,7 @@ class VehicleDynamics {
   std::array<double, 4> anti_roll_load_{0.0, 0.0, 0.0, 0.0};  // N added to each wheel's spring
   VehicleControl control_ = parkedControl();
   double steering_ = 0.0;  // rad, commanded road-wheel angle after the rate limit
-  btVector3 tick_start_velocity_{0, 0, 0};
+  btVector3 substep_start_velocity_{0, 0, 0};
   btVector3 last_acceleration_{0, 0, 0};
 };
 

@@ -276,23 +276,26 @@ void World::setControl(const std::string& name, const VehicleControl& control) {
   slot.last_control_time = time();
 }
 
-void World::step() {
+void World::step(const std::function<void(double)>& after_substep) {
   auto& w = *impl_;
   const double dt = w.options.physics_dt;
   for (auto& [name, slot] : w.vehicles) {
     const bool stale = w.options.control_timeout > 0 && time() - slot.last_control_time > w.options.control_timeout;
     if (!slot.has_control || stale) slot.dynamics->setControl(parkedControl());
-    slot.dynamics->beginTick();
     slot.tick_contacts.clear();
   }
   for (int k = 0; k < w.substeps; ++k) {
-    for (auto& [name, slot] : w.vehicles) slot.dynamics->applyForces(dt, w.friction);
+    for (auto& [name, slot] : w.vehicles) {
+      slot.dynamics->beginSubstep();
+      slot.dynamics->applyForces(dt, w.friction);
+    }
     w.dynamics->stepSimulation(dt, 0, dt);
+    for (auto& [name, slot] : w.vehicles) slot.dynamics->endSubstep(dt);
     w.gatherContacts();
+    if (after_substep) after_substep(time() + (k + 1) * dt);
   }
   ++w.tick;
   for (auto& [name, slot] : w.vehicles) {
-    slot.dynamics->endTick(w.options.control_dt);
     slot.contacts.clear();
     for (auto& [other, contact] : slot.tick_contacts) slot.contacts.push_back(contact);
   }

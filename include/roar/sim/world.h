@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -45,7 +46,8 @@ struct VehicleState {
   Eigen::Vector3d angular_velocity;  // rad/s, map frame
   Eigen::Vector3d body_linear_velocity;   // m/s, base_link frame
   Eigen::Vector3d body_angular_velocity;  // rad/s, base_link frame
-  Eigen::Vector3d body_acceleration;      // m/s^2 over the last tick, base_link frame (gravity not included)
+  Eigen::Vector3d body_acceleration;      // m/s^2 of the centre of mass over the last physics substep,
+                                          // base_link frame (gravity not included)
   double speed = 0.0;
   double forward_speed = 0.0;
   int gear = 0;
@@ -91,8 +93,9 @@ class World {
   // The control stays until replaced; it must have passed checkControl.
   void setControl(const std::string& name, const VehicleControl& control);
 
-  // One control tick.
-  void step();
+  // One control tick. `after_substep`, when given, runs after every physics substep with the simulated
+  // time at its end (vehicle states are current then): motion sensors sample at the physics rate.
+  void step(const std::function<void(double)>& after_substep = {});
   std::uint64_t tick() const;
   double time() const;  // s, tick * control_dt
 

@@ -1,0 +1,64 @@
+#pragma once
+// The sensors of one car. Motion sensors (IMU, GNSS, velocimeter) are sampled after physics substeps, so
+// they may run up to the physics rate; cameras and LiDAR are cast once per control tick when due, so their
+// rate may not exceed the control rate. Cameras on one mount with the same intrinsics and rate share one
+// cast. Readings go to a SensorSink (the ROS node publishes them; tests collect them).
+#include <Eigen/Geometry>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "roar/sensors/camera.h"
+#include "roar/sensors/inertial.h"
+#include "roar/sensors/lidar.h"
+#include "roar/sensors/sensor_spec.h"
+
+namespace roar::sensors {
+
+class SensorSink {
+ public:
+  virtual ~SensorSink() = default;
+  virtual void camera(const SensorSpec& spec, double stamp, const CameraFrame& frame, const CameraIntrinsics& k) = 0;
+  virtual void lidar(const SensorSpec& spec, double stamp, const std::vector<LidarPoint>& points) = 0;
+  virtual void imu(const SensorSpec& spec, double stamp, const ImuSample& sample) = 0;
+  virtual void gnss(const SensorSpec& spec, double stamp, const GnssFix& fix) = 0;
+  virtual void velocity(const SensorSpec& spec, double stamp, const Velocity& velocity) = 0;
+};
+
+struct RigTiming {
+  double control_dt = 0.05;
+  double physics_dt = 0.005;
+  double gravity = 9.81;
+};
+
+class SensorRig {
+ public:
+  // Throws SensorSpecError naming the sensor for a rate its kind cannot keep, or a taken name.
+  SensorRig(const std::vector<SensorSpec>& specs, const RigTiming& timing, const track::GeoOrigin& origin,
+            double start_time = 0.0);
+  ~SensorRig();
+
+  // A sensor added at `now` reports first one period later.
+  void add(const SensorSpec& spec, double now);
+  bool remove(const std::string& name);
+  std::vector<SensorSpec> specs() const;
+
+  // After every physics substep, at simulated time `time`.
+  void sampleMotion(double time, const BodyMotion& motion, SensorSink& sink);
+  // After every control tick, with the scene's cars at this tick's poses.
+  void sampleRays(double time, const RayScene& scene, const Eigen::Isometry3d& base_in_map, int own_vehicle,
+                  SensorSink& sink);
+
+ private:
+  struct Sensor;
+  struct CameraGroup;
+  void rebuildCameraGroups();
+
+  RigTiming timing_;
+  track::GeoOrigin origin_;
+  std::vector<std::unique_ptr<Sensor>> sensors_;
+  std::vector<std::unique_ptr<CameraGroup>> camera_groups_;
+};
+
+}  // namespace roar::sensors
