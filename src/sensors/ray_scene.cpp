@@ -155,7 +155,7 @@ struct RayScene::Impl {
         out->reflectivity = 0.8f;
         out->semantic = SemanticClass::kLaneMarking;
       } else {
-        out->albedo = Eigen::Vector3f::Constant(0.12f + 0.05f * cellNoise(p.x(), p.y(), 0.4));  // asphalt
+        out->albedo = Eigen::Vector3f::Constant(0.13f + 0.025f * cellNoise(p.x(), p.y(), 0.15));  // asphalt
         out->reflectivity = 0.3f;
         out->semantic = SemanticClass::kRoad;
       }
