@@ -5,6 +5,8 @@
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/sensors/vehicle_looks.h"
+#include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
 
@@ -12,23 +14,34 @@ namespace roar::ros_bridge {
 
 namespace {
 constexpr int kGridSlots = 20;  // spawn points: the start grid behind the start/finish line
+
+// Paint of the n-th car: distinct, saturated colours (linear RGB).
+Eigen::Vector3f paint(std::size_t n) {
+  static const Eigen::Vector3f kPalette[] = {{0.05f, 0.15f, 0.75f}, {0.75f, 0.05f, 0.04f}, {0.9f, 0.6f, 0.02f},
+                                             {0.05f, 0.5f, 0.1f},   {0.5f, 0.05f, 0.6f},  {0.02f, 0.55f, 0.6f},
+                                             {0.85f, 0.85f, 0.85f}, {0.1f, 0.1f, 0.1f}};
+  return kPalette[n % (sizeof(kPalette) / sizeof(kPalette[0]))];
 }
+}  // namespace
 
 SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options)
     : nh_(nh), private_nh_(private_nh), options_(options), track_(track::loadMapFolder(options.map_folder)) {
   world_ = std::make_unique<sim::World>(track_, options_.world);
+  scene_ = std::make_unique<sensors::RayScene>(track_);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   for (const auto& v : options_.vehicles) {
     if (v.spawn_point >= kGridSlots) {
       throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
                        std::to_string(kGridSlots - 1) + ")");
     }
-    addVehicle(v.name, v.model, spawnPose(v.spawn_point));
+    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set);
   }
   services_.push_back(private_nh_.advertiseService("spawn_vehicle", &SimNode::onSpawn, this));
   services_.push_back(private_nh_.advertiseService("destroy_vehicle", &SimNode::onDestroy, this));
   services_.push_back(private_nh_.advertiseService("reset_vehicle", &SimNode::onReset, this));
   services_.push_back(private_nh_.advertiseService("step", &SimNode::onStep, this));
+  services_.push_back(private_nh_.advertiseService("attach_sensor", &SimNode::onAttachSensor, this));
+  services_.push_back(private_nh_.advertiseService("detach_sensor", &SimNode::onDetachSensor, this));
   ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s", track_.info().name.c_str(),
            track_.length(), options_.vehicles.size(), options_.world.control_dt, options_.world.physics_dt);
 }
@@ -45,17 +58,35 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
   return spawn_point >= 0 ? spawnPose(spawn_point) : fromMessage(pose);
 }
 
-void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose) {
+std::string SimNode::sensorSetPath(const std::string& set) const {
+  return set.find('/') != std::string::npos || set.find(".yaml") != std::string::npos
+             ? set
+             : options_.sensors_dir + "/" + set + ".yaml";
+}
+
+void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
+                         const std::string& sensor_set) {
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
+  // Sensors are read and checked before the car exists, so a bad set leaves nothing half made.
+  auto vehicle_sensors = std::make_unique<VehicleSensors>(
+      nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
+      track_.info().origin, options_.map_frame);
+  if (!sensor_set.empty()) {
+    for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set))) vehicle_sensors->attach(spec, world_->time());
+  }
+  if (!looks_.count(model)) looks_[model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + model + ".urdf");
   world_->spawnVehicle(name, params, pose);
   VehicleIo io;
+  io.scene_id = scene_->addVehicle(looks_[model], paint(io_.size()));
+  io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
   io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);
   io.collision = nh_.advertise<roar_ros::CollisionEvent>(name + "/collision", 50);
   io.control = nh_.subscribe<roar_ros::VehicleControl>(
       name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
-  io_[name] = io;
+  io_[name] = std::move(io);
+  publishStaticTransforms();
   ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), model.c_str(), pose.position.x(),
            pose.position.y());
 }
@@ -86,9 +117,38 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
   }
 }
 
+void SimNode::publishStaticTransforms() {
+  std::vector<geometry_msgs::TransformStamped> all;
+  for (const auto& [name, io] : io_) {
+    const auto t = io.sensors->staticTransforms();
+    all.insert(all.end(), t.begin(), t.end());
+  }
+  if (!all.empty()) static_tf_.sendTransform(all);
+}
+
 void SimNode::tick() {
-  world_->step();
+  // Sensor readings of a tick go out before its odometry and clock: a lockstep driver that has the
+  // odometry of tick t has been sent every reading up to t.
+  world_->step([this](double t) {
+    for (auto& [name, io] : io_) {
+      if (!io.sensors->empty()) io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
+    }
+  });
+  sampleRaySensors();
   publishState();
+}
+
+void SimNode::sampleRaySensors() {
+  bool any = false;
+  for (auto& [name, io] : io_) any = any || !io.sensors->empty();
+  if (!any) return;
+  std::map<std::string, Eigen::Isometry3d> poses;
+  for (auto& [name, io] : io_) {
+    poses[name] = sensors::poseOf(world_->vehicleState(name));
+    scene_->setVehiclePose(io.scene_id, poses[name]);
+  }
+  scene_->commit();
+  for (auto& [name, io] : io_) io.sensors->rig().sampleRays(world_->time(), *scene_, poses[name], io.scene_id, *io.sensors);
 }
 
 void SimNode::publishState() {
@@ -165,7 +225,8 @@ bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehic
     if (req.name.empty() || req.name.find_first_of(" /") != std::string::npos) {
       throw std::invalid_argument("name '" + req.name + "' must be non-empty, without spaces or '/'");
     }
-    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose));
+    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose),
+               req.sensor_set);
     res.success = true;
     res.message = "spawned " + req.name;
   } catch (const std::exception& e) {
@@ -179,6 +240,7 @@ bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehic
 bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res) {
   try {
     world_->destroyVehicle(req.name);
+    scene_->removeVehicle(io_.at(req.name).scene_id);
     io_.erase(req.name);
     res.success = true;
     res.message = "destroyed " + req.name;
@@ -228,6 +290,31 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   res.message = warnings;
   res.tick = world_->tick();
   res.stamp = toRosTime(world_->time());
+  return true;
+}
+
+bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res) {
+  try {
+    auto it = io_.find(req.vehicle);
+    if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + req.vehicle + "'");
+    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor");
+    if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
+    it->second.sensors->attach(specs.front(), world_->time());
+    publishStaticTransforms();
+    res.success = true;
+    res.message = "attached " + specs.front().name + " to " + req.vehicle;
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+  }
+  return true;
+}
+
+bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res) {
+  auto it = io_.find(req.vehicle);
+  res.success = it != io_.end() && it->second.sensors->detach(req.sensor);
+  res.message = res.success ? "detached " + req.sensor
+                            : "no sensor '" + req.sensor + "' on a vehicle named '" + req.vehicle + "'";
   return true;
 }
 

@@ -5,18 +5,23 @@
 // The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
 // /clock) cannot drive it. Everything it publishes is stamped with simulated time.
 #include <ros/ros.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <map>
 #include <memory>
 
+#include "roar/sensors/ray_scene.h"
 #include "roar/sim/world.h"
+#include "roar_ros/AttachSensor.h"
+#include "roar_ros/DetachSensor.h"
 #include "roar/track/track.h"
 #include "roar_ros/DestroyVehicle.h"
 #include "roar_ros/ResetVehicle.h"
 #include "roar_ros/SpawnVehicle.h"
 #include "roar_ros/Step.h"
 #include "sim_parameters.h"
+#include "vehicle_sensors.h"
 
 namespace roar::ros_bridge {
 
@@ -32,9 +37,15 @@ class SimNode {
     ros::Subscriber control;
     ros::Time last_control_stamp{0, 0};
     bool control_seen = false;
+    int scene_id = -1;
+    std::unique_ptr<VehicleSensors> sensors;
   };
 
-  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose);
+  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
+                  const std::string& sensor_set);
+  std::string sensorSetPath(const std::string& set) const;
+  void publishStaticTransforms();
+  void sampleRaySensors();
   sim::Pose spawnPose(int spawn_point) const;
   // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.
   sim::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
@@ -48,14 +59,19 @@ class SimNode {
   bool onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res);
   bool onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res);
   bool onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res);
+  bool onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res);
+  bool onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res);
 
   ros::NodeHandle nh_, private_nh_;
   SimNodeOptions options_;
   track::Track track_;
   std::unique_ptr<sim::World> world_;
+  std::unique_ptr<sensors::RayScene> scene_;
+  std::map<std::string, sensors::VisualMesh> looks_;  // by vehicle model
   std::map<std::string, VehicleIo> io_;
   ros::Publisher clock_pub_;
   tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
   std::vector<ros::ServiceServer> services_;
 };
 

@@ -10,9 +10,10 @@ namespace roar::ros_bridge {
 namespace {
 
 // ~vehicles: a list of {name, model, spawn_point}; model and spawn_point are optional.
-std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::string& default_model) {
+std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::string& default_model,
+                                       const std::string& default_sensor_set) {
   XmlRpc::XmlRpcValue list;
-  if (!nh.getParam("vehicles", list)) return {{"ego", default_model, 0}};
+  if (!nh.getParam("vehicles", list)) return {{"ego", default_model, 0, default_sensor_set}};
   const std::string where = nh.resolveName("vehicles");
   if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
     throw ParamError("parameter " + where + " must be a list of {name, model, spawn_point}");
@@ -31,6 +32,11 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
     spawn.name = static_cast<std::string>(v["name"]);
     spawn.model = default_model;
     spawn.spawn_point = i;
+    spawn.sensor_set = default_sensor_set;
+    if (v.hasMember("sensors")) {
+      if (v["sensors"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".sensors must be a string");
+      spawn.sensor_set = static_cast<std::string>(v["sensors"]);
+    }
     if (v.hasMember("model")) {
       if (v["model"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".model must be a string");
       spawn.model = static_cast<std::string>(v["model"]);
@@ -65,6 +71,8 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
   o.default_model = readString(nh, "default_model", o.default_model);
+  o.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
+  o.default_sensor_set = readString(nh, "sensor_set", "");
   o.map_frame = readString(nh, "map_frame", o.map_frame);
   o.world.control_dt = readDouble(nh, "control_dt", o.world.control_dt, 1e-4, 1.0);
   o.world.physics_dt = readDouble(nh, "physics_dt", o.world.physics_dt, 1e-4, 0.05);
@@ -73,7 +81,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
   o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);
   o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
-  o.vehicles = readVehicles(nh, o.default_model);
+  o.vehicles = readVehicles(nh, o.default_model, o.default_sensor_set);
   return o;
 }
 

@@ -19,6 +19,7 @@ struct VehicleSpawn {
   std::string name;
   std::string model;
   int spawn_point = 0;
+  std::string sensor_set;  // a set in sensors_dir or a YAML path; empty: no sensors
 };
 
 struct SimNodeOptions {
@@ -26,6 +27,8 @@ struct SimNodeOptions {
   std::string urdf_dir;
   std::string vehicle_config_dir;
   std::string default_model = "sedan";
+  std::string sensors_dir;
+  std::string default_sensor_set;  // for vehicles that name none
   std::string map_frame = "map";
   sim::WorldOptions world;
   SteppingMode mode = SteppingMode::kAsync;

@@ -1,0 +1,31 @@
+#pragma once
+// Sensor readings (ROS-free core types) -> standard ROS messages.
+#include <geometry_msgs/TwistStamped.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/NavSatFix.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include "roar/sensors/camera.h"
+#include "roar/sensors/inertial.h"
+#include "roar/sensors/lidar.h"
+
+namespace roar::ros_bridge {
+
+// One channel of a camera frame: rgb8, mono8 (grey), 32FC1 (depth, metres) or mono8 (semantic class ids).
+sensor_msgs::Image toImage(const sensors::CameraFrame& frame, sensors::SensorType type, const ros::Time& stamp,
+                           const std::string& optical_frame);
+sensor_msgs::CameraInfo toCameraInfo(const sensors::CameraIntrinsics& k, const ros::Time& stamp,
+                                     const std::string& optical_frame);
+// x, y, z, intensity as float32, 16 bytes a point, in the sensor's frame.
+sensor_msgs::PointCloud2 toPointCloud2(const std::vector<sensors::LidarPoint>& points, const ros::Time& stamp,
+                                       const std::string& frame);
+sensor_msgs::Imu toImu(const sensors::ImuSample& sample, const sensors::ImuSpec& spec, const ros::Time& stamp,
+                       const std::string& frame);
+sensor_msgs::NavSatFix toNavSatFix(const sensors::GnssFix& fix, const sensors::GnssSpec& spec, const ros::Time& stamp,
+                                   const std::string& frame);
+geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const ros::Time& stamp,
+                                    const std::string& frame);
+
+}  // namespace roar::ros_bridge

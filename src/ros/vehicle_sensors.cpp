@@ -1,0 +1,101 @@
+#include "vehicle_sensors.h"
+
+#include <geometry_msgs/TwistStamped.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/NavSatFix.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include "roar/ros/msg_conversion.h"
+#include "roar/ros/sensor_msg_conversion.h"
+
+namespace roar::ros_bridge {
+
+namespace {
+
+geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& t, const std::string& parent,
+                                             const std::string& child) {
+  sim::Pose pose;
+  pose.position = t.translation();
+  pose.orientation = Eigen::Quaterniond(t.linear());
+  return toTransform(pose, ros::Time(0), parent, child);
+}
+
+}  // namespace
+
+VehicleSensors::VehicleSensors(ros::NodeHandle nh, std::string vehicle, const sensors::RigTiming& timing,
+                               const track::GeoOrigin& origin, std::string map_frame)
+    : nh_(nh), it_(nh), vehicle_(std::move(vehicle)), map_frame_(std::move(map_frame)), rig_({}, timing, origin) {}
+
+void VehicleSensors::attach(const sensors::SensorSpec& spec, double now) {
+  rig_.add(spec, now);  // validates first: nothing is advertised for a sensor the rig refuses
+  Publishers p;
+  const std::string base = vehicle_ + "/";
+  switch (spec.type) {
+    case sensors::SensorType::kLidar:
+      p.main = nh_.advertise<sensor_msgs::PointCloud2>(base + "lidar/" + spec.name + "/points", 10);
+      break;
+    case sensors::SensorType::kImu:
+      p.main = nh_.advertise<sensor_msgs::Imu>(base + spec.name, 200);
+      break;
+    case sensors::SensorType::kGnss:
+      p.main = nh_.advertise<sensor_msgs::NavSatFix>(base + spec.name, 200);
+      break;
+    case sensors::SensorType::kVelocimeter:
+      p.main = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist", 50);
+      p.second = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist_map", 50);
+      break;
+    default:
+      p.camera = it_.advertiseCamera(base + "camera/" + spec.name + "/image", 10);
+      break;
+  }
+  publishers_[spec.name] = p;
+}
+
+bool VehicleSensors::detach(const std::string& name) {
+  if (!rig_.remove(name)) return false;
+  publishers_.erase(name);
+  return true;
+}
+
+std::vector<geometry_msgs::TransformStamped> VehicleSensors::staticTransforms() const {
+  std::vector<geometry_msgs::TransformStamped> out;
+  for (const auto& spec : rig_.specs()) {
+    out.push_back(transformMsg(sensors::mountTransform(spec.mount), vehicle_ + "/base_link", frameOf(spec)));
+    if (sensors::isCamera(spec.type)) {
+      Eigen::Isometry3d optical = Eigen::Isometry3d::Identity();
+      optical.linear() = sensors::opticalFromBody().transpose();
+      out.push_back(transformMsg(optical, frameOf(spec), frameOf(spec) + "_optical"));
+    }
+  }
+  return out;
+}
+
+void VehicleSensors::camera(const sensors::SensorSpec& spec, double stamp, const sensors::CameraFrame& frame,
+                            const sensors::CameraIntrinsics& k) {
+  auto& pub = publishers_.at(spec.name).camera;
+  if (pub.getNumSubscribers() == 0) return;  // converting 800x600 frames nobody reads is wasted time
+  const ros::Time t = toRosTime(stamp);
+  const std::string optical = frameOf(spec) + "_optical";
+  pub.publish(toImage(frame, spec.type, t, optical), toCameraInfo(k, t, optical));
+}
+
+void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp, const std::vector<sensors::LidarPoint>& points) {
+  publishers_.at(spec.name).main.publish(toPointCloud2(points, toRosTime(stamp), frameOf(spec)));
+}
+
+void VehicleSensors::imu(const sensors::SensorSpec& spec, double stamp, const sensors::ImuSample& sample) {
+  publishers_.at(spec.name).main.publish(toImu(sample, spec.imu, toRosTime(stamp), frameOf(spec)));
+}
+
+void VehicleSensors::gnss(const sensors::SensorSpec& spec, double stamp, const sensors::GnssFix& fix) {
+  publishers_.at(spec.name).main.publish(toNavSatFix(fix, spec.gnss, toRosTime(stamp), frameOf(spec)));
+}
+
+void VehicleSensors::velocity(const sensors::SensorSpec& spec, double stamp, const sensors::Velocity& v) {
+  const ros::Time t = toRosTime(stamp);
+  auto& p = publishers_.at(spec.name);
+  p.main.publish(toTwist(v.linear_body, v.angular_body, t, frameOf(spec)));
+  p.second.publish(toTwist(v.linear_world, v.angular_world, t, map_frame_));
+}
+
+}  // namespace roar::ros_bridge

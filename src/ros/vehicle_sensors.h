@@ -1,0 +1,54 @@
+#pragma once
+// The sensors of one simulated car on ROS: its SensorRig, and the publishers its readings go to.
+//   cameras   <vehicle>/camera/<name>/image (+ camera_info), frame <vehicle>/<name>_optical (image_transport)
+//   lidar     <vehicle>/lidar/<name>/points, frame <vehicle>/<name>
+//   imu, gnss <vehicle>/<name>, frame <vehicle>/<name>
+//   velocimeter <vehicle>/<name>/twist (sensor frame) and <vehicle>/<name>/twist_map (map frame)
+#include <geometry_msgs/TransformStamped.h>
+#include <image_transport/image_transport.h>
+#include <ros/ros.h>
+
+#include <map>
+#include <string>
+
+#include "roar/sensors/sensor_rig.h"
+
+namespace roar::ros_bridge {
+
+class VehicleSensors : public sensors::SensorSink {
+ public:
+  VehicleSensors(ros::NodeHandle nh, std::string vehicle, const sensors::RigTiming& timing,
+                 const track::GeoOrigin& origin, std::string map_frame);
+
+  // Throws sensors::SensorSpecError naming the sensor and field.
+  void attach(const sensors::SensorSpec& spec, double now);
+  bool detach(const std::string& name);
+  // base_link -> sensor frames (and camera optical frames), for the static tf broadcaster.
+  std::vector<geometry_msgs::TransformStamped> staticTransforms() const;
+  bool empty() const { return publishers_.empty(); }
+
+  sensors::SensorRig& rig() { return rig_; }
+
+  void camera(const sensors::SensorSpec& spec, double stamp, const sensors::CameraFrame& frame,
+              const sensors::CameraIntrinsics& k) override;
+  void lidar(const sensors::SensorSpec& spec, double stamp, const std::vector<sensors::LidarPoint>& points) override;
+  void imu(const sensors::SensorSpec& spec, double stamp, const sensors::ImuSample& sample) override;
+  void gnss(const sensors::SensorSpec& spec, double stamp, const sensors::GnssFix& fix) override;
+  void velocity(const sensors::SensorSpec& spec, double stamp, const sensors::Velocity& v) override;
+
+ private:
+  struct Publishers {
+    image_transport::CameraPublisher camera;
+    ros::Publisher main, second;
+  };
+  std::string frameOf(const sensors::SensorSpec& spec) const { return vehicle_ + "/" + spec.name; }
+
+  ros::NodeHandle nh_;
+  image_transport::ImageTransport it_;
+  std::string vehicle_;
+  std::string map_frame_;
+  sensors::SensorRig rig_;
+  std::map<std::string, Publishers> publishers_;
+};
+
+}  // namespace roar::ros_bridge
