@@ -58,31 +58,48 @@ struct RayScene::Impl {
     int segment;
   };
 
+  // Two levels: the track is a scene of its own, built once; the top level holds only instances (the
+  // track and the cars), so moving the cars each tick rebuilds a tree of a handful of boxes.
   explicit Impl(const track::Track& t) : track(t) {
     device = rtcNewDevice("threads=1");
     if (!device) throw std::runtime_error("Embree: cannot create a device");
-    scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    static_scene = rtcNewScene(device);
+    rtcSetSceneBuildQuality(static_scene, RTC_BUILD_QUALITY_HIGH);
     const std::size_t n = track.size();
     for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector2d d = track.position((i + 1) % n) - track.position(i);
       seg_dir.push_back(d.normalized());
     }
-    road_geom = attach(triangleGeometry(device, track::roadSurfaceMesh(track), kStaticMask));
-    barrier_geom = attach(triangleGeometry(device, track::barrierMesh(track), kStaticMask));
-    kerb_geom = attach(triangleGeometry(device, kerbMesh(), kStaticMask));
-    ground_geom = attach(triangleGeometry(device, groundMesh(), kStaticMask));
+    road_geom = attach(static_scene, triangleGeometry(device, track::roadSurfaceMesh(track), kStaticMask));
+    barrier_geom = attach(static_scene, triangleGeometry(device, track::barrierMesh(track), kStaticMask));
+    kerb_geom = attach(static_scene, triangleGeometry(device, kerbMesh(), kStaticMask));
+    ground_geom = attach(static_scene, triangleGeometry(device, groundMesh(), kStaticMask));
+    rtcCommitScene(static_scene);
+
+    scene = rtcNewScene(device);
+    static_instance = attach(scene, instanceOf(static_scene, kStaticMask));
     rtcCommitScene(scene);
+  }
+
+  RTCGeometry instanceOf(RTCScene child, unsigned mask) const {
+    RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, child);
+    rtcSetGeometryMask(inst, mask);
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+    rtcCommitGeometry(inst);
+    return inst;
   }
 
   ~Impl() {
     for (auto& [id, v] : vehicles) rtcReleaseScene(v.scene);
     rtcReleaseScene(scene);
+    rtcReleaseScene(static_scene);
     rtcReleaseDevice(device);
   }
 
-  unsigned attach(RTCGeometry geom) {
-    const unsigned id = rtcAttachGeometry(scene, geom);
+  static unsigned attach(RTCScene target, RTCGeometry geom) {
+    const unsigned id = rtcAttachGeometry(target, geom);
     rtcReleaseGeometry(geom);
     return id;
   }
@@ -133,7 +150,7 @@ struct RayScene::Impl {
   }
 
   void shade(unsigned geom, unsigned prim, unsigned inst, const Eigen::Vector3d& p, RayHit* out) const {
-    if (inst != RTC_INVALID_GEOMETRY_ID) {
+    if (inst != static_instance) {
       const Vehicle& v = vehicles.at(instance_to_vehicle.at(inst));
       out->albedo = v.colours[prim];
       out->reflectivity = 0.5f;
@@ -186,7 +203,9 @@ struct RayScene::Impl {
 
   const track::Track& track;
   RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
+  RTCScene scene = nullptr;         // top level: instances only
+  RTCScene static_scene = nullptr;  // the track
+  unsigned static_instance = 0;
   unsigned road_geom = 0, barrier_geom = 0, kerb_geom = 0, ground_geom = 0;
   std::vector<Eigen::Vector2d> seg_dir;
   std::vector<int> kerb_segments;
@@ -211,13 +230,7 @@ int RayScene::addVehicle(const VisualMesh& looks, const Eigen::Vector3f& paint) 
   for (auto& c : v.colours) {
     if (c.x() < 0) c = paint;  // negative: "the car's paint"
   }
-  RTCGeometry inst = rtcNewGeometry(w.device, RTC_GEOMETRY_TYPE_INSTANCE);
-  rtcSetGeometryInstancedScene(inst, v.scene);
-  rtcSetGeometryMask(inst, vehicleMask(id));
-  const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-  rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
-  rtcCommitGeometry(inst);
-  v.instance = w.attach(inst);
+  v.instance = Impl::attach(w.scene, w.instanceOf(v.scene, vehicleMask(id)));
   w.instance_to_vehicle[v.instance] = id;
   w.vehicles.emplace(id, std::move(v));
   return id;
@@ -269,8 +282,10 @@ void RayScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* dirs, 
     if (out.normal.dot(dirs[k]) > 0) out.normal = -out.normal;
   };
 
+  // Rays from one origin go in packets of 16 either way: even a LiDAR's spread rays share the first
+  // levels of the tree. The context flag tells Embree how alike they are.
   std::size_t k = 0;
-  if (coherent) {
+  {
     for (; k + 16 <= count; k += 16) {
       alignas(64) RTCRayHit16 rh;
       alignas(64) int valid[16];
