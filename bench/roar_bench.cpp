@@ -54,7 +54,7 @@ void PhysicsRealTimeFactor(benchmark::State& state) {
       const auto s = world.vehicleState(names[i]);
       const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
       world.setControl(names[i],
-                       drivers[i]->update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed}));
+                       drivers[i]->update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
     }
     world.step();
     ++ticks;
@@ -155,7 +155,7 @@ void SensorSuiteRealTimeFactor(benchmark::State& state) {
   for (auto _ : state) {
     const auto s = world.vehicleState("ego");
     const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-    world.setControl("ego", driver.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed}));
+    world.setControl("ego", driver.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
     world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
     const Eigen::Isometry3d pose = sensors::poseOf(world.vehicleState("ego"));
     scene.setVehiclePose(id, pose);

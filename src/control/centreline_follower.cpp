@@ -64,7 +64,9 @@ sim::VehicleControl CentrelineFollower::update(const FollowerInput& input) {
   const Eigen::Vector2d rel = target - input.position;
   const double alpha = track::wrapAngle(std::atan2(rel.y(), rel.x()) - input.yaw);
   const double distance = std::max(rel.norm(), 1e-3);
-  const double steer_angle = std::atan(2.0 * options_.wheelbase * std::sin(alpha) / distance);
+  const double curvature = 2.0 * std::sin(alpha) / distance;
+  const double steer_angle = std::atan(options_.wheelbase * curvature) +
+                             options_.yaw_rate_gain * (speed * curvature - input.yaw_rate);
 
   sim::VehicleControl control;
   control.steer = std::clamp(steer_angle / options_.max_steer_angle, -1.0, 1.0);

@@ -39,6 +39,7 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   f.max_steer_angle = car.steering.max_angle;
   f.lookahead_min = readDouble(nh, "lookahead_min", f.lookahead_min, 0.5, 100);
   f.lookahead_time = readDouble(nh, "lookahead_time", f.lookahead_time, 0.0, 5);
+  f.yaw_rate_gain = readDouble(nh, "yaw_rate_gain", f.yaw_rate_gain, 0.0, 2);
   f.lateral_accel = readDouble(nh, "lateral_accel", f.lateral_accel, 0.5, 50);
   f.braking_decel = readDouble(nh, "braking_decel", f.braking_decel, 0.5, 50);
   f.max_speed = readDouble(nh, "max_speed", f.max_speed, 0.5, 150);
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
           in.position = Eigen::Vector2d(odom->pose.pose.position.x, odom->pose.pose.position.y);
           in.yaw = ros_bridge::yawOf(odom->pose.pose.orientation);
           in.speed = odom->twist.twist.linear.x;
+          in.yaw_rate = odom->twist.twist.angular.z;
           roar_ros::VehicleControl msg = ros_bridge::toMessage(follower.update(in));
           msg.header.stamp = odom->header.stamp;
           pub.publish(msg);

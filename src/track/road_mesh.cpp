@@ -43,6 +43,20 @@ void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, cons
 
 }  // namespace
 
+// An offset line around a corner tighter than the offset folds back on itself (a swallowtail) and would
+// stand across the road. Points that would run backwards along the centre line collapse onto the last
+// point that did not, leaving zero-length pieces: one wall piece per centre-line segment still.
+void unfold(const Track& track, std::vector<Eigen::Vector2d>* line) {
+  const std::size_t n = line->size();
+  for (int pass = 0; pass < 2; ++pass) {  // the second pass settles the wrap-around
+    for (std::size_t k = 1; k <= n; ++k) {
+      const std::size_t i = k % n, prev = k - 1;
+      const Eigen::Vector2d along = track.position((prev + 1) % n) - track.position(prev);
+      if (((*line)[i] - (*line)[prev]).dot(along) < 0) (*line)[i] = (*line)[prev];
+    }
+  }
+}
+
 TriangleMesh barrierMesh(const Track& track, double thickness) {
   TriangleMesh mesh;
   const std::size_t n = track.size();
@@ -54,6 +68,7 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
     right_in[i] = track.rightEdge(i, offset);
     right_out[i] = track.rightEdge(i, offset + thickness);
   }
+  for (auto* line : {&left_in, &left_out, &right_in, &right_out}) unfold(track, line);
   addWall(&mesh, left_in, left_out, track.info().barrier_height);
   addWall(&mesh, right_in, right_out, track.info().barrier_height);
   return mesh;

@@ -57,7 +57,7 @@ TEST(CentrelineFollower, DrivesALapOfTheDefaultCircuitWithoutLeavingTheRoad) {
   while (travelled < track.length() + 50 && world.time() < 400) {
     const auto s = world.vehicleState("ego");
     const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-    world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed}));
+    world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
     world.step();
     const auto now = world.vehicleState("ego").pose.position;
     travelled += (now - last).head<2>().norm();

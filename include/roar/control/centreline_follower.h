@@ -15,6 +15,9 @@ struct FollowerOptions {
   double max_steer_angle = 0.61;   // rad at steer = 1
   double lookahead_min = 6.0;      // m
   double lookahead_time = 0.5;     // s: lookahead = max(min, time * speed)
+  // Yaw damping: steering added per rad/s of yaw rate missing from what the pursuit curve asks (v * kappa).
+  // Pure pursuit alone weaves when braking hard from high speed.
+  double yaw_rate_gain = 0.1;      // rad of steering per rad/s
   double lateral_accel = 7.0;      // m/s^2 allowed in corners
   double braking_decel = 7.0;      // m/s^2 planned for braking
   double max_speed = 60.0;         // m/s
@@ -31,6 +34,7 @@ struct FollowerInput {
   Eigen::Vector2d position;  // base_link in the map frame
   double yaw = 0.0;
   double speed = 0.0;        // m/s, forward
+  double yaw_rate = 0.0;     // rad/s, counter-clockwise
 };
 
 class CentrelineFollower {

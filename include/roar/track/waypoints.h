@@ -1,0 +1,39 @@
+#pragma once
+// Waypoints as ROAR_PY has them: the centre of the drivable road, the road's roll/pitch/yaw, the lane width.
+// And ROAR_PY's waypoint files (.npz: locations (N,3), rotations (N,3), lane_widths (N); spawn points:
+// locations and rotations).
+#include <Eigen/Core>
+#include <utility>
+#include <vector>
+
+#include "roar/track/track.h"
+
+namespace roar::track {
+
+struct Waypoint {
+  Eigen::Vector3d location = Eigen::Vector3d::Zero();        // m, map frame (x forward/east, y left/north, z up)
+  Eigen::Vector3d roll_pitch_yaw = Eigen::Vector3d::Zero();  // rad; yaw is the road heading
+  double lane_width = 0.0;                                   // m
+};
+
+// ROAR_PY's line representation: the road's left and right edge points, location -/+ R(rpy) [0, w/2, 0].
+std::pair<Eigen::Vector3d, Eigen::Vector3d> lineRepresentation(const Waypoint& w);
+// The waypoint whose line representation is (left, right), with the given pitch.
+Waypoint fromLineRepresentation(const Eigen::Vector3d& left, const Eigen::Vector3d& right, double pitch = 0.0);
+// Between a (t = 0) and b (t = 1): locations and widths linearly, angles the short way round.
+Waypoint interpolate(const Waypoint& a, const Waypoint& b, double t);
+
+// One waypoint per centre-line point: the middle of the road between its edges, full road width.
+std::vector<Waypoint> waypointsOf(const Track& track);
+// A closed track through waypoint locations with half the lane width each side. Consecutive waypoints
+// closer than 1 cm (and a last one repeating the first) are merged; throws std::invalid_argument for
+// fewer than 3 distinct waypoints or a non-positive width.
+Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo& info);
+
+// ROAR_PY files; errors (NpzError) name the file, the array and the problem.
+std::vector<Waypoint> readRoarWaypoints(const std::string& path);
+void writeRoarWaypoints(const std::string& path, const std::vector<Waypoint>& waypoints);
+std::vector<Waypoint> readRoarSpawnPoints(const std::string& path);  // lane_width 0
+void writeRoarSpawnPoints(const std::string& path, const std::vector<Waypoint>& spawn_points);
+
+}  // namespace roar::track

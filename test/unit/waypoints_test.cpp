@@ -1,0 +1,191 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "roar/control/centreline_follower.h"
+#include "roar/sim/world.h"
+#include "roar/track/map_folder.h"
+#include "roar/track/npz.h"
+#include "roar/track/waypoints.h"
+#include "test_support.h"
+
+using namespace roar;
+using test::errorOf;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+  TempDir() : path(fs::temp_directory_path() / ("roar_wp_" + std::to_string(::getpid()) + "_" + std::to_string(n++))) {
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+  static inline int n = 0;
+  fs::path path;
+};
+
+std::vector<track::Waypoint> someWaypoints() {
+  std::vector<track::Waypoint> w;
+  for (int i = 0; i < 50; ++i) {
+    track::Waypoint p;
+    const double a = 2 * M_PI * i / 50;
+    p.location = {100 * std::cos(a) + 0.123456789012, 100 * std::sin(a), 0.1 * i};
+    p.roll_pitch_yaw = {0.0, -0.01, track::wrapAngle(a + M_PI / 2)};
+    p.lane_width = 10 + 0.01 * i;
+    w.push_back(p);
+  }
+  return w;
+}
+
+bool haveNumpy() { return std::system("/usr/bin/python3 -c 'import numpy' 2>/dev/null") == 0; }
+
+// Closes `track` with a centre-line follower driving the default car round it once.
+bool drivesALap(const track::Track& track, double* lap_time) {
+  sim::World world(track, {});
+  const auto car = test::sedan();
+  world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
+  control::FollowerOptions o;
+  o.wheelbase = car.wheelbase();
+  o.max_steer_angle = car.steering.max_angle;
+  control::CentrelineFollower follower(track, o);
+  double travelled = 0;
+  Eigen::Vector3d last = world.vehicleState("ego").pose.position;
+  int barrier = 0;
+  while (travelled < track.length() + 20 && world.time() < 600) {
+    const auto s = world.vehicleState("ego");
+    const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
+    world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
+    world.step();
+    const auto now = world.vehicleState("ego").pose.position;
+    travelled += (now - last).head<2>().norm();
+    last = now;
+    for (const auto& c : world.contacts("ego")) barrier += c.other == "barrier";
+  }
+  *lap_time = world.time();
+  return travelled >= track.length() && barrier == 0;
+}
+
+}  // namespace
+
+TEST(Waypoints, LineRepresentationLikeRoarPy) {
+  track::Waypoint w;
+  w.lane_width = 10;
+  auto [left, right] = track::lineRepresentation(w);
+  EXPECT_TRUE(left.isApprox(Eigen::Vector3d(0, 5, 0)));
+  EXPECT_TRUE(right.isApprox(Eigen::Vector3d(0, -5, 0)));
+  w.roll_pitch_yaw.z() = M_PI / 2;
+  std::tie(left, right) = track::lineRepresentation(w);
+  EXPECT_NEAR(left.x(), -5, 1e-12);
+  const auto back = track::fromLineRepresentation(left, right);
+  EXPECT_NEAR(back.roll_pitch_yaw.z(), M_PI / 2, 1e-12);
+  EXPECT_NEAR(back.lane_width, 10, 1e-12);
+  EXPECT_TRUE(back.location.isApprox(w.location));
+}
+
+TEST(Waypoints, InterpolationTakesTheShortWayRound) {
+  track::Waypoint a, b;
+  a.roll_pitch_yaw.z() = 3.1;
+  b.roll_pitch_yaw.z() = -3.1;
+  a.lane_width = 10;
+  b.lane_width = 12;
+  b.location = {2, 0, 0};
+  const auto m = track::interpolate(a, b, 0.5);
+  EXPECT_NEAR(std::abs(m.roll_pitch_yaw.z()), M_PI, 1e-9);
+  EXPECT_NEAR(m.lane_width, 11, 1e-12);
+  EXPECT_NEAR(m.location.x(), 1, 1e-12);
+}
+
+TEST(Waypoints, NpzRoundTripIsExact) {
+  TempDir dir;
+  const auto w = someWaypoints();
+  track::writeRoarWaypoints(dir.file("w.npz"), w);
+  const auto back = track::readRoarWaypoints(dir.file("w.npz"));
+  ASSERT_EQ(back.size(), w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    EXPECT_EQ(back[i].location, w[i].location);
+    EXPECT_EQ(back[i].roll_pitch_yaw, w[i].roll_pitch_yaw);
+    EXPECT_EQ(back[i].lane_width, w[i].lane_width);
+  }
+}
+
+TEST(Waypoints, NumpyReadsOurFilesAndWeReadNumpys) {
+  if (!haveNumpy()) GTEST_SKIP() << "Debian's python3-numpy is not installed (scripts/setup installs it)";
+  TempDir dir;
+  track::writeRoarWaypoints(dir.file("ours.npz"), someWaypoints());
+  const std::string script = dir.file("check.py");
+  std::ofstream(script) << "import numpy as np, sys\n"
+                           "d = np.load(sys.argv[1])\n"
+                           "assert d['locations'].shape == (50, 3) and d['lane_widths'].shape == (50,)\n"
+                           "assert abs(d['locations'][0, 0] - 100.123456789012) < 1e-12\n"
+                           "np.savez_compressed(sys.argv[2], locations=d['locations'] * 2, rotations=d['rotations'],"
+                           " lane_widths=d['lane_widths'].astype(np.float32))\n";
+  ASSERT_EQ(std::system(("/usr/bin/python3 " + script + " " + dir.file("ours.npz") + " " + dir.file("theirs.npz")).c_str()), 0);
+  const auto theirs = track::readRoarWaypoints(dir.file("theirs.npz"));
+  ASSERT_EQ(theirs.size(), 50u);
+  EXPECT_EQ(theirs[0].location.x(), 2 * 100.123456789012);
+  EXPECT_NEAR(theirs[3].lane_width, 10.03, 1e-6) << "float32 widths are read too";
+}
+
+TEST(Waypoints, CsvToMapToNpzToMapKeepsTheWaypoints) {
+  TempDir dir;
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  track::writeRoarWaypoints(dir.file("ring.npz"), track::waypointsOf(track));
+  const auto again = track::trackFromWaypoints(track::readRoarWaypoints(dir.file("ring.npz")), track.info());
+  ASSERT_EQ(again.size(), track.size());
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    EXPECT_NEAR(again.point(i).x, track.point(i).x, 1e-9);
+    EXPECT_NEAR(again.point(i).y, track.point(i).y, 1e-9);
+    EXPECT_NEAR(again.point(i).width_left + again.point(i).width_right,
+                track.point(i).width_left + track.point(i).width_right, 1e-9);
+  }
+}
+
+TEST(Waypoints, MalformedNpzIsAClearError) {
+  TempDir dir;
+  const std::string good = dir.file("good.npz");
+  track::writeRoarWaypoints(good, someWaypoints());
+  // Truncated archive.
+  const auto size = fs::file_size(good);
+  fs::copy_file(good, dir.file("cut.npz"));
+  fs::resize_file(dir.file("cut.npz"), size / 2);
+  auto msg = errorOf([&] { track::readRoarWaypoints(dir.file("cut.npz")); });
+  EXPECT_NE(msg.find(dir.file("cut.npz") + ": not a readable .npz"), std::string::npos) << msg;
+  // Not a zip at all.
+  std::ofstream(dir.file("text.npz")) << "locations,rotations\n";
+  EXPECT_NE(errorOf([&] { track::readRoarWaypoints(dir.file("text.npz")); }).find("not a readable .npz"), std::string::npos);
+  // Missing key, wrong shape, NaN.
+  track::NpyArray loc{{5, 3}, std::vector<double>(15, 1.0)}, rot{{5, 3}, std::vector<double>(15, 0.0)};
+  track::writeNpz(dir.file("nokey.npz"), {{"locations", loc}, {"rotations", rot}});
+  msg = errorOf([&] { track::readRoarWaypoints(dir.file("nokey.npz")); });
+  EXPECT_NE(msg.find("missing array 'lane_widths' (the file has: locations, rotations)"), std::string::npos) << msg;
+  track::NpyArray flat{{5, 2}, std::vector<double>(10, 1.0)};
+  track::writeNpz(dir.file("shape.npz"), {{"locations", flat}, {"rotations", rot}});
+  msg = errorOf([&] { track::readRoarSpawnPoints(dir.file("shape.npz")); });
+  EXPECT_NE(msg.find("array 'locations' has shape (5, 2), expected (N, 3)"), std::string::npos) << msg;
+  loc.data[3 * 3 + 1] = std::nan("");
+  track::writeNpz(dir.file("nan.npz"), {{"locations", loc}, {"rotations", rot}});
+  msg = errorOf([&] { track::readRoarSpawnPoints(dir.file("nan.npz")); });
+  EXPECT_NE(msg.find("array 'locations' row 3 is not finite"), std::string::npos) << msg;
+}
+
+// ROAR_PY's own files, from ../shared when present (the project's other tests make their own files).
+TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
+  const std::string dir = test::sourceDir() + "/../shared/fixtures/roar_py";
+  if (!fs::exists(dir + "/Monza_waypoints.npz")) GTEST_SKIP() << "ROAR_PY fixtures not present beside the checkout";
+  const auto waypoints = track::readRoarWaypoints(dir + "/Monza_waypoints.npz");
+  ASSERT_EQ(waypoints.size(), 2775u);
+  EXPECT_DOUBLE_EQ(waypoints[0].lane_width, 12.0);
+  track::TrackInfo info;
+  info.name = "Monza";
+  const auto monza = track::trackFromWaypoints(waypoints, info);
+  EXPECT_NEAR(monza.length(), 5600, 300);
+  track::checkEdges(monza, dir + "/Monza_waypoints.npz", {});
+  double lap = 0;
+  EXPECT_TRUE(drivesALap(monza, &lap)) << "lap " << lap << " s";
+  RecordProperty("monza_lap_s", std::to_string(lap));
+  const auto spawns = track::readRoarSpawnPoints(dir + "/BerkMajor_spawn_points.npz");
+  EXPECT_EQ(spawns.size(), 11u);
+  EXPECT_EQ(track::readRoarWaypoints(dir + "/BerkMajor_waypoints.npz").size(), 6942u);
+}
