@@ -1,5 +1,7 @@
-// track_tool: build, check and preview circuits from the command line.
+// track_tool: what ROAR_PY users do in notebooks, from the command line: import, export, resample,
+// spawn points, build, check and preview circuits.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -7,20 +9,35 @@
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/track_preview.h"
+#include "roar/track/waypoints.h"
 
 using namespace roar::track;
+namespace fs = std::filesystem;
 
 namespace {
 
 int usage() {
-  std::cerr << "usage:\n"
-               "  track_tool build CONTROL_POINTS.csv MAP_FOLDER [--spacing M]\n"
-               "      smooth closed circuit through control points (CSV: x_m,y_m,width_m) -> MAP_FOLDER/centerline.csv\n"
-               "  track_tool check MAP_FOLDER\n"
-               "      loads and validates a map; prints length, corner radii and widths\n"
-               "  track_tool preview MAP_FOLDER OUT.png\n"
-               "      top-down picture with start/finish and sector lines\n";
+  std::cerr
+      << "usage: track_tool COMMAND ...\n"
+         "  import SOURCE MAP_FOLDER [--name NAME] [--spacing M] [--width M]\n"
+         "      SOURCE: a TUMFTM centre-line CSV (x_m,y_m,w_tr_right_m,w_tr_left_m), a ROAR_PY waypoint file (.npz),\n"
+         "      or a list of x,y points (--width, default 12 m); resampled when --spacing is given\n"
+         "  export MAP_FOLDER OUT.npz                 ROAR_PY waypoints (locations, rotations, lane_widths)\n"
+         "  resample MAP_FOLDER --spacing M           rewrites the centre line at an even spacing\n"
+         "  spawn MAP_FOLDER N OUT.npz                N spawn points evenly round the lap, as a ROAR_PY spawn file\n"
+         "  build CONTROL_POINTS.csv MAP_FOLDER [--spacing M]\n"
+         "      smooth closed circuit through control points (x_m,y_m,width_m)\n"
+         "  check MAP_FOLDER                          validates; prints length, widths, the tightest corner\n"
+         "  preview MAP_FOLDER OUT.png                top-down picture with start/finish and sector lines\n";
   return 2;
+}
+
+// --flag value pairs after the positional arguments.
+std::string option(int argc, char** argv, const std::string& flag, const std::string& fallback) {
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (argv[i] == flag) return argv[i + 1];
+  }
+  return fallback;
 }
 
 std::vector<ControlPoint> readControlPoints(const std::string& path) {
@@ -60,18 +77,73 @@ int check(const std::string& folder) {
   return 0;
 }
 
+std::vector<CentreLinePoint> importPoints(const std::string& source, double width) {
+  if (!fs::exists(source)) throw MapError(source + ": no such file");
+  const std::string ext = fs::path(source).extension().string();
+  if (ext == ".npz") {
+    TrackInfo info;
+    return trackFromWaypoints(readRoarWaypoints(source), info).points();
+  }
+  // A TUMFTM file has four columns; a point list two.
+  std::ifstream in(source);
+  std::string line;
+  while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
+  }
+  const auto commas = std::count(line.begin(), line.end(), ',');
+  if (commas >= 3) return readCentreLineCsv(source).points;
+  return readPointList(source, width);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string cmd = argv[1];
   try {
+    if (cmd == "import" && argc >= 4) {
+      const std::string folder = argv[3];
+      TrackInfo info;
+      info.name = option(argc, argv, "--name", fs::path(folder).filename().string());
+      auto points = importPoints(argv[2], std::stod(option(argc, argv, "--width", "12")));
+      const std::string spacing = option(argc, argv, "--spacing", "");
+      if (!spacing.empty()) points = resampleClosed(points, std::stod(spacing));
+      writeMapFolder(folder, points, info);
+      return check(folder);
+    }
+    if (cmd == "export" && argc == 4) {
+      const Track track = loadMapFolder(argv[2]);
+      writeRoarWaypoints(argv[3], waypointsOf(track));
+      std::cout << "wrote " << track.size() << " waypoints to " << argv[3] << "\n";
+      return 0;
+    }
+    if (cmd == "resample" && argc == 5) {
+      const Track track = loadMapFolder(argv[2]);
+      const auto points = resampleClosed(track.points(), std::stod(option(argc, argv, "--spacing", "2")));
+      writeMapFolder(argv[2], points, track.info());
+      return check(argv[2]);
+    }
+    if (cmd == "spawn" && argc == 5) {
+      const Track track = loadMapFolder(argv[2]);
+      const int count = std::stoi(argv[3]);
+      if (count < 1) throw MapError("spawn: N must be at least 1");
+      std::vector<Waypoint> spawns;
+      for (const auto& pose : track.evenSpawnPoints(count)) {
+        Waypoint w;
+        w.location = Eigen::Vector3d(pose.position.x(), pose.position.y(), 0.0);
+        w.roll_pitch_yaw = Eigen::Vector3d(0, 0, pose.heading);
+        spawns.push_back(w);
+        std::cout << pose.position.x() << "," << pose.position.y() << "," << pose.heading << "\n";
+      }
+      writeRoarSpawnPoints(argv[4], spawns);
+      return 0;
+    }
     if (cmd == "build" && argc >= 4) {
-      double spacing = 2.0;
-      if (argc == 6 && std::string(argv[4]) == "--spacing") spacing = std::stod(argv[5]);
-      const auto points = buildCircuit(readControlPoints(argv[2]), spacing);
-      writeCentreLineCsv(std::string(argv[3]) + "/centerline.csv", points);
-      return check(argv[3]);
+      const auto points = buildCircuit(readControlPoints(argv[2]), std::stod(option(argc, argv, "--spacing", "2")));
+      const std::string folder = argv[3];
+      TrackInfo info;
+      if (fs::exists(fs::path(folder) / "track.yaml")) info = readTrackYaml(folder + "/track.yaml");
+      writeMapFolder(folder, points, info);
+      return check(folder);
     }
     if (cmd == "check") return check(argv[2]);
     if (cmd == "preview" && argc == 4) {

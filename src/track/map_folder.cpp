@@ -190,6 +190,56 @@ TrackInfo readTrackYaml(const std::string& path) {
   return info;
 }
 
+void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::string& centreline) {
+  YAML::Emitter out;
+  out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << info.name;
+  out << YAML::Key << "centerline" << YAML::Value << centreline;
+  out << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "latitude" << YAML::Value
+      << info.origin.latitude << YAML::Key << "longitude" << YAML::Value << info.origin.longitude << YAML::Key
+      << "altitude" << YAML::Value << info.origin.altitude << YAML::EndMap;
+  out << YAML::Key << "friction" << YAML::Value << info.friction;
+  out << YAML::Key << "ground_friction" << YAML::Value << info.ground_friction;
+  out << YAML::Key << "start_finish" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "s" << YAML::Value
+      << info.start_finish_s << YAML::EndMap;
+  out << YAML::Key << "sectors" << YAML::Value << info.sectors;
+  out << YAML::Key << "barrier_offset" << YAML::Value << info.barrier_offset;
+  out << YAML::Key << "barrier_height" << YAML::Value << info.barrier_height << YAML::EndMap;
+  std::ofstream file(path);
+  if (!file) throw MapError(path + ": cannot write");
+  file << out.c_str() << "\n";
+}
+
+void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint>& points, const TrackInfo& info) {
+  const Track track(points, info);  // validates before anything is written
+  checkEdges(track, folder + "/centerline.csv", {});
+  fs::create_directories(folder);
+  writeCentreLineCsv(folder + "/centerline.csv", points);
+  if (!fs::exists(fs::path(folder) / "track.yaml")) writeTrackYaml(folder + "/track.yaml", info);
+}
+
+std::vector<CentreLinePoint> readPointList(const std::string& path, double width) {
+  if (!(width > 0)) throw MapError(path + ": the road width must be positive");
+  std::ifstream in(path);
+  if (!in) throw MapError(path + ": cannot open the point list");
+  std::vector<CentreLinePoint> points;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::string text = trim(line);
+    if (text.empty() || text[0] == '#') continue;
+    std::replace(text.begin(), text.end(), ',', ' ');
+    std::stringstream ss(text);
+    double x, y;
+    if (!(ss >> x >> y) || !std::isfinite(x) || !std::isfinite(y)) {
+      throw MapError(path + ":" + std::to_string(line_no) + ": expected two numbers x,y");
+    }
+    points.push_back({x, y, 0.5 * width, 0.5 * width});
+  }
+  if (points.size() < 3) throw MapError(path + ": a circuit needs at least 3 points, found " + std::to_string(points.size()));
+  return points;
+}
+
 Track loadMapFolder(const std::string& folder) {
   const fs::path yaml_path = fs::path(folder) / "track.yaml";
   if (!fs::exists(yaml_path)) throw MapError(yaml_path.string() + ": no such file (is '" + folder + "' a map folder?)");

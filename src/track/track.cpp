@@ -136,6 +136,12 @@ Projection Track::projectNear(const Eigen::Vector2d& p, double near_s, double wi
   return best;
 }
 
+std::vector<TrackPose> Track::evenSpawnPoints(int count) const {
+  std::vector<TrackPose> out;
+  for (int k = 0; k < count; ++k) out.push_back(poseAt(info_.start_finish_s + k * length_ / count));
+  return out;
+}
+
 std::vector<TrackPose> Track::gridSpawnPoints(int count, double first_gap, double spacing) const {
   std::vector<TrackPose> grid;
   for (int k = 0; k < count; ++k) {

@@ -28,6 +28,13 @@ void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoi
 void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines);
 
 TrackInfo readTrackYaml(const std::string& path);
+void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::string& centreline = "centerline.csv");
+
+// Writes `<folder>/centerline.csv` and `<folder>/track.yaml` (created if missing), checked like loadMapFolder.
+void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint>& points, const TrackInfo& info);
+
+// A closed centre line from a file of points `x,y` (or `x y`), one per line, `#` comments; constant width.
+std::vector<CentreLinePoint> readPointList(const std::string& path, double width);
 
 // Loads `<folder>/track.yaml` and the centre line it names (default `centerline.csv`), validated.
 Track loadMapFolder(const std::string& folder);
