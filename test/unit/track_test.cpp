@@ -216,3 +216,48 @@ TEST(RoadMesh, CoversTheRoadAndWallsStandOutside) {
     EXPECT_TRUE(r <= 50 - 6 - track.info().barrier_offset + 1e-6 || r >= 50 + 6 + track.info().barrier_offset - 1e-6) << r;
   }
 }
+
+TEST(CircuitBuilder, ResamplingKeepsTheLength) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  for (double spacing : {0.5, 2.0, 5.0}) {
+    const track::Track resampled(track::resampleClosed(track.points(), spacing), track.info());
+    EXPECT_NEAR(resampled.length(), track.length(), 0.001 * track.length()) << spacing;
+    EXPECT_NEAR(resampled.length() / resampled.size(), spacing, 0.01 * spacing);
+  }
+}
+
+TEST(Track, EvenSpawnPointsLieOnTheTrackFacingTheDrivingDirection) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
+  const auto spawns = track.evenSpawnPoints(7);
+  ASSERT_EQ(spawns.size(), 7u);
+  for (std::size_t k = 0; k < spawns.size(); ++k) {
+    const auto pr = track.project(spawns[k].position);
+    EXPECT_TRUE(pr.on_track());
+    EXPECT_LT(std::abs(pr.lateral), 0.05);
+    EXPECT_NEAR(track::wrapAngle(spawns[k].heading - pr.heading), 0.0, 0.05);
+    EXPECT_NEAR(track.forwardDistance(track.info().start_finish_s, pr.s), k * track.length() / 7, 0.5);
+  }
+}
+
+TEST(MapFolder, WrittenMapsLoadBackAndBadPointListsAreRefused) {
+  TempDir dir;
+  const auto track = test::circleTrack(80.0);
+  track::TrackInfo info = track.info();
+  info.name = "written";
+  info.sectors = 4;
+  const std::string folder = dir.str() + "/written";
+  track::writeMapFolder(folder, track.points(), info);
+  const auto back = track::loadMapFolder(folder);
+  EXPECT_EQ(back.info().name, "written");
+  EXPECT_EQ(back.info().sectors, 4);
+  EXPECT_EQ(back.size(), track.size());
+  const auto list = dir.write("points.txt", "# x y\n0 0\n100,0\n100 100\n");
+  EXPECT_EQ(track::readPointList(list, 10).size(), 3u);
+  const auto bad = dir.write("bad.txt", "0 0\n100 zero\n100 100\n");
+  EXPECT_NE(errorOf([&] { track::readPointList(bad, 10); }).find(bad + ":2: expected two numbers"), std::string::npos);
+  EXPECT_NE(errorOf([&] { track::writeMapFolder(dir.str() + "/eight", {{0, 0, 5, 5}, {100, 100, 5, 5}, {100, 0, 5, 5}, {0, 100, 5, 5}}, info); })
+                .find("crosses"),
+            std::string::npos)
+      << "a crossing centre line is refused before anything is written";
+  EXPECT_FALSE(fs::exists(dir.str() + "/eight"));
+}
