@@ -136,6 +136,18 @@ Projection Track::projectNear(const Eigen::Vector2d& p, double near_s, double wi
   return best;
 }
 
+std::vector<std::size_t> Track::indicesAhead(double from_s, double length) const {
+  std::vector<std::size_t> out;
+  if (length <= 0) return out;
+  length = std::min(length, length_);
+  std::size_t i = (segmentAt(from_s) + 1) % size();
+  while (out.size() < size() && forwardDistance(from_s, s_[i]) <= length && forwardDistance(from_s, s_[i]) > 0) {
+    out.push_back(i);
+    i = (i + 1) % size();
+  }
+  return out;
+}
+
 std::vector<TrackPose> Track::evenSpawnPoints(int count) const {
   std::vector<TrackPose> out;
   for (int k = 0; k < count; ++k) out.push_back(poseAt(info_.start_finish_s + k * length_ / count));

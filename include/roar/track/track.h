@@ -79,6 +79,9 @@ class Track {
 
   // Start grid: slot 0 (pole) `first_gap` metres behind the start/finish line, then alternating sides.
   std::vector<TrackPose> gridSpawnPoints(int count, double first_gap = 10.0, double spacing = 8.0) const;
+  // Indices of the centre-line points with progress in (from_s, from_s + length], the forward way round.
+  std::vector<std::size_t> indicesAhead(double from_s, double length) const;
+
   // `count` spawn points evenly round the lap on the centre line, the first on the start/finish line.
   std::vector<TrackPose> evenSpawnPoints(int count) const;
 

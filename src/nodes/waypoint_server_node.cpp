@@ -1,0 +1,138 @@
+// waypoint_server: a map's waypoints, path, rviz markers and spawn points (latched), and queries about the
+// track: waypoints ahead, spawn points, projection of a point, routes, the maps available.
+#include <geometry_msgs/PoseArray.h>
+#include <ros/ros.h>
+#include <roar_ros/GetRoute.h>
+#include <roar_ros/GetSpawnPoints.h>
+#include <roar_ros/GetWaypoints.h>
+#include <roar_ros/ListMaps.h>
+#include <roar_ros/ProjectPoint.h>
+
+#include "roar/ros/msg_conversion.h"
+#include "roar/ros/param_reading.h"
+#include "roar/ros/track_msg_conversion.h"
+#include "roar/sim/world.h"
+#include "roar/track/map_folder.h"
+
+using namespace roar;
+
+namespace {
+
+geometry_msgs::Pose poseMessage(const track::TrackPose& p) { return ros_bridge::toMessage(sim::poseOnTrack(p)); }
+
+class WaypointServer {
+ public:
+  WaypointServer(ros::NodeHandle nh, ros::NodeHandle pnh) {
+    using namespace ros_bridge;
+    const std::string pkg = packagePath();
+    maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
+    try {
+      folder_ = track::resolveMapFolder(readString(pnh, "map", "roar_ring"), maps_dir_);
+    } catch (const track::MapError& e) {
+      throw ParamError("parameter " + pnh.resolveName("map") + ": " + e.what());
+    }
+    frame_ = readString(pnh, "frame_id", "map");
+    const int grid = readInt(pnh, "spawn_points", 20, 1, 1000);
+    track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
+
+    // Latched: late subscribers (rviz, a planner started later) get the track at once.
+    waypoints_pub_ = nh.advertise<roar_ros::WaypointArray>("waypoints", 1, true);
+    path_pub_ = nh.advertise<nav_msgs::Path>("waypoints/path", 1, true);
+    markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("track/markers", 1, true);
+    spawn_pub_ = nh.advertise<geometry_msgs::PoseArray>("spawn_points", 1, true);
+    waypoints_pub_.publish(toWaypointArray(*track_, frame_));
+    path_pub_.publish(toPath(*track_, frame_));
+    markers_pub_.publish(trackMarkers(*track_, frame_));
+    geometry_msgs::PoseArray spawns;
+    spawns.header.frame_id = frame_;
+    for (const auto& p : track_->gridSpawnPoints(grid)) spawns.poses.push_back(poseMessage(p));
+    spawn_pub_.publish(spawns);
+
+    services_.push_back(pnh.advertiseService("get_waypoints", &WaypointServer::getWaypoints, this));
+    services_.push_back(pnh.advertiseService("get_spawn_points", &WaypointServer::getSpawnPoints, this));
+    services_.push_back(pnh.advertiseService("project_point", &WaypointServer::projectPoint, this));
+    services_.push_back(pnh.advertiseService("get_route", &WaypointServer::getRoute, this));
+    services_.push_back(pnh.advertiseService("list_maps", &WaypointServer::listMaps, this));
+    ROS_INFO("waypoint_server: '%s', %zu waypoints, %.0f m", track_->info().name.c_str(), track_->size(), track_->length());
+  }
+
+ private:
+  bool getWaypoints(roar_ros::GetWaypoints::Request& req, roar_ros::GetWaypoints::Response& res) {
+    res.waypoints = req.length <= 0 || !std::isfinite(req.length)
+                        ? ros_bridge::waypointMessages(*track_)
+                        : ros_bridge::waypointMessages(*track_, track_->indicesAhead(std::isfinite(req.from_s) ? req.from_s : 0.0, req.length));
+    return true;
+  }
+
+  bool getSpawnPoints(roar_ros::GetSpawnPoints::Request& req, roar_ros::GetSpawnPoints::Response& res) {
+    if (req.count < 1 || req.count > 10000) {
+      res.success = false;
+      res.message = "count must be in [1, 10000]";
+      return true;
+    }
+    if (req.kind != "grid" && req.kind != "even") {
+      res.success = false;
+      res.message = "kind must be 'grid' or 'even', got '" + req.kind + "'";
+      return true;
+    }
+    const auto poses = req.kind == "grid" ? track_->gridSpawnPoints(req.count) : track_->evenSpawnPoints(req.count);
+    for (const auto& p : poses) res.poses.push_back(poseMessage(p));
+    res.success = true;
+    return true;
+  }
+
+  bool projectPoint(roar_ros::ProjectPoint::Request& req, roar_ros::ProjectPoint::Response& res) {
+    if (!std::isfinite(req.point.x) || !std::isfinite(req.point.y) || !std::isfinite(req.yaw)) {
+      ROS_WARN("waypoint_server: project_point refused a non-finite point or yaw");
+      return false;
+    }
+    const track::Projection pr = track_->project(Eigen::Vector2d(req.point.x, req.point.y));
+    const std::size_t next = (pr.segment + 1) % track_->size();
+    res.nearest_index = static_cast<unsigned>(
+        (Eigen::Vector2d(req.point.x, req.point.y) - track_->position(pr.segment)).norm() <=
+                (Eigen::Vector2d(req.point.x, req.point.y) - track_->position(next)).norm()
+            ? pr.segment
+            : next);
+    res.s = pr.s;
+    res.lateral_offset = pr.lateral;
+    res.heading_error = track::wrapAngle(req.yaw - pr.heading);
+    res.width_left = pr.width_left;
+    res.width_right = pr.width_right;
+    res.on_track = pr.on_track();
+    return true;
+  }
+
+  bool getRoute(roar_ros::GetRoute::Request& req, roar_ros::GetRoute::Response& res) {
+    const double from = track_->project(Eigen::Vector2d(req.start.position.x, req.start.position.y)).s;
+    const double to = track_->project(Eigen::Vector2d(req.goal.position.x, req.goal.position.y)).s;
+    res.distance = track_->forwardDistance(from, to);
+    res.waypoints = ros_bridge::waypointMessages(*track_, track_->indicesAhead(from, res.distance));
+    return true;
+  }
+
+  bool listMaps(roar_ros::ListMaps::Request&, roar_ros::ListMaps::Response& res) {
+    res.maps = track::listMaps(maps_dir_);
+    res.current = track_->info().name;
+    return true;
+  }
+
+  std::string maps_dir_, folder_, frame_;
+  std::unique_ptr<track::Track> track_;
+  ros::Publisher waypoints_pub_, path_pub_, markers_pub_, spawn_pub_;
+  std::vector<ros::ServiceServer> services_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "waypoint_server");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    WaypointServer server(nh, pnh);
+    ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL("waypoint_server: %s", e.what());
+    return 1;
+  }
+  return 0;
+}
