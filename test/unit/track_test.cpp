@@ -261,3 +261,31 @@ TEST(MapFolder, WrittenMapsLoadBackAndBadPointListsAreRefused) {
       << "a crossing centre line is refused before anything is written";
   EXPECT_FALSE(fs::exists(dir.str() + "/eight"));
 }
+
+TEST(MapFolder, ACentreLineThatDoesNotCloseIsRefused) {
+  TempDir dir;
+  std::string csv;
+  for (int i = 0; i <= 100; ++i) {  // half a circle: the ends are 200 m apart
+    const double a = M_PI * i / 100;
+    csv += std::to_string(100 * std::cos(a)) + "," + std::to_string(100 * std::sin(a)) + ",5,5\n";
+  }
+  dir.write("centerline.csv", csv);
+  dir.write("track.yaml", "name: open\n");
+  const auto msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("does not close"), std::string::npos) << msg;
+}
+
+TEST(Track, ProjectionOnAStraight) {
+  std::vector<track::CentreLinePoint> pts;
+  for (double x = 0; x < 500; x += 5) pts.push_back({x, 0, 4, 6});
+  for (double x = 500; x > 0; x -= 5) pts.push_back({x, 60, 4, 6});
+  const track::Track track(pts, {});
+  const auto left = track.project({123.0, 2.5});
+  EXPECT_NEAR(left.s, 123.0, 1e-9);
+  EXPECT_NEAR(left.lateral, 2.5, 1e-9);
+  EXPECT_TRUE(left.on_track());
+  const auto right = track.project({77.0, -4.5});
+  EXPECT_NEAR(right.lateral, -4.5, 1e-9);
+  EXPECT_FALSE(right.on_track()) << "4 m to the right edge";
+  EXPECT_NEAR(track.project({77.0, -3.5}).width_right, 4.0, 1e-9);
+}
