@@ -115,9 +115,11 @@ struct RayScene::Impl {
       for (int side = 0; side < 2; ++side) {
         auto edge = [&](std::size_t p, double extra) { return side == 0 ? track.leftEdge(p, extra) : track.rightEdge(p, extra); };
         const int base = static_cast<int>(mesh.vertices.size());
-        for (const Eigen::Vector2d& q : {edge(i, 0), edge(i, kKerbWidth), edge(j, kKerbWidth), edge(j, 0)}) {
-          mesh.vertices.emplace_back(q.x(), q.y(), kKerbZ);
-        }
+        const double zi = track.surfaceHeight(i, side == 0 ? track.point(i).width_left : -track.point(i).width_right);
+        const double zj = track.surfaceHeight(j, side == 0 ? track.point(j).width_left : -track.point(j).width_right);
+        const Eigen::Vector2d q[4] = {edge(i, 0), edge(i, kKerbWidth), edge(j, kKerbWidth), edge(j, 0)};
+        const double qz[4] = {zi, zi, zj, zj};
+        for (int c = 0; c < 4; ++c) mesh.vertices.emplace_back(q[c].x(), q[c].y(), qz[c] + kKerbZ);
         mesh.triangles.push_back({base, base + 1, base + 2});
         mesh.triangles.push_back({base, base + 2, base + 3});
         kerb_segments.push_back(static_cast<int>(i));
@@ -135,8 +137,9 @@ struct RayScene::Impl {
     }
     lo.array() -= 3000.0;
     hi.array() += 3000.0;
+    const double z = track.lowestPoint() + kGroundZ;  // as in the physics: just below the lowest road
     track::TriangleMesh mesh;
-    mesh.vertices = {{lo.x(), lo.y(), kGroundZ}, {hi.x(), lo.y(), kGroundZ}, {hi.x(), hi.y(), kGroundZ}, {lo.x(), hi.y(), kGroundZ}};
+    mesh.vertices = {{lo.x(), lo.y(), z}, {hi.x(), lo.y(), z}, {hi.x(), hi.y(), z}, {lo.x(), hi.y(), z}};
     mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
     return mesh;
   }

@@ -221,7 +221,7 @@ World::World(const track::Track& track, const WorldOptions& options) : impl_(std
   w.barriers.mesh = toBullet(track::barrierMesh(track));
   w.barriers.shape = std::make_unique<btBvhTriangleMeshShape>(w.barriers.mesh.get(), true);
   w.addStatic(w.barriers, kBarrier, 0.3);
-  w.ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), -kGroundDrop);
+  w.ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), track.lowestPoint() - kGroundDrop);
   w.addStatic(w.ground, kGround, track.info().ground_friction);
 }
 

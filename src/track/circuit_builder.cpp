@@ -46,7 +46,8 @@ std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& 
     const auto &a = points[seg], &b = points[(seg + 1) % n];
     const double t = (target - s[seg]) / (s[seg + 1] - s[seg]);
     out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.width_right + t * (b.width_right - a.width_right),
-                   a.width_left + t * (b.width_left - a.width_left)});
+                   a.width_left + t * (b.width_left - a.width_left), a.z + t * (b.z - a.z),
+                   a.banking + t * (b.banking - a.banking)});
   }
   return out;
 }

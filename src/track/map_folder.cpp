@@ -82,7 +82,20 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
         throw MapError(path + ":" + std::to_string(line_no) + ": point repeats the previous one");
       }
     }
-    file.points.push_back({v[0], v[1], v[2], v[3]});
+    CentreLinePoint point{v[0], v[1], v[2], v[3]};
+    // Optional columns beyond TUMFTM's four: elevation and banking.
+    for (std::size_t k = 4; k < std::min<std::size_t>(fields.size(), 6); ++k) {
+      double extra;
+      const char* name = k == 4 ? "z_m" : "banking_rad";
+      if (!parseDouble(fields[k], &extra) || !std::isfinite(extra)) {
+        throw MapError(path + ":" + std::to_string(line_no) + ": column " + name + " is not a finite number");
+      }
+      (k == 4 ? point.z : point.banking) = extra;
+    }
+    if (std::abs(point.banking) >= M_PI / 4) {
+      throw MapError(path + ":" + std::to_string(line_no) + ": banking_rad must be within (-pi/4, pi/4)");
+    }
+    file.points.push_back(point);
     file.lines.push_back(line_no);
   }
   // A closed loop written with its first point repeated at the end is the same circuit.
@@ -100,8 +113,13 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
 void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoint>& points) {
   std::ofstream out(path);
   if (!out) throw MapError(path + ": cannot write the centre-line file");
-  out << "# x_m,y_m,w_tr_right_m,w_tr_left_m\n" << std::setprecision(17);
-  for (const auto& p : points) out << p.x << "," << p.y << "," << p.width_right << "," << p.width_left << "\n";
+  const bool relief = std::any_of(points.begin(), points.end(), [](const auto& p) { return p.z != 0 || p.banking != 0; });
+  out << "# x_m,y_m,w_tr_right_m,w_tr_left_m" << (relief ? ",z_m,banking_rad" : "") << "\n" << std::setprecision(17);
+  for (const auto& p : points) {
+    out << p.x << "," << p.y << "," << p.width_right << "," << p.width_left;
+    if (relief) out << "," << p.z << "," << p.banking;
+    out << "\n";
+  }
 }
 
 void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines) {

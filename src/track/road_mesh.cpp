@@ -1,5 +1,7 @@
 #include "roar/track/road_mesh.h"
 
+#include <algorithm>
+
 namespace roar::track {
 
 TriangleMesh roadSurfaceMesh(const Track& track, double z) {
@@ -7,8 +9,9 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z) {
   const int n = static_cast<int>(track.size());
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2d l = track.leftEdge(i), r = track.rightEdge(i);
-    mesh.vertices.emplace_back(l.x(), l.y(), z);
-    mesh.vertices.emplace_back(r.x(), r.y(), z);
+    const auto& p = track.point(i);
+    mesh.vertices.emplace_back(l.x(), l.y(), z + track.surfaceHeight(i, p.width_left));
+    mesh.vertices.emplace_back(r.x(), r.y(), z + track.surfaceHeight(i, -p.width_right));
   }
   for (int i = 0; i < n; ++i) {
     const int j = (i + 1) % n;
@@ -21,16 +24,18 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z) {
 
 namespace {
 
-// Adds a closed wall along a loop of base points; `outward` points away from the road.
+// Adds a closed wall along a loop of base points, standing `height` above the road edge's height at each
+// point and reaching below it, so that it meets the ground on an elevated or banked track too.
 void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, const std::vector<Eigen::Vector2d>& outer,
-             double height) {
+             const std::vector<double>& edge_z, double height) {
   const int n = static_cast<int>(inner.size());
   const int base = static_cast<int>(mesh->vertices.size());
   for (int i = 0; i < n; ++i) {
-    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), 0.0);
-    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), height);
-    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), height);
-    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), 0.0);
+    const double bottom = std::min(0.0, edge_z[i]) - 0.5, top = edge_z[i] + height;
+    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), bottom);
+    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), top);
+    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), top);
+    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), bottom);
   }
   for (int i = 0; i < n; ++i) {
     const int a = base + 4 * i, b = base + 4 * ((i + 1) % n);
@@ -69,8 +74,13 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
     right_out[i] = track.rightEdge(i, offset + thickness);
   }
   for (auto* line : {&left_in, &left_out, &right_in, &right_out}) unfold(track, line);
-  addWall(&mesh, left_in, left_out, track.info().barrier_height);
-  addWall(&mesh, right_in, right_out, track.info().barrier_height);
+  std::vector<double> left_z(n), right_z(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    left_z[i] = track.surfaceHeight(i, track.point(i).width_left);
+    right_z[i] = track.surfaceHeight(i, -track.point(i).width_right);
+  }
+  addWall(&mesh, left_in, left_out, left_z, track.info().barrier_height);
+  addWall(&mesh, right_in, right_out, right_z, track.info().barrier_height);
   return mesh;
 }
 

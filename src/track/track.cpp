@@ -52,6 +52,24 @@ Eigen::Vector2d Track::rightEdge(std::size_t i, double extra) const {
   return position(i) - (points_[i].width_right + extra) * Eigen::Vector2d(-std::sin(h), std::cos(h));
 }
 
+double Track::surfaceHeightAt(double s, double lateral) const {
+  s = wrap(s);
+  const std::size_t i = segmentAt(s), j = (i + 1) % size();
+  const double seg = (j == 0 ? length_ : s_[j]) - s_[i];
+  const double t = (s - s_[i]) / seg;
+  const double z = (1 - t) * points_[i].z + t * points_[j].z;
+  const double banking = (1 - t) * points_[i].banking + t * points_[j].banking;
+  return z + lateral * std::tan(banking);
+}
+
+double Track::lowestPoint() const {
+  double lowest = 0.0;
+  for (std::size_t i = 0; i < size(); ++i) {
+    lowest = std::min({lowest, surfaceHeight(i, points_[i].width_left), surfaceHeight(i, -points_[i].width_right)});
+  }
+  return lowest;
+}
+
 double Track::wrap(double s) const {
   s = std::fmod(s, length_);
   return s < 0 ? s + length_ : s;

@@ -82,8 +82,12 @@ std::vector<Waypoint> waypointsOf(const Track& track) {
   for (std::size_t i = 0; i < track.size(); ++i) {
     Waypoint w;
     const Eigen::Vector2d mid = 0.5 * (track.leftEdge(i) + track.rightEdge(i));
-    w.location = Eigen::Vector3d(mid.x(), mid.y(), 0.0);
-    w.roll_pitch_yaw = Eigen::Vector3d(0, 0, track.heading(i));
+    const auto& p = track.point(i);
+    const std::size_t next = (i + 1) % track.size();
+    const double run = (track.position(next) - track.position(i)).norm();
+    const double pitch = -std::atan2(track.point(next).z - p.z, run);  // REP-103: nose down is positive pitch
+    w.location = Eigen::Vector3d(mid.x(), mid.y(), track.surfaceHeight(i, 0.5 * (p.width_left - p.width_right)));
+    w.roll_pitch_yaw = Eigen::Vector3d(p.banking, pitch, track.heading(i));
     w.lane_width = track.point(i).width_left + track.point(i).width_right;
     out.push_back(w);
   }
@@ -96,10 +100,45 @@ Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo
     const Waypoint& w = waypoints[i];
     if (!(w.lane_width > 0)) throw std::invalid_argument("waypoint " + std::to_string(i) + ": lane width must be positive");
     if (!pts.empty() && std::hypot(w.location.x() - pts.back().x, w.location.y() - pts.back().y) < 0.01) continue;
-    pts.push_back({w.location.x(), w.location.y(), 0.5 * w.lane_width, 0.5 * w.lane_width});
+    pts.push_back({w.location.x(), w.location.y(), 0.5 * w.lane_width, 0.5 * w.lane_width, w.location.z(),
+                   w.roll_pitch_yaw.x()});
   }
   while (pts.size() > 3 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < 0.01) pts.pop_back();
+  repairElevation(&pts);
   return Track(std::move(pts), info);
+}
+
+bool repairElevation(std::vector<CentreLinePoint>* points, double max_grade, double half_window) {
+  auto& p = *points;
+  const std::size_t n = p.size();
+  std::vector<double> s(n + 1, 0.0);
+  bool implausible = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto &a = p[i], &b = p[(i + 1) % n];
+    const double run = std::hypot(b.x - a.x, b.y - a.y);
+    s[i + 1] = s[i] + run;
+    implausible = implausible || std::abs(b.z - a.z) > max_grade * run;
+  }
+  if (!implausible) return false;
+  const double length = s[n];
+  std::vector<double> smoothed(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    // Points within the window on both sides, walking round the loop.
+    double sum = p[i].z, count = 1;
+    for (int dir : {-1, 1}) {
+      for (std::size_t k = 1; k < n; ++k) {
+        const std::size_t j = (i + n + static_cast<std::size_t>(dir) * k) % n;
+        double d = std::abs(s[j] - s[i]);
+        d = std::min(d, length - d);
+        if (d > half_window) break;
+        sum += p[j].z;
+        ++count;
+      }
+    }
+    smoothed[i] = sum / count;
+  }
+  for (std::size_t i = 0; i < n; ++i) p[i].z = smoothed[i];
+  return true;
 }
 
 std::vector<Waypoint> readRoarWaypoints(const std::string& path) { return fromArrays(readNpz(path), path, true); }

@@ -187,5 +187,69 @@ TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   RecordProperty("monza_lap_s", std::to_string(lap));
   const auto spawns = track::readRoarSpawnPoints(dir + "/BerkMajor_spawn_points.npz");
   EXPECT_EQ(spawns.size(), 11u);
-  EXPECT_EQ(track::readRoarWaypoints(dir + "/BerkMajor_waypoints.npz").size(), 6942u);
+  const auto berk = track::readRoarWaypoints(dir + "/BerkMajor_waypoints.npz");
+  EXPECT_EQ(berk.size(), 6942u);
+  const auto berk_track = track::trackFromWaypoints(berk, info);
+  double lo = 1e9, hi = -1e9;
+  for (const auto& p : berk_track.points()) lo = std::min(lo, p.z), hi = std::max(hi, p.z);
+  EXPECT_GT(hi - lo, 300.0) << "Berkeley's hills agree with their recorded pitch and are kept";
+}
+
+TEST(Waypoints, ElevationAndBankingSurviveCsvAndNpz) {
+  TempDir dir;
+  std::string csv = "# x_m,y_m,w_tr_right_m,w_tr_left_m,z_m,banking_rad\n";
+  for (int i = 0; i < 120; ++i) {
+    const double a = 2 * M_PI * i / 120;
+    csv += std::to_string(150 * std::cos(a)) + "," + std::to_string(150 * std::sin(a)) + ",6,6," +
+           std::to_string(5 + 2 * std::sin(a)) + ",0.1\n";
+  }
+  std::ofstream(dir.file("centerline.csv")) << csv;
+  std::ofstream(dir.file("track.yaml")) << "name: banked\n";
+  const auto track = track::loadMapFolder(dir.path.string());
+  EXPECT_NEAR(track.point(30).z, 7.0, 1e-6);
+  EXPECT_DOUBLE_EQ(track.point(30).banking, 0.1);
+  EXPECT_NEAR(track.surfaceHeight(30, 6.0), 7.0 + 6 * std::tan(0.1), 1e-6) << "the left (inner) edge is higher";
+  track::writeRoarWaypoints(dir.file("banked.npz"), track::waypointsOf(track));
+  const auto waypoints = track::readRoarWaypoints(dir.file("banked.npz"));
+  EXPECT_NEAR(waypoints[30].location.z(), 7.0, 1e-6);
+  EXPECT_DOUBLE_EQ(waypoints[30].roll_pitch_yaw.x(), 0.1);
+  EXPECT_LT(waypoints[0].roll_pitch_yaw.y(), 0.0) << "climbing at the start: nose up is negative pitch";
+  const auto again = track::trackFromWaypoints(waypoints, track.info());
+  for (std::size_t i = 0; i < track.size(); i += 13) {
+    EXPECT_NEAR(again.point(i).z, track.point(i).z, 1e-9);
+    EXPECT_NEAR(again.point(i).banking, track.point(i).banking, 1e-9);
+  }
+  const auto bad = dir.file("bad.csv");
+  std::ofstream(bad) << "0,0,5,5,0,1.2\n100,0,5,5,0,0\n100,100,5,5,0,0\n";
+  EXPECT_NE(errorOf([&] { track::readCentreLineCsv(bad); }).find(bad + ":1: banking_rad"), std::string::npos);
+
+  // A car set down on the raised, banked road rests on it.
+  sim::World world(track, {});
+  const auto pose = track.gridSpawnPoints(1)[0];
+  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(pose));
+  for (int i = 0; i < 40; ++i) world.step();
+  const auto s = world.vehicleState("ego");
+  const auto pr = track.project(s.pose.position.head<2>());
+  EXPECT_NEAR(s.pose.position.z(), track.surfaceHeightAt(pr.s, pr.lateral), 0.02);
+  EXPECT_LT(s.speed, 0.1);
+}
+
+TEST(Waypoints, ImplausibleHeightStepsAreSmoothedAndPlausibleProfilesKept) {
+  std::vector<track::CentreLinePoint> pts;
+  for (int i = 0; i < 943; ++i) {  // 2 m apart, as Monza's waypoints
+    const double a = 2 * M_PI * i / 943;
+    pts.push_back({300 * std::cos(a), 300 * std::sin(a), 5, 5, 20 * std::sin(a), 0});  // a 40 m hill, 7 % at most
+  }
+  auto plausible = pts;
+  EXPECT_FALSE(track::repairElevation(&plausible));
+  for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(plausible[i].z, pts[i].z);
+  for (int i = 400; i < 460; ++i) pts[i].z -= 0.742;  // a stretch 0.742 m down in 2 m, as in ROAR_PY's Monza
+  EXPECT_TRUE(track::repairElevation(&pts));
+  double steepest = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto &a = pts[i], &b = pts[(i + 1) % pts.size()];
+    steepest = std::max(steepest, std::abs(b.z - a.z) / std::hypot(b.x - a.x, b.y - a.y));
+  }
+  EXPECT_LT(steepest, 0.1) << "the steps became ramps";
+  EXPECT_NEAR(pts[236].z, 20.0, 0.1) << "the hill's top is kept";
 }

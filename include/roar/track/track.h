@@ -2,6 +2,7 @@
 // A closed circuit: a centre line with right and left widths, in the map frame (x east, y north, metres).
 // The driving direction is the order of the points; progress `s` is the distance along the centre line.
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@ struct CentreLinePoint {
   double y = 0.0;
   double width_right = 0.0;  // metres from the centre line to the right edge
   double width_left = 0.0;   // metres from the centre line to the left edge
+  double z = 0.0;            // metres, elevation of the centre line (optional CSV column z_m)
+  double banking = 0.0;      // rad, roll of the road surface: positive raises the left edge (optional banking_rad)
 };
 
 struct GeoOrigin {
@@ -67,6 +70,13 @@ class Track {
   double curvature(std::size_t i) const { return curvature_[i]; }
   Eigen::Vector2d leftEdge(std::size_t i, double extra = 0.0) const;
   Eigen::Vector2d rightEdge(std::size_t i, double extra = 0.0) const;
+  // Height of the road surface at a signed lateral offset (positive left) from centre-line point i.
+  double surfaceHeight(std::size_t i, double lateral) const {
+    return points_[i].z + lateral * std::tan(points_[i].banking);
+  }
+  // The same between points: height and banking interpolated at progress s.
+  double surfaceHeightAt(double s, double lateral) const;
+  double lowestPoint() const;
 
   double wrap(double s) const;
   // Distance travelled forward from s_from to reach s_to, in [0, length).
