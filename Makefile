@@ -12,7 +12,9 @@ setup:
 	@bash scripts/setup
 
 build: setup
-	@mkdir -p $(BUILD)
+	@# catkin writes the test environment (setup_cached.sh) at configure time with only the folders that
+	@# exist then: the generated Python messages' folder must exist before the first configure.
+	@mkdir -p $(BUILD)/devel/lib/python3/dist-packages
 	@cmake -S . -B $(BUILD) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCATKIN_ENABLE_TESTING=ON > $(BUILD)/configure.log 2>&1 \
 	  || { cat $(BUILD)/configure.log; exit 1; }

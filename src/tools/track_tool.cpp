@@ -40,26 +40,6 @@ std::string option(int argc, char** argv, const std::string& flag, const std::st
   return fallback;
 }
 
-std::vector<ControlPoint> readControlPoints(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MapError(path + ": cannot open");
-  std::vector<ControlPoint> out;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::stringstream ss(line);
-    ControlPoint c;
-    char comma1 = 0, comma2 = 0;
-    if (!(ss >> c.x >> comma1 >> c.y >> comma2 >> c.width) || comma1 != ',' || comma2 != ',') {
-      throw MapError(path + ":" + std::to_string(line_no) + ": expected x_m,y_m,width_m");
-    }
-    out.push_back(c);
-  }
-  return out;
-}
-
 int check(const std::string& folder) {
   const Track track = loadMapFolder(folder);
   double min_radius = 1e9, min_width = 1e9, max_width = 0;

@@ -1,7 +1,11 @@
 #include "roar/track/circuit_builder.h"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
+
+#include "roar/track/map_folder.h"
 
 namespace roar::track {
 
@@ -24,6 +28,26 @@ Eigen::Vector3d catmullRom(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
 }
 
 }  // namespace
+
+std::vector<ControlPoint> readControlPoints(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw MapError(path + ": cannot open the control points");
+  std::vector<ControlPoint> out;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream ss(line);
+    ControlPoint c;
+    char comma1 = 0, comma2 = 0;
+    if (!(ss >> c.x >> comma1 >> c.y >> comma2 >> c.width) || comma1 != ',' || comma2 != ',') {
+      throw MapError(path + ":" + std::to_string(line_no) + ": expected x_m,y_m,width_m");
+    }
+    out.push_back(c);
+  }
+  return out;
+}
 
 std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing) {
   if (spacing <= 0) throw std::invalid_argument("resampling spacing must be positive");

@@ -17,6 +17,8 @@
 
 #include <map>
 
+#include "ros_test_support.h"
+
 namespace {
 
 struct Seen {
@@ -48,15 +50,7 @@ class Recorder {
   std::vector<ros::Subscriber> subs_;
 };
 
-bool waitFor(const std::function<bool()>& cond, double seconds = 20.0) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    ros::spinOnce();
-    if (cond()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return cond();
-}
+using roar::test::waitFor;
 
 roar_ros::Step::Response step(uint32_t ticks) {
   roar_ros::Step srv;

@@ -14,6 +14,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ros_test_support.h"
+
 namespace {
 
 struct Listener {
@@ -24,24 +26,16 @@ struct Listener {
     status_sub = nh.subscribe<roar_ros::VehicleStatus>("ego/vehicle_status", 100, [this](const roar_ros::VehicleStatus::ConstPtr& m) { status = *m; });
     control_pub = nh.advertise<roar_ros::VehicleControl>("ego/control", 10);
   }
-  // Waits (wall time) until cond() holds, spinning callbacks.
-  template <class F>
-  bool waitFor(F cond, double seconds = 10.0) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      ros::spinOnce();
-      if (cond()) return true;
-      ros::WallDuration(0.01).sleep();
-    }
-    return cond();
-  }
+  bool waitFor(const std::function<bool()>& cond, double seconds = 10.0) { return roar::test::waitFor(cond, seconds); }
   roar_ros::Step::Response step(uint32_t ticks) {
     roar_ros::Step srv;
     srv.request.ticks = ticks;
     EXPECT_TRUE(ros::service::call("/roar_sim/step", srv));
     EXPECT_TRUE(srv.response.success) << srv.response.message;
     const ros::Time stamp = srv.response.stamp;
-    EXPECT_TRUE(waitFor([&] { return odom.header.stamp == stamp; })) << "odometry of the last tick arrives";
+    // Odometry and status travel on separate connections: wait for both of the last tick.
+    EXPECT_TRUE(waitFor([&] { return odom.header.stamp == stamp && status.header.stamp == stamp; }))
+        << "odometry and status of the last tick arrive";
     return srv.response;
   }
   // Publishes a control and makes sure the simulator has taken it before the next step.

@@ -3,7 +3,7 @@
 #include "roar/control/centreline_follower.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
-#include "test_support.h"
+#include "lap_driver.h"
 
 using namespace roar;
 
@@ -48,33 +48,10 @@ TEST(CentrelineFollower, DrivesACleanLapOfEveryShippedCircuit) {
   for (const auto& name : maps) {
     SCOPED_TRACE(name);
     const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
-    sim::World world(track, {});
-    const auto car = test::sedan();
-    world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
-    control::FollowerOptions o;
-    o.wheelbase = car.wheelbase();
-    o.max_steer_angle = car.steering.max_angle;
-    control::CentrelineFollower follower(track, o);
-    double travelled = 0;
-    double max_offset = -1e9;  // metres beyond the road edge (negative: inside)
-    Eigen::Vector3d last = world.vehicleState("ego").pose.position;
-    int barrier_hits = 0;
-    while (travelled < track.length() + 50 && world.time() < 600) {
-      const auto s = world.vehicleState("ego");
-      const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-      world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed,
-                                               s.body_angular_velocity.z()}));
-      world.step();
-      const auto now = world.vehicleState("ego").pose.position;
-      travelled += (now - last).head<2>().norm();
-      last = now;
-      const auto pr = track.project(now.head<2>());
-      max_offset = std::max(max_offset, std::abs(pr.lateral) - (pr.lateral > 0 ? pr.width_left : pr.width_right));
-      for (const auto& c : world.contacts("ego")) barrier_hits += c.other == "barrier";
-    }
-    EXPECT_GE(travelled, track.length()) << "a whole lap in " << world.time() << " s";
-    EXPECT_EQ(barrier_hits, 0);
-    EXPECT_LT(max_offset, 0.0) << "base_link stays on the road";
-    RecordProperty(name + "_lap_s", std::to_string(world.time()));
+    const auto lap = test::driveLap(track);
+    EXPECT_GE(lap.travelled, track.length()) << "a whole lap in " << lap.time << " s";
+    EXPECT_EQ(lap.barrier_ticks, 0);
+    EXPECT_LT(lap.worst_offroad, 0.0) << "base_link stays on the road";
+    RecordProperty(name + "_lap_s", std::to_string(lap.time));
   }
 }

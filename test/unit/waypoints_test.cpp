@@ -3,12 +3,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "roar/control/centreline_follower.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/npz.h"
 #include "roar/track/waypoints.h"
-#include "test_support.h"
+#include "lap_driver.h"
 
 using namespace roar;
 using test::errorOf;
@@ -40,32 +39,6 @@ std::vector<track::Waypoint> someWaypoints() {
 }
 
 bool haveNumpy() { return std::system("/usr/bin/python3 -c 'import numpy' 2>/dev/null") == 0; }
-
-// Closes `track` with a centre-line follower driving the default car round it once.
-bool drivesALap(const track::Track& track, double* lap_time) {
-  sim::World world(track, {});
-  const auto car = test::sedan();
-  world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
-  control::FollowerOptions o;
-  o.wheelbase = car.wheelbase();
-  o.max_steer_angle = car.steering.max_angle;
-  control::CentrelineFollower follower(track, o);
-  double travelled = 0;
-  Eigen::Vector3d last = world.vehicleState("ego").pose.position;
-  int barrier = 0;
-  while (travelled < track.length() + 20 && world.time() < 600) {
-    const auto s = world.vehicleState("ego");
-    const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-    world.setControl("ego", follower.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
-    world.step();
-    const auto now = world.vehicleState("ego").pose.position;
-    travelled += (now - last).head<2>().norm();
-    last = now;
-    for (const auto& c : world.contacts("ego")) barrier += c.other == "barrier";
-  }
-  *lap_time = world.time();
-  return travelled >= track.length() && barrier == 0;
-}
 
 }  // namespace
 
@@ -182,9 +155,9 @@ TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   const auto monza = track::trackFromWaypoints(waypoints, info);
   EXPECT_NEAR(monza.length(), 5600, 300);
   track::checkEdges(monza, dir + "/Monza_waypoints.npz", {});
-  double lap = 0;
-  EXPECT_TRUE(drivesALap(monza, &lap)) << "lap " << lap << " s";
-  RecordProperty("monza_lap_s", std::to_string(lap));
+  const auto lap = test::driveLap(monza);
+  EXPECT_TRUE(lap.clean(monza)) << "lap " << lap.time << " s, " << lap.barrier_ticks << " barrier ticks";
+  RecordProperty("monza_lap_s", std::to_string(lap.time));
   const auto spawns = track::readRoarSpawnPoints(dir + "/BerkMajor_spawn_points.npz");
   EXPECT_EQ(spawns.size(), 11u);
   const auto berk = track::readRoarWaypoints(dir + "/BerkMajor_waypoints.npz");
