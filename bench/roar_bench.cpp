@@ -1,25 +1,32 @@
 // roar_bench: speed figures of roar_ros (Google Benchmark). Tests never check timings; this prints them.
-//   PhysicsRealTimeFactor/cars:N  N sedans driving the default circuit (each with the centre-line follower),
+//   PhysicsRealTimeFactor/cars:N  N sedans racing the default circuit (each tracking the planner's line),
 //                                 one thread: real_time_factor = simulated seconds per wall second.
 //   RayCast/incoherent|coherent   rays per second of the ray scene of the default circuit: LiDAR-like rays in
 //                                 all directions, and camera rays in 4x4 pixel packets.
 //   CameraFrame/...               one 84x84 RGB + depth + semantic frame (one cast), one 800x600 RGB frame.
 //   SensorSuiteRealTimeFactor     one car driving with config/sensors/default.yaml: three 84x84 cameras at
 //                                 20 Hz, a 32-laser LiDAR at 56,000 points/s, IMU and GNSS at 100 Hz.
+//   PlanRacingTrajectory/<map>    the planner's start-up: minimum-curvature line and speed profile.
+// After the benchmarks, the racing table: the stack (planner, tracker, lap timer) races every shipped
+// circuit in lockstep for --laps=N (default 10) and prints achieved and promised laps, tracking error and
+// barrier contacts; --grip-use=F overrides the share of the road's friction the plan uses,
+// --stanley races with Stanley instead of pure pursuit. --race-only skips the benchmarks; --no-race skips the table.
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include <random>
 
-#include "roar/control/centreline_follower.h"
 #include "roar/sensors/camera.h"
 #include "roar/sensors/sensor_rig.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/sim/world.h"
+#include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
 
 using namespace roar;
@@ -31,30 +38,38 @@ std::string sourceDir() {
   return env ? env : ROAR_SOURCE_DIR;
 }
 
+// A driver for the car on the track: the planner's racing trajectory and the tracker.
+control::TrajectoryTracker racingDriver(const track::Track& track, const sim::VehicleParams& car) {
+  const auto limits = planning::vehicleLimits(car, track.info().friction, stack::TimeTrialOptions().grip_use);
+  control::TrajectoryTracker tracker(stack::trackerFor(car), limits);
+  tracker.setTrajectory(planning::planRacingTrajectory(track, limits, {}));
+  return tracker;
+}
+
+control::TrackerInput trackerInput(const sim::VehicleState& s) {
+  const Eigen::Vector3d forward = s.pose.orientation * Eigen::Vector3d::UnitX();
+  return {s.pose.position.head<2>(), std::atan2(forward.y(), forward.x()), s.forward_speed, s.body_angular_velocity.z()};
+}
+
 void PhysicsRealTimeFactor(benchmark::State& state) {
   const int cars = static_cast<int>(state.range(0));
   const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_ring");
   const sim::VehicleParams car =
       sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   sim::World world(track, {});
-  control::FollowerOptions fo;
-  fo.wheelbase = car.wheelbase();
-  fo.max_steer_angle = car.steering.max_angle;
-  std::vector<std::unique_ptr<control::CentrelineFollower>> drivers;
+  const control::TrajectoryTracker driver = racingDriver(track, car);
+  std::vector<control::TrajectoryTracker> drivers;
   std::vector<std::string> names;
   for (int i = 0; i < cars; ++i) {
     names.push_back("car" + std::to_string(i));
     // Spread round the lap so the cars do not queue behind each other.
     world.spawnVehicle(names.back(), car, sim::poseOnTrack(track.poseAt(i * track.length() / cars)));
-    drivers.push_back(std::make_unique<control::CentrelineFollower>(track, fo));
+    drivers.push_back(driver);
   }
   std::int64_t ticks = 0;
   for (auto _ : state) {
     for (int i = 0; i < cars; ++i) {
-      const auto s = world.vehicleState(names[i]);
-      const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-      world.setControl(names[i],
-                       drivers[i]->update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
+      world.setControl(names[i], drivers[i].update(trackerInput(world.vehicleState(names[i]))));
     }
     world.step();
     ++ticks;
@@ -146,16 +161,11 @@ void SensorSuiteRealTimeFactor(benchmark::State& state) {
   sensors::SensorRig rig(sensors::readSensorSet(sourceDir() + "/config/sensors/default.yaml"),
                          {world.options().control_dt, world.options().physics_dt, world.options().gravity},
                          track.info().origin);
-  control::FollowerOptions fo;
-  fo.wheelbase = car.wheelbase();
-  fo.max_steer_angle = car.steering.max_angle;
-  control::CentrelineFollower driver(track, fo);
+  control::TrajectoryTracker driver = racingDriver(track, car);
   NullSink sink;
   std::int64_t ticks = 0;
   for (auto _ : state) {
-    const auto s = world.vehicleState("ego");
-    const Eigen::Vector3d fwd = s.pose.orientation * Eigen::Vector3d::UnitX();
-    world.setControl("ego", driver.update({s.pose.position.head<2>(), std::atan2(fwd.y(), fwd.x()), s.forward_speed, s.body_angular_velocity.z()}));
+    world.setControl("ego", driver.update(trackerInput(world.vehicleState("ego"))));
     world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
     const Eigen::Isometry3d pose = sensors::poseOf(world.vehicleState("ego"));
     scene.setVehiclePose(id, pose);
@@ -174,4 +184,70 @@ BENCHMARK(CameraFrame)->ArgName("width")->Arg(84)->Arg(800)->MinTime(2.0)->Unit(
 BENCHMARK(SensorSuiteRealTimeFactor)->MinTime(3.0)->Unit(benchmark::kMicrosecond);
 BENCHMARK(PhysicsRealTimeFactor)->ArgName("cars")->Arg(1)->Arg(10)->MinTime(3.0)->Unit(benchmark::kMicrosecond);
 
-BENCHMARK_MAIN();
+namespace {
+
+void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
+  const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
+  const auto limits = planning::vehicleLimits(
+      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"), track.info().friction,
+      stack::TimeTrialOptions().grip_use);
+  for (auto _ : state) benchmark::DoNotOptimize(planning::planRacingTrajectory(track, limits, {}));
+  state.counters["track_km"] = track.length() / 1000.0;
+}
+BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_ring, std::string("roar_ring"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_speedway, std::string("roar_speedway"))->Unit(benchmark::kMillisecond);
+
+void printRacingTable(int laps, double grip_use, control::LateralMethod lateral) {
+  const auto car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  std::printf("\nRacing stack, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
+              laps, grip_use, lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
+  std::printf("%-16s %8s %9s %9s %9s %7s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
+              "ratio", "max_err_m", "rms_err_m", "contacts");
+  for (const auto& map : track::listMaps(sourceDir() + "/maps")) {
+    const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
+    stack::TimeTrialOptions options;
+    options.laps = laps;
+    options.grip_use = grip_use;
+    options.tracker.lateral = lateral;
+    const auto r = stack::runTimeTrial(track, car, options);
+    double mean = 0.0;
+    for (double t : r.lap_times) mean += t / static_cast<double>(r.lap_times.size());
+    std::printf("%-16s %8.2f %9.2f %9.2f %9.2f %7.3f %10.2f %10.2f %9d%s\n", map.c_str(), track.length() / 1000.0,
+                r.best_lap(), mean, r.promised_lap, mean / r.promised_lap, r.max_lateral_error, r.rms_lateral_error,
+                r.barrier_contacts, r.finished ? "" : "  (did not finish)");
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int laps = 10;
+  double grip_use = stack::TimeTrialOptions().grip_use;
+  control::LateralMethod lateral = control::TrackerOptions().lateral;
+  bool race = true, benchmarks = true;
+  std::vector<char*> rest;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strncmp(argv[i], "--laps=", 7) == 0) {
+      laps = std::max(1, std::atoi(argv[i] + 7));
+    } else if (std::strncmp(argv[i], "--grip-use=", 11) == 0) {
+      grip_use = std::atof(argv[i] + 11);
+    } else if (std::strcmp(argv[i], "--stanley") == 0) {
+      lateral = control::LateralMethod::kStanley;
+    } else if (std::strcmp(argv[i], "--race-only") == 0) {
+      benchmarks = false;
+    } else if (std::strcmp(argv[i], "--no-race") == 0) {
+      race = false;
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  int rest_count = static_cast<int>(rest.size());
+  if (benchmarks) {
+    benchmark::Initialize(&rest_count, rest.data());
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+  }
+  if (race) printRacingTable(laps, grip_use, lateral);
+  return 0;
+}

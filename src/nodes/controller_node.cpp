@@ -1,15 +1,19 @@
-// controller: drives one car round the track's centre line (pure pursuit + speed profile).
-// Answers every odometry message with a control stamped with the odometry's time, which is what the
-// simulator's lockstep mode waits for.
+// controller: drives one car along the planner's trajectory (<vehicle>/local_trajectory). Answers every
+// odometry message with a control stamped with the odometry's time, which is what the simulator's lockstep
+// mode waits for. Until the first trajectory arrives it does not answer, so a lockstep simulator waits for
+// the stack to be ready (an async one holds the car with its control timeout). When odometry stops coming
+// for odom_timeout seconds of wall time it brakes the car to a stop and says so.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <roar_ros/Trajectory.h>
 #include <roar_ros/VehicleControl.h>
 
-#include "roar/control/centreline_follower.h"
+#include "roar/control/trajectory_tracker.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/planning_msg_conversion.h"
 #include "roar/sim/vehicle_config.h"
-#include "roar/track/map_folder.h"
+#include "roar/stack/time_trial.h"
 
 using namespace roar;
 
@@ -17,8 +21,9 @@ namespace {
 
 struct ControllerOptions {
   std::string vehicle;
-  std::string map_folder;
-  control::FollowerOptions follower;
+  sim::VehicleParams car;
+  control::TrackerOptions tracker;
+  double odom_timeout = 1.0;  // s of wall time; 0: never
 };
 
 ControllerOptions readParameters(const ros::NodeHandle& nh) {
@@ -26,26 +31,100 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   ControllerOptions o;
   const std::string pkg = packagePath();
   o.vehicle = readString(nh, "vehicle", "ego");
-  try {
-    o.map_folder = track::resolveMapFolder(readString(nh, "map", "roar_ring"), readString(nh, "maps_dir", pkg + "/maps"));
-  } catch (const track::MapError& e) {
-    throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
-  }
   // The car's geometry comes from the same vehicle files the simulator reads.
-  const auto car = sim::loadVehicleModel(readString(nh, "model", "sedan"), readString(nh, "urdf_dir", pkg + "/urdf"),
-                                         readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
-  auto& f = o.follower;
-  f.wheelbase = car.wheelbase();
-  f.max_steer_angle = car.steering.max_angle;
-  f.lookahead_min = readDouble(nh, "lookahead_min", f.lookahead_min, 0.5, 100);
-  f.lookahead_time = readDouble(nh, "lookahead_time", f.lookahead_time, 0.0, 5);
-  f.yaw_rate_gain = readDouble(nh, "yaw_rate_gain", f.yaw_rate_gain, 0.0, 2);
-  f.lateral_accel = readDouble(nh, "lateral_accel", f.lateral_accel, 0.5, 50);
-  f.braking_decel = readDouble(nh, "braking_decel", f.braking_decel, 0.5, 50);
-  f.max_speed = readDouble(nh, "max_speed", f.max_speed, 0.5, 150);
-  f.speed_gain = readDouble(nh, "speed_gain", f.speed_gain, 0.01, 10);
+  o.car = sim::loadVehicleModel(readString(nh, "model", "sedan"), readString(nh, "urdf_dir", pkg + "/urdf"),
+                                readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
+  auto t = stack::trackerFor(o.car);
+  const std::string lateral = readChoice(nh, "lateral_control", "pure_pursuit", {"pure_pursuit", "stanley"});
+  t.lateral = lateral == "stanley" ? control::LateralMethod::kStanley : control::LateralMethod::kPurePursuit;
+  t.lookahead_min = readDouble(nh, "lookahead_min", t.lookahead_min, 0.5, 100);
+  t.lookahead_time = readDouble(nh, "lookahead_time", t.lookahead_time, 0.0, 5);
+  t.stanley_gain = readDouble(nh, "stanley_gain", t.stanley_gain, 0.01, 50);
+  t.yaw_rate_gain = readDouble(nh, "yaw_rate_gain", t.yaw_rate_gain, 0.0, 2);
+  t.speed_gain = readDouble(nh, "speed_gain", t.speed_gain, 0.01, 10);
+  t.speed_preview = readDouble(nh, "speed_preview", t.speed_preview, 0.0, 3);
+  t.max_speed = readDouble(nh, "max_speed", 0.0, 0.0, 150);
+  o.tracker = t;
+  o.odom_timeout = readDouble(nh, "odom_timeout", o.odom_timeout, 0.0, 3600);
   return o;
 }
+
+class ControllerNode {
+ public:
+  ControllerNode(ros::NodeHandle& nh, const ControllerOptions& options)
+      // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
+      : options_(options), tracker_(options.tracker, planning::vehicleLimits(options.car, 1.0, 1.0)) {
+    control_pub_ = nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10);
+    trajectory_sub_ = nh.subscribe(options.vehicle + "/local_trajectory", 2, &ControllerNode::onTrajectory, this,
+                                   ros::TransportHints().tcpNoDelay());
+    odom_sub_ = nh.subscribe<nav_msgs::Odometry>(
+        options.vehicle + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    if (options.odom_timeout > 0) {
+      // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
+      watchdog_ = nh.createWallTimer(ros::WallDuration(0.1), &ControllerNode::checkOdometry, this);
+    }
+  }
+
+ private:
+  void onTrajectory(const roar_ros::Trajectory& msg) {
+    try {
+      const bool first = !tracker_.hasTrajectory();
+      tracker_.setTrajectory(ros_bridge::fromMessage(msg));
+      if (first && waiting_odom_) {  // the simulator may be waiting for its answer
+        const nav_msgs::Odometry::ConstPtr held = waiting_odom_;
+        onOdometry(*held, held);
+      }
+    } catch (const std::exception& e) {
+      ROS_ERROR_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
+                         tracker_.hasTrajectory() ? "; keeping the previous one" : "");
+    }
+  }
+
+  void onOdometry(const nav_msgs::Odometry& odom, const nav_msgs::Odometry::ConstPtr& keep) {
+    if (stale_) {
+      ROS_INFO("controller: odometry of '%s' is back", options_.vehicle.c_str());
+      stale_ = false;
+    }
+    control::TrackerInput in;
+    in.position = Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y);
+    in.yaw = ros_bridge::yawOf(odom.pose.pose.orientation);
+    in.speed = odom.twist.twist.linear.x;
+    in.yaw_rate = odom.twist.twist.angular.z;
+    if (!tracker_.hasTrajectory()) {
+      ROS_WARN_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
+      waiting_odom_ = keep;
+      return;
+    }
+    waiting_odom_.reset();
+    last_odom_ = ros::WallTime::now();
+    roar_ros::VehicleControl msg = ros_bridge::toMessage(tracker_.update(in));
+    msg.header.stamp = odom.header.stamp;
+    control_pub_.publish(msg);
+  }
+
+  void checkOdometry(const ros::WallTimerEvent&) {
+    if (last_odom_.isZero() || (ros::WallTime::now() - last_odom_).toSec() < options_.odom_timeout) return;
+    if (!stale_) {
+      ROS_WARN("controller: no odometry on %s for %.1f s: braking '%s' to a stop", odom_sub_.getTopic().c_str(),
+               options_.odom_timeout, options_.vehicle.c_str());
+      stale_ = true;
+    }
+    roar_ros::VehicleControl stop;
+    stop.brake = 1.0;
+    stop.header.stamp = ros::Time::now();
+    control_pub_.publish(stop);
+  }
+
+  ControllerOptions options_;
+  control::TrajectoryTracker tracker_;
+  ros::Publisher control_pub_;
+  ros::Subscriber trajectory_sub_, odom_sub_;
+  ros::WallTimer watchdog_;
+  ros::WallTime last_odom_;  // of the last odometry answered: the watchdog starts with driving
+  nav_msgs::Odometry::ConstPtr waiting_odom_;
+  bool stale_ = false;
+};
 
 }  // namespace
 
@@ -54,23 +133,8 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, private_nh("~");
   try {
     const ControllerOptions options = readParameters(private_nh);
-    const track::Track track = track::loadMapFolder(options.map_folder);
-    control::CentrelineFollower follower(track, options.follower);
-    ros::Publisher pub = nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10);
-    ros::Subscriber sub = nh.subscribe<nav_msgs::Odometry>(
-        options.vehicle + "/odom", 10,
-        [&](const nav_msgs::Odometry::ConstPtr& odom) {
-          control::FollowerInput in;
-          in.position = Eigen::Vector2d(odom->pose.pose.position.x, odom->pose.pose.position.y);
-          in.yaw = ros_bridge::yawOf(odom->pose.pose.orientation);
-          in.speed = odom->twist.twist.linear.x;
-          in.yaw_rate = odom->twist.twist.angular.z;
-          roar_ros::VehicleControl msg = ros_bridge::toMessage(follower.update(in));
-          msg.header.stamp = odom->header.stamp;
-          pub.publish(msg);
-        },
-        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
-    ROS_INFO("controller: driving '%s' round '%s'", options.vehicle.c_str(), track.info().name.c_str());
+    ControllerNode node(nh, options);
+    ROS_INFO("controller: driving '%s' along %s/local_trajectory", options.vehicle.c_str(), options.vehicle.c_str());
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("controller: %s", e.what());

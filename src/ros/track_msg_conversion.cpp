@@ -63,6 +63,7 @@ roar_ros::WaypointArray toWaypointArray(const track::Track& track, const std::st
   msg.map_name = track.info().name;
   msg.track_length = track.length();
   msg.closed = true;
+  msg.friction = track.info().friction;
   msg.waypoints = waypointMessages(track);
   return msg;
 }

@@ -1,6 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "roar/ros/msg_conversion.h"
+#include "roar/ros/planning_msg_conversion.h"
+#include "test_support.h"
 
 using namespace roar;
 
@@ -53,4 +58,71 @@ TEST(MsgConversion, TimeIsExactForControlTicks) {
   // 0.05 s ticks: tick 7 and 7 * 0.05 agree to the nanosecond.
   EXPECT_EQ(ros_bridge::toRosTime(7 * 0.05).toNSec(), 350000000u);
   EXPECT_EQ(ros_bridge::toRosTime(123456 * 0.05).toNSec(), 6172800000000u);
+}
+
+TEST(MsgConversion, TrajectoryRoundTrip) {
+  planning::Trajectory t;
+  t.closed = true;
+  t.length = 30.0;
+  t.lap_time = 3.5;
+  for (int i = 0; i < 3; ++i) {
+    planning::TrajectoryPoint p;
+    p.position = {1.0 * i, 2.0 * i};
+    p.z = 0.5;
+    p.yaw = 0.1 * i;
+    p.s = 10.0 * i;
+    p.curvature = 0.01 * i;
+    p.speed = 20.0 + i;
+    p.acceleration = -1.0 * i;
+    p.time = 0.4 * i;
+    p.offset = -0.3 * i;
+    t.points.push_back(p);
+  }
+  const auto msg = ros_bridge::toMessage(t, "map", "Ring");
+  EXPECT_EQ(msg.header.frame_id, "map");
+  EXPECT_EQ(msg.map_name, "Ring");
+  const auto back = ros_bridge::fromMessage(msg);
+  EXPECT_EQ(back.closed, t.closed);
+  EXPECT_EQ(back.length, t.length);
+  EXPECT_EQ(back.lap_time, t.lap_time);
+  ASSERT_EQ(back.points.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    const auto &a = t.points[i], &b = back.points[i];
+    EXPECT_EQ(a.position, b.position);
+    EXPECT_EQ(a.z, b.z);
+    EXPECT_EQ(a.yaw, b.yaw);
+    EXPECT_EQ(a.s, b.s);
+    EXPECT_EQ(a.curvature, b.curvature);
+    EXPECT_EQ(a.speed, b.speed);
+    EXPECT_EQ(a.acceleration, b.acceleration);
+    EXPECT_EQ(a.time, b.time);
+    EXPECT_EQ(a.offset, b.offset);
+  }
+  EXPECT_EQ(ros_bridge::toPath(t, "map").poses.size(), 4u) << "a closed path returns to its start";
+}
+
+TEST(MsgConversion, WaypointArraysThatAreNoCircuitAreRefused) {
+  roar_ros::WaypointArray msg;
+  msg.closed = true;
+  msg.friction = 1.0;
+  auto error = [&] { return test::errorOf([&] { ros_bridge::trackFromMessage(msg); }); };
+  EXPECT_NE(error().find("empty"), std::string::npos);
+  for (int i = 0; i < 60; ++i) {
+    roar_ros::Waypoint w;
+    w.location.x = 50.0 * std::cos(2 * M_PI * i / 60);
+    w.location.y = 50.0 * std::sin(2 * M_PI * i / 60);
+    w.yaw = 2 * M_PI * i / 60 + M_PI / 2;
+    w.lane_width = 10.0;
+    msg.waypoints.push_back(w);
+  }
+  EXPECT_EQ(error(), "");
+  EXPECT_NEAR(ros_bridge::trackFromMessage(msg).info().friction, 1.0, 0.0);
+  msg.closed = false;
+  EXPECT_NE(error().find("not a closed circuit"), std::string::npos);
+  msg.closed = true;
+  msg.friction = std::nan("");
+  EXPECT_NE(error().find("friction"), std::string::npos);
+  msg.friction = 1.0;
+  msg.waypoints[5].lane_width = std::numeric_limits<double>::infinity();
+  EXPECT_NE(error().find("waypoint 5"), std::string::npos);
 }

@@ -7,7 +7,8 @@
 #include "roar/track/map_folder.h"
 #include "roar/track/npz.h"
 #include "roar/track/waypoints.h"
-#include "lap_driver.h"
+#include "roar/stack/time_trial.h"
+#include "test_support.h"
 
 using namespace roar;
 using test::errorOf;
@@ -155,9 +156,11 @@ TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   const auto monza = track::trackFromWaypoints(waypoints, info);
   EXPECT_NEAR(monza.length(), 5600, 300);
   track::checkEdges(monza, dir + "/Monza_waypoints.npz", {});
-  const auto lap = test::driveLap(monza);
-  EXPECT_TRUE(lap.clean(monza)) << "lap " << lap.time << " s, " << lap.barrier_ticks << " barrier ticks";
-  RecordProperty("monza_lap_s", std::to_string(lap.time));
+  const auto race = stack::runTimeTrial(monza, test::sedan(), {});
+  ASSERT_TRUE(race.finished);
+  EXPECT_EQ(race.barrier_contacts, 0);
+  EXPECT_LT(race.worst_offroad, 0.0);
+  RecordProperty("monza_lap_s", std::to_string(race.lap_times.at(0)));
   const auto spawns = track::readRoarSpawnPoints(dir + "/BerkMajor_spawn_points.npz");
   EXPECT_EQ(spawns.size(), 11u);
   const auto berk = track::readRoarWaypoints(dir + "/BerkMajor_waypoints.npz");

@@ -1,0 +1,30 @@
+#pragma once
+// Fastest speed along a path a car can hold: the cornering limit at every point, then a forward pass
+// (acceleration limited by engine and by the grip the corner leaves) and a backward pass (braking limited
+// by brakes and grip). On a closed circuit both passes start at the slowest corner, so the profile is
+// consistent across the start/finish line.
+#include <vector>
+
+#include "roar/planning/vehicle_limits.h"
+
+namespace roar::planning {
+
+struct SpeedProfile {
+  std::vector<double> speed;         // m/s at each point
+  std::vector<double> acceleration;  // m/s^2 from each point to the next (the last of an open path: 0)
+  std::vector<double> time;          // s from the first point
+  double total_time = 0.0;           // s: round the loop when closed, to the last point when open
+};
+
+struct SpeedProfileOptions {
+  double max_speed = 0.0;     // m/s; 0: the car's top speed
+  double start_speed = -1.0;  // open paths: speed at the first point (negative: as fast as allowed)
+  double end_speed = -1.0;    // open paths: speed at the last point (negative: as fast as allowed)
+};
+
+// `step[i]` is the distance from point i to point i + 1 (on a closed path the last entry leads back to
+// point 0; on an open path it is ignored). Throws std::invalid_argument naming the first bad entry.
+SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,
+                                 const VehicleLimits& limits, bool closed, const SpeedProfileOptions& options = {});
+
+}  // namespace roar::planning

@@ -1,0 +1,66 @@
+#pragma once
+// A racing trajectory: a line with the speed, curvature and acceleration to drive along it. Closed for the
+// whole circuit; open for the window ahead of one car.
+#include <Eigen/Core>
+#include <stdexcept>
+#include <vector>
+
+#include "roar/planning/racing_line.h"
+#include "roar/planning/speed_profile.h"
+
+namespace roar::planning {
+
+struct TrajectoryPoint {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // m, map frame
+  double z = 0.0;             // m, road height (for display)
+  double yaw = 0.0;           // rad
+  double s = 0.0;             // m along the trajectory (a window keeps the circuit's s, unwrapped)
+  double curvature = 0.0;     // 1/m, positive left
+  double speed = 0.0;         // m/s
+  double acceleration = 0.0;  // m/s^2 along the path
+  double time = 0.0;          // s from the first point of the lap
+  double offset = 0.0;        // m left of the track's centre line
+};
+
+struct Trajectory {
+  std::vector<TrajectoryPoint> points;
+  bool closed = true;
+  double length = 0.0;    // m; a closed trajectory's last point leads back to the first over length - s.back()
+  double lap_time = 0.0;  // s the profile promises for a lap (closed) or for the window (open)
+};
+
+class TrajectoryError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+// Throws TrajectoryError naming the first point and field that is not usable: fewer than 2 points,
+// non-finite values, negative speed, s not increasing.
+void validate(const Trajectory& trajectory);
+
+struct PlannerOptions {
+  RacingLineOptions line;
+  SpeedProfileOptions profile;
+};
+
+// Racing line and speed profile, with each point's road height.
+Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options);
+Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const SpeedProfile& profile);
+
+// Interpolated at s (wrapped on a closed trajectory, clamped to the ends of an open one).
+TrajectoryPoint sampleAt(const Trajectory& trajectory, double s);
+
+// Where a position is along a trajectory: index of the segment, s and signed lateral error (positive left).
+struct TrajectoryProjection {
+  std::size_t segment = 0;
+  double s = 0.0;
+  double lateral = 0.0;
+};
+// Searches every segment, or with `hint` only those within `window` points of it.
+TrajectoryProjection project(const Trajectory& trajectory, const Eigen::Vector2d& position, long hint = -1,
+                             long window = 40);
+
+// The open stretch from `behind` metres before s to `ahead` metres after it, s unwrapped past the lap.
+Trajectory windowAround(const Trajectory& closed, double s, double behind, double ahead);
+
+}  // namespace roar::planning

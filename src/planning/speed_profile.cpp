@@ -1,0 +1,84 @@
+#include "roar/planning/speed_profile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace roar::planning {
+
+namespace {
+
+double accelerationAt(const VehicleLimits& limits, double v, double kappa, bool shifting) {
+  const double drive = shifting ? 0.0 : std::min(limits.driveForce(v), limits.longitudinalGrip(v, kappa));
+  return (drive - limits.resistance(v)) / limits.effectiveMass();
+}
+
+double decelerationAt(const VehicleLimits& limits, double v, double kappa) {
+  const double brake = std::min(limits.max_brake_force, limits.longitudinalGrip(v, kappa));
+  return (brake + limits.resistance(v)) / limits.effectiveMass();
+}
+
+}  // namespace
+
+SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,
+                                 const VehicleLimits& limits, bool closed, const SpeedProfileOptions& options) {
+  const std::size_t n = curvature.size();
+  if (n < 2 || step.size() != n) {
+    throw std::invalid_argument("speed profile: need at least 2 points and one step per point (got " +
+                                std::to_string(n) + " curvatures, " + std::to_string(step.size()) + " steps)");
+  }
+  const std::size_t segments = closed ? n : n - 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(curvature[i])) throw std::invalid_argument("speed profile: curvature " + std::to_string(i) + " is not finite");
+    if (i < segments && !(step[i] > 0 && std::isfinite(step[i]))) {
+      throw std::invalid_argument("speed profile: step " + std::to_string(i) + " is not a positive distance");
+    }
+  }
+  const double top = options.max_speed > 0 ? std::min(options.max_speed, limits.max_speed) : limits.max_speed;
+
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = std::min(top, limits.corneringSpeed(curvature[i]));
+  if (!closed) {
+    if (options.start_speed >= 0) v.front() = std::min(v.front(), options.start_speed);
+    if (options.end_speed >= 0) v.back() = std::min(v.back(), options.end_speed);
+  }
+
+  // Passes start where nothing before matters: the slowest point of a loop, or the path's ends.
+  const std::size_t start = closed ? static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin()) : 0;
+  // Each upshift costs the gearbox's shift time without drive: the distance covered meanwhile coasts.
+  double coast = 0.0;
+  for (std::size_t k = 0; k < segments; ++k) {
+    const std::size_t i = (start + k) % n, j = (i + 1) % n;
+    const double a = accelerationAt(limits, v[i], curvature[i], coast > 0);
+    coast = std::max(0.0, coast - step[i]);
+    const double reachable = std::sqrt(std::max(0.0, v[i] * v[i] + 2.0 * a * step[i]));
+    if (reachable < v[j]) {
+      if (limits.gearAt(reachable) > limits.gearAt(v[i])) coast = limits.shift_time * reachable;
+      v[j] = reachable;
+    }
+  }
+  const std::size_t end = closed ? start : n - 1;
+  for (std::size_t k = 0; k < segments; ++k) {
+    const std::size_t j = (end + n - k) % n, i = (j + n - 1) % n;
+    const double d = decelerationAt(limits, v[j], curvature[j]);
+    v[i] = std::min(v[i], std::sqrt(v[j] * v[j] + 2.0 * d * step[i]));
+  }
+
+  SpeedProfile profile;
+  profile.speed = v;
+  profile.acceleration.assign(n, 0.0);
+  profile.time.assign(n, 0.0);
+  double t = 0.0;
+  for (std::size_t i = 0; i < segments; ++i) {
+    const std::size_t j = (i + 1) % n;
+    profile.acceleration[i] = (v[j] * v[j] - v[i] * v[i]) / (2.0 * step[i]);
+    const double mean = 0.5 * (v[i] + v[j]);
+    t += mean > 1e-6 ? step[i] / mean : 0.0;
+    if (j != 0) profile.time[j] = t;
+  }
+  profile.total_time = t;
+  return profile;
+}
+
+}  // namespace roar::planning

@@ -1,0 +1,162 @@
+#include "roar/planning/trajectory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace roar::planning {
+
+namespace {
+
+// Distance from point i to the next (the last of a closed trajectory back to the first).
+double stepAfter(const Trajectory& t, std::size_t i) {
+  if (i + 1 < t.points.size()) return t.points[i + 1].s - t.points[i].s;
+  return t.closed ? t.length - t.points[i].s + t.points.front().s : 0.0;
+}
+
+}  // namespace
+
+void validate(const Trajectory& t) {
+  if (t.points.size() < 2) throw TrajectoryError("trajectory: needs at least 2 points, has " + std::to_string(t.points.size()));
+  for (std::size_t i = 0; i < t.points.size(); ++i) {
+    const auto& p = t.points[i];
+    const std::pair<const char*, double> fields[] = {{"x", p.position.x()}, {"y", p.position.y()}, {"z", p.z},
+                                                      {"yaw", p.yaw}, {"s", p.s}, {"curvature", p.curvature},
+                                                      {"speed", p.speed}, {"acceleration", p.acceleration}};
+    for (const auto& [name, value] : fields) {
+      if (!std::isfinite(value)) {
+        throw TrajectoryError("trajectory: point " + std::to_string(i) + " has a non-finite " + name);
+      }
+    }
+    if (p.speed < 0) throw TrajectoryError("trajectory: point " + std::to_string(i) + " has a negative speed");
+    if (i > 0 && !(p.s > t.points[i - 1].s)) {
+      throw TrajectoryError("trajectory: s does not increase at point " + std::to_string(i));
+    }
+  }
+  if (t.closed && !(t.length > t.points.back().s - t.points.front().s)) {
+    throw TrajectoryError("trajectory: a closed trajectory's length must exceed its last point's s");
+  }
+}
+
+Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const SpeedProfile& profile) {
+  Trajectory t;
+  t.closed = true;
+  t.length = line.length;
+  t.lap_time = profile.total_time;
+  t.points.resize(line.points.size());
+  for (std::size_t i = 0; i < line.points.size(); ++i) {
+    auto& p = t.points[i];
+    p.position = line.points[i];
+    p.z = track.surfaceHeightAt(line.track_s[i], line.offset[i]);
+    p.yaw = line.heading[i];
+    p.s = line.s[i];
+    p.curvature = line.curvature[i];
+    p.speed = profile.speed[i];
+    p.acceleration = profile.acceleration[i];
+    p.time = profile.time[i];
+    p.offset = line.offset[i];
+  }
+  return t;
+}
+
+Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options) {
+  const RacingLine line = minimumCurvatureLine(track, options.line);
+  return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, options.profile));
+}
+
+TrajectoryPoint sampleAt(const Trajectory& t, double s) {
+  const auto& pts = t.points;
+  if (t.closed) {
+    s = std::fmod(s - pts.front().s, t.length);
+    if (s < 0) s += t.length;
+    s += pts.front().s;
+  } else {
+    s = std::clamp(s, pts.front().s, pts.back().s);
+  }
+  auto it = std::upper_bound(pts.begin(), pts.end(), s, [](double v, const TrajectoryPoint& p) { return v < p.s; });
+  const std::size_t i = it == pts.begin() ? 0 : static_cast<std::size_t>(it - pts.begin()) - 1;
+  const std::size_t j = (i + 1) % pts.size();
+  const double step = stepAfter(t, i);
+  if (step <= 0 || (!t.closed && j == 0)) return pts[i];
+  const double f = std::clamp((s - pts[i].s) / step, 0.0, 1.0);
+  TrajectoryPoint out = pts[i];
+  const auto& b = pts[j];
+  out.position = (1 - f) * pts[i].position + f * b.position;
+  out.z = (1 - f) * pts[i].z + f * b.z;
+  out.yaw = pts[i].yaw + f * std::remainder(b.yaw - pts[i].yaw, 2.0 * M_PI);
+  out.s = s;
+  out.curvature = (1 - f) * pts[i].curvature + f * b.curvature;
+  out.speed = (1 - f) * pts[i].speed + f * b.speed;
+  out.acceleration = pts[i].acceleration;  // constant over a segment
+  out.offset = (1 - f) * pts[i].offset + f * b.offset;
+  return out;
+}
+
+TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& position, long hint, long window) {
+  const long n = static_cast<long>(t.points.size());
+  const long segments = t.closed ? n : n - 1;
+  long first = 0, count = segments;
+  if (hint >= 0 && 2 * window + 1 < segments) {
+    first = hint - window;
+    count = 2 * window + 1;
+  }
+  TrajectoryProjection best;
+  double best_d2 = INFINITY;
+  for (long k = 0; k < count; ++k) {
+    long i = first + k;
+    if (t.closed) {
+      i = ((i % n) + n) % n;
+    } else if (i < 0 || i >= segments) {
+      continue;
+    }
+    const std::size_t a = static_cast<std::size_t>(i), b = (a + 1) % t.points.size();
+    const Eigen::Vector2d pa = t.points[a].position, d = t.points[b].position - pa;
+    const double len2 = d.squaredNorm();
+    const double f = len2 > 0 ? std::clamp((position - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d r = position - (pa + f * d);
+    const double d2 = r.squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best.segment = a;
+      best.s = t.points[a].s + f * stepAfter(t, a);
+      const double cross = d.x() * r.y() - d.y() * r.x();
+      best.lateral = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
+    }
+  }
+  return best;
+}
+
+Trajectory windowAround(const Trajectory& closed, double s, double behind, double ahead) {
+  Trajectory w;
+  w.closed = false;
+  const std::size_t n = closed.points.size();
+  const TrajectoryPoint start = sampleAt(closed, s - behind);
+  // Unwrapped: the window's s runs on from the sampled start even past the end of the lap.
+  double s_now = s - behind;
+  w.points.push_back(start);
+  w.points.back().s = s_now;
+  auto it = std::upper_bound(closed.points.begin(), closed.points.end(), start.s,
+                             [](double v, const TrajectoryPoint& p) { return v < p.s; });
+  std::size_t next = static_cast<std::size_t>(it - closed.points.begin()) % n;
+  double previous_s = start.s;
+  const double end = s + ahead;
+  while (true) {
+    const TrajectoryPoint& p = closed.points[next];
+    double gap = p.s - previous_s;
+    if (gap <= 0) gap += closed.length;
+    if (s_now + gap > end) break;
+    s_now += gap;
+    w.points.push_back(p);
+    w.points.back().s = s_now;
+    previous_s = p.s;
+    next = (next + 1) % n;
+  }
+  w.length = w.points.back().s - w.points.front().s;
+  for (std::size_t i = 0; i + 1 < w.points.size(); ++i) {
+    const double mean = 0.5 * (w.points[i].speed + w.points[i + 1].speed);
+    if (mean > 1e-6) w.lap_time += (w.points[i + 1].s - w.points[i].s) / mean;
+  }
+  return w;
+}
+
+}  // namespace roar::planning

@@ -1,0 +1,94 @@
+#include "roar/planning/vehicle_limits.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "roar/sim/powertrain.h"
+
+namespace roar::planning {
+
+double VehicleLimits::driveForce(double speed) const {
+  if (drive_force.empty()) return 0.0;
+  const double x = std::max(0.0, speed) / drive_force_step;
+  const std::size_t i = static_cast<std::size_t>(x);
+  if (i + 1 >= drive_force.size()) return drive_force.back();
+  const double t = x - static_cast<double>(i);
+  return (1 - t) * drive_force[i] + t * drive_force[i + 1];
+}
+
+double VehicleLimits::corneringSpeed(double curvature) const {
+  // m v^2 |kappa| = mu (m g + k v^2)  =>  v^2 = mu m g / (m |kappa| - mu k)
+  const double denominator = mass * std::abs(curvature) - friction * downforce_coefficient;
+  if (denominator <= 0) return max_speed;
+  return std::min(max_speed, std::sqrt(friction * mass * gravity / denominator));
+}
+
+double VehicleLimits::longitudinalGrip(double speed, double curvature) const {
+  const double grip = gripForce(speed);
+  const double lateral = mass * speed * speed * std::abs(curvature);
+  if (lateral >= grip) return 0.0;
+  return std::sqrt(grip * grip - lateral * lateral);
+}
+
+int VehicleLimits::gearAt(double speed) const {
+  if (gear.empty()) return 1;
+  const std::size_t i = std::min(gear.size() - 1, static_cast<std::size_t>(std::max(0.0, speed) / drive_force_step + 0.5));
+  return gear[i];
+}
+
+VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_friction, double grip_use) {
+  if (!(road_friction > 0) || !(grip_use > 0 && grip_use <= 1)) {
+    throw std::invalid_argument("vehicle limits: road friction must be positive and grip_use in (0, 1]");
+  }
+  VehicleLimits limits;
+  limits.mass = params.chassis.mass;
+  limits.friction = road_friction * grip_use;
+  limits.drag_coefficient = 0.5 * params.aero.air_density * params.aero.drag_area;
+  limits.downforce_coefficient = 0.5 * params.aero.air_density * params.aero.downforce_area;
+  limits.rolling_resistance = params.tyre.rolling_resistance;
+  limits.shift_time = params.gearbox.shift_time;
+  limits.rotating_mass = 0.0;
+  for (const auto& wheel : params.wheels) limits.rotating_mass += params.tyre.wheel_inertia / (wheel.radius * wheel.radius);
+  double brake_torque = 0.0;
+  for (const auto& wheel : params.wheels) {
+    brake_torque += wheel.front ? params.brakes.max_torque_front : params.brakes.max_torque_rear;
+  }
+  const double radius = params.wheels[0].radius;
+  limits.max_brake_force = brake_torque / radius;
+
+  // Full throttle in the gear an automatic gearbox would hold: every forward gear up to its shift-up rpm
+  // (the top gear up to the redline); below idle the clutch slips and the engine gives its idle torque.
+  sim::Powertrain engine(params);
+  const auto& gearbox = params.gearbox;
+  const std::size_t gears = gearbox.ratios.size();
+  limits.drive_force.clear();
+  limits.gear.clear();
+  limits.max_speed = 0.0;
+  for (double v = 0.0;; v += limits.drive_force_step) {
+    const double wheel_rpm = v / radius * 60.0 / (2.0 * M_PI);
+    double best = 0.0;
+    int best_gear = 1;
+    for (std::size_t g = 0; g < gears; ++g) {
+      const double ratio = gearbox.ratios[g] * gearbox.final_drive;
+      const double rpm = wheel_rpm * ratio;
+      const double ceiling = g + 1 == gears ? params.engine.redline_rpm : gearbox.shift_up_rpm;
+      if (rpm > ceiling) continue;
+      const double torque = engine.engineTorqueAt(std::max(rpm, params.engine.idle_rpm));
+      const double force = torque * ratio * gearbox.efficiency / radius;
+      if (force > best) {
+        best = force;
+        best_gear = static_cast<int>(g) + 1;
+      }
+    }
+    limits.drive_force.push_back(best);
+    limits.gear.push_back(best_gear);
+    if (best <= limits.resistance(v) || v > 150.0) {
+      limits.max_speed = v;
+      break;
+    }
+  }
+  return limits;
+}
+
+}  // namespace roar::planning

@@ -1,0 +1,98 @@
+#include "roar/ros/planning_msg_conversion.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "roar/track/waypoints.h"
+
+namespace roar::ros_bridge {
+
+roar_ros::Trajectory toMessage(const planning::Trajectory& t, const std::string& frame, const std::string& map_name) {
+  roar_ros::Trajectory msg;
+  msg.header.frame_id = frame;
+  msg.map_name = map_name;
+  msg.closed = t.closed;
+  msg.length = t.length;
+  msg.lap_time = t.lap_time;
+  msg.points.resize(t.points.size());
+  for (std::size_t i = 0; i < t.points.size(); ++i) {
+    const auto& p = t.points[i];
+    auto& m = msg.points[i];
+    m.position.x = p.position.x();
+    m.position.y = p.position.y();
+    m.position.z = p.z;
+    m.yaw = p.yaw;
+    m.s = p.s;
+    m.curvature = p.curvature;
+    m.speed = p.speed;
+    m.acceleration = p.acceleration;
+    m.time = p.time;
+    m.offset = p.offset;
+  }
+  return msg;
+}
+
+planning::Trajectory fromMessage(const roar_ros::Trajectory& msg) {
+  planning::Trajectory t;
+  t.closed = msg.closed;
+  t.length = msg.length;
+  t.lap_time = msg.lap_time;
+  t.points.resize(msg.points.size());
+  for (std::size_t i = 0; i < msg.points.size(); ++i) {
+    const auto& m = msg.points[i];
+    auto& p = t.points[i];
+    p.position = Eigen::Vector2d(m.position.x, m.position.y);
+    p.z = m.position.z;
+    p.yaw = m.yaw;
+    p.s = m.s;
+    p.curvature = m.curvature;
+    p.speed = m.speed;
+    p.acceleration = m.acceleration;
+    p.time = m.time;
+    p.offset = m.offset;
+  }
+  return t;
+}
+
+nav_msgs::Path toPath(const planning::Trajectory& t, const std::string& frame) {
+  nav_msgs::Path path;
+  path.header.frame_id = frame;
+  const std::size_t count = t.points.size() + (t.closed ? 1 : 0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& p = t.points[i % t.points.size()];
+    geometry_msgs::PoseStamped pose;
+    pose.header.frame_id = frame;
+    pose.pose.position.x = p.position.x();
+    pose.pose.position.y = p.position.y();
+    pose.pose.position.z = p.z;
+    pose.pose.orientation.z = std::sin(0.5 * p.yaw);
+    pose.pose.orientation.w = std::cos(0.5 * p.yaw);
+    path.poses.push_back(pose);
+  }
+  return path;
+}
+
+track::Track trackFromMessage(const roar_ros::WaypointArray& msg) {
+  if (msg.waypoints.empty()) throw std::invalid_argument("the waypoint list is empty");
+  if (!msg.closed) throw std::invalid_argument("the waypoint list is not a closed circuit (closed: false)");
+  if (!(msg.friction > 0) || !std::isfinite(msg.friction)) {
+    throw std::invalid_argument("friction " + std::to_string(msg.friction) + " is not a positive number");
+  }
+  std::vector<track::Waypoint> waypoints(msg.waypoints.size());
+  for (std::size_t i = 0; i < msg.waypoints.size(); ++i) {
+    const auto& m = msg.waypoints[i];
+    for (double v : {m.location.x, m.location.y, m.location.z, m.roll, m.pitch, m.yaw, m.lane_width}) {
+      if (!std::isfinite(v)) throw std::invalid_argument("waypoint " + std::to_string(i) + " has a non-finite value");
+    }
+    waypoints[i].location = Eigen::Vector3d(m.location.x, m.location.y, m.location.z);
+    waypoints[i].roll_pitch_yaw = Eigen::Vector3d(m.roll, m.pitch, m.yaw);
+    waypoints[i].lane_width = m.lane_width;
+  }
+  track::TrackInfo info;
+  info.name = msg.map_name;
+  info.friction = msg.friction;
+  return track::trackFromWaypoints(waypoints, info);
+}
+
+}  // namespace roar::ros_bridge

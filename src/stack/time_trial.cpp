@@ -1,0 +1,75 @@
+#include "roar/stack/time_trial.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "roar/race/lap_timer.h"
+#include "roar/sim/world.h"
+
+namespace roar::stack {
+
+double TimeTrialResult::best_lap() const {
+  return lap_times.empty() ? 0.0 : *std::min_element(lap_times.begin(), lap_times.end());
+}
+
+control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base) {
+  base.wheelbase = vehicle.wheelbase();
+  base.max_steer_angle = vehicle.steering.max_angle;
+  base.front_axle = vehicle.wheels[0].position.x();
+  return base;
+}
+
+TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle, const TimeTrialOptions& options) {
+  const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
+  control::TrajectoryTracker tracker(trackerFor(vehicle, options.tracker), limits);
+  tracker.setTrajectory(planning::planRacingTrajectory(track, limits, options.planner));
+
+  TimeTrialResult result;
+  result.promised_lap = tracker.trajectory().lap_time;
+  const double time_limit = options.time_limit > 0 ? options.time_limit : 3.0 * result.promised_lap * (options.laps + 1) + 60.0;
+
+  sim::World world(track, {});
+  world.spawnVehicle("ego", vehicle, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
+  race::LapTimer timer(track);
+  double squared_error = 0.0;
+  long samples = 0;
+  bool touching = false;
+  // One untimed out-lap from the grid, then the timed flying laps.
+  while (world.time() < time_limit && timer.lapsCompleted() < options.laps + 1) {
+    const sim::VehicleState state = world.vehicleState("ego");
+    const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
+    control::TrackerInput in;
+    in.position = state.pose.position.head<2>();
+    in.yaw = std::atan2(forward.y(), forward.x());
+    in.speed = state.forward_speed;
+    in.yaw_rate = state.body_angular_velocity.z();
+    world.setControl("ego", tracker.update(in));
+    world.step();
+    if (timer.lapsCompleted() >= 1) {  // tracking error over the flying laps
+      result.max_lateral_error = std::max(result.max_lateral_error, std::abs(tracker.lateralError()));
+      squared_error += tracker.lateralError() * tracker.lateralError();
+      ++samples;
+    }
+    const Eigen::Vector3d position = world.vehicleState("ego").pose.position;
+    timer.update(world.time(), position.head<2>());
+    const auto pr = track.projectNear(position.head<2>(), timer.progress() + track.info().start_finish_s, 80.0);
+    result.worst_offroad = std::max(result.worst_offroad, pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right);
+    const auto& contacts = world.contacts("ego");
+    const bool barrier = std::any_of(contacts.begin(), contacts.end(), [](const sim::Contact& c) { return c.other == "barrier"; });
+    if (barrier && !touching) ++result.barrier_contacts;
+    touching = barrier;
+  }
+  for (const auto& lap : timer.laps()) {
+    if (lap.lap == 1) {
+      result.out_lap = lap.lap_time;
+    } else {
+      result.lap_times.push_back(lap.lap_time);
+    }
+  }
+  result.rms_lateral_error = samples ? std::sqrt(squared_error / samples) : 0.0;
+  result.sim_time = world.time();
+  result.finished = timer.lapsCompleted() >= options.laps + 1;
+  return result;
+}
+
+}  // namespace roar::stack

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""rostest: planner and controller refuse bad input by name, keep what they had, and the controller brakes
+a car whose odometry stops."""
+import math
+import sys
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Log
+from roar_ros.msg import Trajectory, TrajectoryPoint, VehicleControl, Waypoint, WaypointArray
+
+
+class StackInputs(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.log = []
+        cls.controls = []
+        cls.lock = threading.Lock()
+        rospy.Subscriber("/rosout_agg", Log, cls.on_log)
+        rospy.Subscriber("/rosout", Log, cls.on_log)
+        rospy.Subscriber("/ego/control", VehicleControl, cls.on_control)
+        cls.waypoints = rospy.Publisher("/waypoints", WaypointArray, queue_size=1, latch=True)
+        cls.trajectory = rospy.Publisher("/ego/local_trajectory", Trajectory, queue_size=1, latch=True)
+        cls.odom = rospy.Publisher("/ego/odom", Odometry, queue_size=10)
+        deadline = time.time() + 30
+        while time.time() < deadline and (cls.odom.get_num_connections() < 2 or cls.trajectory.get_num_connections() < 1
+                                          or cls.waypoints.get_num_connections() < 1):
+            time.sleep(0.1)
+
+    @classmethod
+    def on_log(cls, msg):
+        with cls.lock:
+            cls.log.append(msg.msg)
+
+    @classmethod
+    def on_control(cls, msg):
+        with cls.lock:
+            cls.controls.append(msg)
+
+    def wait_for_log(self, text, timeout=10.0):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            with self.lock:
+                if any(text in m for m in self.log):
+                    return True
+            time.sleep(0.05)
+        return False
+
+    def wait_for_control(self, predicate, timeout=10.0):
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            with self.lock:
+                found = [c for c in self.controls if predicate(c)]
+            if found:
+                return found[-1]
+            time.sleep(0.05)
+        return None
+
+    def circle(self, closed=True):
+        msg = WaypointArray(map_name="test ring", closed=closed, friction=1.0)
+        for i in range(120):
+            a = 2 * math.pi * i / 120
+            w = Waypoint(lane_width=12.0, yaw=a + math.pi / 2)
+            w.location.x, w.location.y = 100 * math.cos(a), 100 * math.sin(a)
+            msg.waypoints.append(w)
+        return msg
+
+    def odometry(self, stamp, x=0.0):
+        msg = Odometry()
+        msg.header.stamp = stamp
+        msg.header.frame_id = "map"
+        msg.pose.pose.position.x = x
+        msg.pose.pose.orientation.w = 1.0
+        msg.twist.twist.linear.x = 10.0
+        return msg
+
+    def test_1_planner_refuses_waypoints_that_are_no_circuit(self):
+        self.waypoints.publish(WaypointArray(map_name="empty", closed=True, friction=1.0))
+        self.assertTrue(self.wait_for_log("waypoints on /waypoints refused: the waypoint list is empty"))
+        self.waypoints.publish(self.circle(closed=False))
+        self.assertTrue(self.wait_for_log("not a closed circuit"))
+        # A good circuit after the bad ones is planned and latched.
+        self.waypoints.publish(self.circle())
+        line = rospy.wait_for_message("/racing_line", Trajectory, timeout=20)
+        self.assertTrue(line.closed)
+        self.assertGreater(len(line.points), 100)
+        for p in line.points:
+            self.assertLess(abs(math.hypot(p.position.x, p.position.y) - 100.0), 6.0 - 0.925 - 0.5 + 0.05)
+
+    def test_2_controller_keeps_its_trajectory_when_sent_nan_and_brakes_without_odometry(self):
+        good = Trajectory(closed=False, length=200.0)
+        for i in range(201):
+            good.points.append(TrajectoryPoint(s=float(i), speed=20.0))
+            good.points[-1].position.x = float(i)
+        self.trajectory.publish(good)
+        time.sleep(0.5)
+        stamp = rospy.Time(1000, 0)
+        self.odom.publish(self.odometry(stamp))
+        answer = self.wait_for_control(lambda c: c.header.stamp == stamp)
+        self.assertIsNotNone(answer, "the controller answers odometry with a control of the same stamp")
+        self.assertGreater(answer.throttle, 0.5)
+
+        bad = Trajectory(closed=False, length=200.0, points=list(good.points))
+        bad.points[3] = TrajectoryPoint(s=3.0, speed=20.0, curvature=float("nan"))
+        self.trajectory.publish(bad)
+        self.assertTrue(self.wait_for_log("trajectory on /ego/local_trajectory refused: trajectory: point 3 has a non-finite curvature"))
+        stamp = rospy.Time(1000, 50000000)
+        self.odom.publish(self.odometry(stamp, x=1.0))
+        answer = self.wait_for_control(lambda c: c.header.stamp == stamp)
+        self.assertIsNotNone(answer)
+        self.assertGreater(answer.throttle, 0.5, "still driving on the previous trajectory")
+
+        # Odometry stops: within the timeout (1 s) and a little, the controller brakes and says so.
+        stop = self.wait_for_control(lambda c: c.brake == 1.0 and c.throttle == 0.0, timeout=5.0)
+        self.assertIsNotNone(stop, "the controller brakes when odometry stops")
+        self.assertTrue(self.wait_for_log("no odometry on /ego/odom for 1.0 s: braking 'ego' to a stop"))
+
+
+if __name__ == "__main__":
+    rospy.init_node("stack_input_tester")
+    rostest.rosrun("roar_ros", "stack_inputs", StackInputs, sys.argv)

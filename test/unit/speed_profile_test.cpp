@@ -1,0 +1,141 @@
+#include "roar/planning/speed_profile.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roar/sim/world.h"
+#include "test_support.h"
+
+using namespace roar;
+
+namespace {
+
+planning::VehicleLimits sedanLimits(double friction = 1.0, double grip_use = 1.0) {
+  return planning::vehicleLimits(test::sedan(), friction, grip_use);
+}
+
+// A closed loop of straights and corners of several radii, sampled every 2 m.
+void wavyLoop(std::vector<double>* step, std::vector<double>* curvature) {
+  for (int i = 0; i < 1500; ++i) {
+    step->push_back(2.0);
+    const double phase = 2 * M_PI * i / 1500.0;
+    curvature->push_back(0.02 * std::sin(3 * phase) + 0.008 * std::cos(7 * phase));
+  }
+}
+
+}  // namespace
+
+TEST(VehicleLimits, ComeFromTheSedansParameters) {
+  const auto car = test::sedan();
+  const auto limits = sedanLimits();
+  EXPECT_EQ(limits.mass, car.chassis.mass);
+  // Top speed where drive force meets drag: the simulated sedan reaches 287 km/h.
+  EXPECT_NEAR(limits.max_speed * 3.6, 287.0, 15.0);
+  // First gear pulls harder than the tyres can take, sixth gear at 200 km/h much less.
+  EXPECT_GT(limits.driveForce(5.0), limits.gripForce(5.0));
+  EXPECT_LT(limits.driveForce(55.0), 0.4 * limits.driveForce(5.0));
+  EXPECT_THROW(planning::vehicleLimits(car, 1.0, 1.5), std::invalid_argument);
+}
+
+TEST(SpeedProfile, NeverExceedsTheFrictionLimitAndRespectsBraking) {
+  std::vector<double> step, kappa;
+  wavyLoop(&step, &kappa);
+  auto limits = sedanLimits(0.9);
+  limits.downforce_coefficient = 0.0;  // then the limit is exactly sqrt(mu g / kappa)
+  const auto p = planning::computeSpeedProfile(step, kappa, limits, true);
+  const double mu = limits.friction, g = limits.gravity;
+  int at_limit = 0;
+  for (std::size_t i = 0; i < kappa.size(); ++i) {
+    const double v = p.speed[i];
+    if (std::abs(kappa[i]) > 1e-6) {
+      EXPECT_LE(v, std::sqrt(mu * g / std::abs(kappa[i])) + 1e-9) << "point " << i;
+      at_limit += v > 0.999 * std::sqrt(mu * g / std::abs(kappa[i]));
+    }
+    const std::size_t j = (i + 1) % kappa.size();
+    // Braking from i to j no harder than friction plus drag allow (brakes alone could do more).
+    const double decel = (v * v - p.speed[j] * p.speed[j]) / (2 * step[i]);
+    EXPECT_LE(decel, mu * g + limits.resistance(v) / limits.mass + 1e-6) << "point " << i;
+    EXPECT_LE(p.acceleration[i], limits.driveForce(v) / limits.mass + 1e-6);
+  }
+  EXPECT_GT(at_limit, 50) << "the car uses the grip it has in the corners";
+}
+
+TEST(SpeedProfile, DownforceRaisesTheCorneringSpeed) {
+  const auto limits = sedanLimits();
+  auto no_aero = limits;
+  no_aero.downforce_coefficient = 0.0;
+  const double kappa = 1.0 / 300.0;
+  const double v = limits.corneringSpeed(kappa);
+  EXPECT_GT(v, no_aero.corneringSpeed(kappa));
+  EXPECT_NEAR(limits.mass * v * v * kappa, limits.gripForce(v), 1e-6 * limits.gripForce(v)) << "exactly at the limit";
+}
+
+TEST(SpeedProfile, ClosedLoopIsTheSameWhereverItStarts) {
+  std::vector<double> step, kappa;
+  wavyLoop(&step, &kappa);
+  const auto limits = sedanLimits();
+  const auto a = planning::computeSpeedProfile(step, kappa, limits, true);
+  std::rotate(kappa.begin(), kappa.begin() + 400, kappa.end());
+  const auto b = planning::computeSpeedProfile(step, kappa, limits, true);
+  for (std::size_t i = 0; i < kappa.size(); ++i) ASSERT_NEAR(b.speed[i], a.speed[(i + 400) % kappa.size()], 1e-9);
+  EXPECT_NEAR(a.total_time, b.total_time, 1e-9);
+}
+
+TEST(SpeedProfile, BrakesForAHairpinAtTheEndOfAStraight) {
+  // 600 m straight into a 15 m hairpin; no drag, so braking is exactly mu g.
+  std::vector<double> step(301, 2.0), kappa(301, 0.0);
+  for (std::size_t i = 290; i < kappa.size(); ++i) kappa[i] = 1.0 / 15.0;
+  auto limits = sedanLimits();
+  limits.drag_coefficient = limits.downforce_coefficient = limits.rolling_resistance = 0.0;
+  planning::SpeedProfileOptions options;
+  options.start_speed = 0.0;
+  const auto p = planning::computeSpeedProfile(step, kappa, limits, false, options);
+  const double corner = std::sqrt(limits.friction * limits.gravity * 15.0);
+  EXPECT_NEAR(p.speed[290], corner, 1e-6);
+  EXPECT_EQ(p.speed[0], 0.0);
+  // 100 m before the corner the car can be no faster than braking at mu g allows.
+  EXPECT_LE(p.speed[240], std::sqrt(corner * corner + 2 * limits.friction * limits.gravity * 100.0) + 1e-6);
+  EXPECT_GT(p.speed[240], corner + 10.0);
+}
+
+// The planner's model of the car and the simulated car agree: full throttle from rest on a straight.
+TEST(SpeedProfile, MatchesTheSimulatedCarAcceleratingOnAStraight) {
+  const auto car = test::sedan();
+  const auto limits = planning::vehicleLimits(car, 1.0, 1.0);
+  std::vector<double> step(400, 1.0), kappa(400, 0.0);
+  planning::SpeedProfileOptions options;
+  options.start_speed = 0.0;
+  const auto p = planning::computeSpeedProfile(step, kappa, limits, false, options);
+
+  sim::World world(test::openGround(), {});
+  world.spawnVehicle("ego", car, {});
+  sim::VehicleControl full;
+  full.throttle = 1.0;
+  double travelled = 0.0;
+  Eigen::Vector3d last = world.vehicleState("ego").pose.position;
+  while (travelled < 399.0) {
+    world.setControl("ego", full);
+    world.step();
+    const Eigen::Vector3d now = world.vehicleState("ego").pose.position;
+    travelled += (now - last).norm();
+    last = now;
+  }
+  const double planned = p.time[399];
+  RecordProperty("planned_400m_s", std::to_string(planned));
+  RecordProperty("simulated_400m_s", std::to_string(world.time()));
+  EXPECT_NEAR(world.time(), planned, 0.04 * planned) << "400 m from rest";
+}
+
+TEST(SpeedProfile, BadInputNamesTheEntry) {
+  const auto limits = sedanLimits();
+  std::vector<double> step(10, 1.0), kappa(10, 0.0);
+  kappa[4] = NAN;
+  EXPECT_NE(test::errorOf([&] { planning::computeSpeedProfile(step, kappa, limits, true); }).find("curvature 4"),
+            std::string::npos);
+  kappa[4] = 0.0;
+  step[7] = 0.0;
+  EXPECT_NE(test::errorOf([&] { planning::computeSpeedProfile(step, kappa, limits, true); }).find("step 7"),
+            std::string::npos);
+  EXPECT_THROW(planning::computeSpeedProfile({1.0}, {0.0}, limits, true), std::invalid_argument);
+}

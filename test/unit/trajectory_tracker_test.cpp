@@ -1,0 +1,127 @@
+#include "roar/control/trajectory_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roar/sim/world.h"
+#include "roar/stack/time_trial.h"
+#include "roar/track/map_folder.h"
+#include "test_support.h"
+
+using namespace roar;
+
+namespace {
+
+// A constant-speed trajectory through points produced by `at(s)` (position, heading, curvature).
+template <typename At>
+planning::Trajectory constantSpeed(double length, double speed, bool closed, At at) {
+  planning::Trajectory t;
+  t.closed = closed;
+  t.length = length;
+  for (double s = 0; s < length - 1e-9; s += 1.0) {
+    planning::TrajectoryPoint p;
+    at(s, &p);
+    p.s = s;
+    p.speed = speed;
+    t.points.push_back(p);
+  }
+  return t;
+}
+
+struct Tracking {
+  double max_error_after_settling = 0.0;
+  double final_speed = 0.0;
+};
+
+// Drives the sedan on open ground from `start` for `seconds`, measuring the error after `settle` seconds.
+Tracking drive(const planning::Trajectory& trajectory, const sim::Pose& start, double seconds, double settle) {
+  const auto car = test::sedan();
+  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  tracker.setTrajectory(trajectory);
+  sim::World world(test::openGround(), {});
+  world.spawnVehicle("ego", car, start);
+  Tracking result;
+  while (world.time() < seconds) {
+    const auto s = world.vehicleState("ego");
+    const Eigen::Vector3d forward = s.pose.orientation * Eigen::Vector3d::UnitX();
+    world.setControl("ego", tracker.update({s.pose.position.head<2>(), std::atan2(forward.y(), forward.x()),
+                                            s.forward_speed, s.body_angular_velocity.z()}));
+    world.step();
+    if (world.time() > settle) {
+      result.max_error_after_settling = std::max(result.max_error_after_settling, std::abs(tracker.lateralError()));
+    }
+    result.final_speed = s.forward_speed;
+  }
+  return result;
+}
+
+}  // namespace
+
+TEST(TrajectoryTracker, HoldsAStraightLineFromAnOffsetStart) {
+  const auto line = constantSpeed(2000.0, 25.0, false, [](double s, planning::TrajectoryPoint* p) {
+    p->position = {s - 100.0, 0.0};
+  });
+  sim::Pose start;
+  start.position = Eigen::Vector3d(-95.0, 1.5, 0.0);  // 1.5 m left of the line
+  const auto r = drive(line, start, 30.0, 12.0);
+  EXPECT_LT(r.max_error_after_settling, 0.1);
+  EXPECT_NEAR(r.final_speed, 25.0, 0.5);
+}
+
+TEST(TrajectoryTracker, HoldsAConstantRadiusCircle) {
+  const double radius = 60.0, speed = 16.0;  // 4.3 m/s^2, about half the grip
+  const auto circle = constantSpeed(2 * M_PI * radius, speed, true, [&](double s, planning::TrajectoryPoint* p) {
+    const double a = s / radius;
+    p->position = {radius * std::sin(a), radius * (1 - std::cos(a))};
+    p->yaw = a;
+    p->curvature = 1.0 / radius;
+  });
+  const auto r = drive(circle, {}, 40.0, 15.0);
+  EXPECT_LT(r.max_error_after_settling, 0.25);
+  EXPECT_NEAR(r.final_speed, speed, 0.5);
+}
+
+TEST(TrajectoryTracker, BrakesWithoutATrajectoryAndKeepsTheOldOneOnBadInput) {
+  const auto car = test::sedan();
+  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  const auto none = tracker.update({{0, 0}, 0, 10.0, 0});
+  EXPECT_EQ(none.brake, 1.0);
+  EXPECT_EQ(none.throttle, 0.0);
+
+  auto line = constantSpeed(200.0, 20.0, false, [](double s, planning::TrajectoryPoint* p) { p->position = {s, 0.0}; });
+  tracker.setTrajectory(line);
+  auto bad = line;
+  bad.points[7].curvature = NAN;
+  EXPECT_THROW(tracker.setTrajectory(bad), planning::TrajectoryError);
+  bad.points.clear();
+  EXPECT_THROW(tracker.setTrajectory(bad), planning::TrajectoryError);
+  ASSERT_TRUE(tracker.hasTrajectory());
+  EXPECT_EQ(tracker.trajectory().points.size(), line.points.size());
+  const auto c = tracker.update({{10, 0}, 0, 10.0, 0});
+  EXPECT_GT(c.throttle, 0.5) << "10 m/s below the line's 20 m/s";
+  EXPECT_TRUE(std::isfinite(c.steer));
+}
+
+// Every shipped circuit: the whole stack (planner's line and profile, tracker) drives clean flying laps
+// within 4% of what the profile promises, on the road all the way.
+TEST(TimeTrial, EveryShippedCircuitIsRacedCleanCloseToThePromisedLap) {
+  const auto maps = track::listMaps(test::sourceDir() + "/maps");
+  ASSERT_GE(maps.size(), 3u);
+  for (const auto& name : maps) {
+    SCOPED_TRACE(name);
+    const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
+    stack::TimeTrialOptions options;
+    options.laps = 1;
+    const auto r = stack::runTimeTrial(track, test::sedan(), options);
+    ASSERT_TRUE(r.finished);
+    ASSERT_EQ(r.lap_times.size(), 1u);
+    EXPECT_EQ(r.barrier_contacts, 0);
+    EXPECT_LT(r.worst_offroad, 0.0) << "base_link stays on the road";
+    EXPECT_LT(r.lap_times[0], 1.04 * r.promised_lap);
+    EXPECT_GT(r.lap_times[0], 0.99 * r.promised_lap) << "faster than the plan would mean a short cut";
+    EXPECT_LT(r.max_lateral_error, 2.5);
+    RecordProperty(name + "_lap_s", std::to_string(r.lap_times[0]));
+    RecordProperty(name + "_promised_s", std::to_string(r.promised_lap));
+  }
+}
