@@ -1,59 +1,165 @@
-// race_control: times laps and sectors of every car from its odometry, counts barrier contacts, prints a
-// line per lap and a summary, and shuts down when every car has done its laps (mark it required="true"
-// in a launch file to end the race there). Exit code 0 when every car finished, 1 on a time-out.
+// race_control: runs the race by its rules (race::RaceControl) from every car's odometry and collisions:
+// prints a line per lap and per incident, publishes /race_status, respawns cars through
+// /roar_sim/reset_vehicle when the rules say so, writes the results and shuts down when every car has
+// done its laps (mark it required="true" in a launch file to end the race there). Exit code 0 when every
+// car finished, 1 on a time-out.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <roar_ros/CollisionEvent.h>
+#include <roar_ros/RaceStatus.h>
+#include <roar_ros/ResetVehicle.h>
 
-#include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
 #include <map>
 
-#include "roar/race/lap_timer.h"
+#include "roar/race/race_control.h"
+#include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 
 using namespace roar;
 
 namespace {
 
-struct Car {
-  std::unique_ptr<race::LapTimer> timer;
-  ros::Subscriber odom, collision;
-  int barrier_contacts = 0;
-  int car_contacts = 0;
-  double last_contact_time = -1e9;
-  bool finished = false;
+struct RaceControlOptions {
+  std::string map_folder;
+  std::vector<std::string> vehicles;
+  race::RaceRules rules;
+  double max_sim_time = 0.0;
+  std::string output_dir;
 };
 
-void writeResults(const std::string& dir, const std::string& map_name, const std::map<std::string, Car>& cars,
-                  bool complete) {
-  std::filesystem::create_directories(dir);
-  std::ofstream yaml(dir + "/results.yaml"), csv(dir + "/laps.csv");
-  yaml << std::setprecision(10);
-  csv << std::setprecision(10);
-  yaml << "map: " << map_name << "\nstatus: " << (complete ? "finished" : "timed_out") << "\ncars:\n";
-  csv << "car,lap,lap_time_s,sector_times_s\n";
-  for (const auto& [name, car] : cars) {
-    yaml << "  - name: " << name << "\n    laps_completed: " << car.timer->lapsCompleted()
-         << "\n    barrier_contacts: " << car.barrier_contacts << "\n    car_contacts: " << car.car_contacts;
-    if (auto best = car.timer->bestLap()) yaml << "\n    best_lap_s: " << *best;
-    yaml << "\n    laps:\n";
-    for (const auto& lap : car.timer->laps()) {
-      yaml << "      - {lap: " << lap.lap << ", time_s: " << lap.lap_time << ", sectors_s: [";
-      std::string sectors;
-      for (std::size_t k = 0; k < lap.sector_times.size(); ++k) {
-        yaml << (k ? ", " : "") << lap.sector_times[k];
-        sectors += (k ? ";" : "") + std::to_string(lap.sector_times[k]);
-      }
-      yaml << "]}\n";
-      csv << name << "," << lap.lap << "," << lap.lap_time << "," << sectors << "\n";
+race::IncidentRule readRule(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
+  const std::string rule = ros_bridge::readChoice(nh, name, fallback, {"ignore", "penalty", "respawn"});
+  return rule == "ignore" ? race::IncidentRule::kIgnore
+         : rule == "respawn" ? race::IncidentRule::kRespawn
+                             : race::IncidentRule::kPenalty;
+}
+
+RaceControlOptions readParameters(const ros::NodeHandle& nh) {
+  using namespace ros_bridge;
+  RaceControlOptions o;
+  const std::string pkg = packagePath();
+  try {
+    o.map_folder = track::resolveMapFolder(readString(nh, "map", "roar_ring"), readString(nh, "maps_dir", pkg + "/maps"));
+  } catch (const track::MapError& e) {
+    throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
+  }
+  o.vehicles = readStringList(nh, "vehicles", {"ego"});
+  auto& r = o.rules;
+  r.laps = readInt(nh, "laps", 3, 1, 1000);
+  r.collision = readRule(nh, "collision_rule", "penalty");
+  r.collision_penalty = readDouble(nh, "collision_penalty", r.collision_penalty, 0.0, 3600.0);
+  r.track_limits = readRule(nh, "track_limits_rule", "penalty");
+  r.track_limits_penalty = readDouble(nh, "track_limits_penalty", r.track_limits_penalty, 0.0, 3600.0);
+  r.track_limits_margin = readDouble(nh, "track_limits_margin", r.track_limits_margin, 0.0, 50.0);
+  o.max_sim_time = readDouble(nh, "max_sim_time", 0.0, 0.0, 1e7);
+  o.output_dir = readString(nh, "output_dir", "");
+  return o;
+}
+
+roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
+  roar_ros::RaceStatus msg;
+  msg.header.stamp = ros_bridge::toRosTime(now);
+  msg.map_name = race.track().info().name;
+  msg.laps = race.rules().laps;
+  msg.finished = race.finished();
+  for (const auto& standing : race.standings()) {
+    const race::CarRecord& car = race.car(standing.name);
+    roar_ros::CarStanding s;
+    s.name = standing.name;
+    s.position = standing.position;
+    s.gap_to_leader = standing.gap_to_leader;
+    s.laps_completed = car.timer.lapsCompleted();
+    if (car.timer.started()) {
+      s.sector = 1 + static_cast<int>(car.timer.progress() / race.track().length() * race.track().info().sectors);
+      const double lap_start = car.timer.laps().empty() ? 0.0 : car.timer.laps().back().finish_time;
+      s.current_lap_time = car.timer.laps().empty() ? 0.0 : car.last_time - lap_start;
+    }
+    if (!car.timer.laps().empty()) s.last_lap = car.timer.laps().back().lap_time;
+    if (auto best = car.timer.bestLap()) s.best_lap = *best;
+    s.distance = std::max(0.0, car.timer.distanceCovered());
+    s.penalties = car.penalties;
+    s.barrier_contacts = car.barrier_contacts;
+    s.car_contacts = car.car_contacts;
+    s.track_limit_violations = car.track_limit_violations;
+    s.finished = car.finished;
+    msg.cars.push_back(s);
+  }
+  return msg;
+}
+
+class RaceControlNode {
+ public:
+  RaceControlNode(ros::NodeHandle& nh, const track::Track& track, const RaceControlOptions& options)
+      : options_(options), race_(track, options.rules, options.vehicles) {
+    status_pub_ = nh.advertise<roar_ros::RaceStatus>("race_status", 10);
+    reset_ = nh.serviceClient<roar_ros::ResetVehicle>("/roar_sim/reset_vehicle");
+    for (const auto& name : options.vehicles) {
+      subs_.push_back(nh.subscribe<nav_msgs::Odometry>(
+          name + "/odom", 100, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, *m); }));
+      subs_.push_back(nh.subscribe<roar_ros::CollisionEvent>(
+          name + "/collision", 100, [this, name](const roar_ros::CollisionEvent::ConstPtr& m) { onCollision(name, *m); }));
+    }
+    // Simulated time: the status stops with the simulator.
+    status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
+  }
+
+  double now() const { return now_; }
+  const race::RaceControl& race() const { return race_; }
+
+ private:
+  void onOdometry(const std::string& name, const nav_msgs::Odometry& odom) {
+    const double t = odom.header.stamp.toSec();
+    now_ = std::max(now_, t);
+    std::optional<race::Incident> incident;
+    const auto lap = race_.updatePosition(
+        name, t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), &incident);
+    if (incident) report(name, *incident);
+    if (!lap) return;
+    std::string sectors;
+    for (double s : lap->sector_times) {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), "%s%.3f", sectors.empty() ? "" : " / ", s);
+      sectors += buf;
+    }
+    std::printf("%s lap %d: %.3f s (sectors %s)\n", name.c_str(), lap->lap, lap->lap_time, sectors.c_str());
+    std::fflush(stdout);
+    publishStatus();
+  }
+
+  void onCollision(const std::string& name, const roar_ros::CollisionEvent& event) {
+    if (auto incident = race_.updateContact(name, event.header.stamp.toSec(), event.other)) report(name, *incident);
+  }
+
+  void report(const std::string& name, const race::Incident& incident) {
+    std::printf("%s: %s at t = %.2f s%s\n", name.c_str(), incident.kind.c_str(), incident.time,
+                incident.penalty > 0 ? (" (+" + std::to_string(incident.penalty) + " s penalty)").c_str()
+                : incident.respawn   ? " (respawned at the last waypoint)"
+                                     : "");
+    std::fflush(stdout);
+    if (!incident.respawn) return;
+    roar_ros::ResetVehicle srv;
+    srv.request.name = name;
+    srv.request.spawn_point = -1;
+    srv.request.pose = ros_bridge::toMessage(sim::poseOnTrack(incident.respawn_pose));
+    if (!reset_.call(srv) || !srv.response.success) {
+      ROS_ERROR("race_control: respawning '%s' through %s failed: %s", name.c_str(), reset_.getService().c_str(),
+                srv.response.message.c_str());
     }
   }
-}
+
+  void publishStatus() { status_pub_.publish(toMessage(race_, now_)); }
+
+  RaceControlOptions options_;
+  race::RaceControl race_;
+  ros::Publisher status_pub_;
+  ros::ServiceClient reset_;
+  std::vector<ros::Subscriber> subs_;
+  ros::Timer status_timer_;
+  double now_ = 0.0;
+};
 
 }  // namespace
 
@@ -61,76 +167,33 @@ int main(int argc, char** argv) {
   ros::init(argc, argv, "race_control");
   ros::NodeHandle nh, pnh("~");
   try {
-    using namespace ros_bridge;
-    const std::string pkg = packagePath();
-    std::string folder;
-    try {
-      folder = track::resolveMapFolder(readString(pnh, "map", "roar_ring"), readString(pnh, "maps_dir", pkg + "/maps"));
-    } catch (const track::MapError& e) {
-      throw ParamError("parameter " + pnh.resolveName("map") + ": " + e.what());
-    }
-    const track::Track track = track::loadMapFolder(folder);
-    const std::vector<std::string> names = readStringList(pnh, "vehicles", {"ego"});
-    const int laps = readInt(pnh, "laps", 3, 1, 1000);
-    const double max_time = readDouble(pnh, "max_sim_time", 0.0, 0.0, 1e7);
-    const std::string output_dir = readString(pnh, "output_dir", "");
-
-    std::map<std::string, Car> cars;
-    double now = 0.0;
-    for (const auto& name : names) {
-      Car& car = cars[name];
-      car.timer = std::make_unique<race::LapTimer>(track);
-      car.odom = nh.subscribe<nav_msgs::Odometry>(name + "/odom", 100, [&, name](const nav_msgs::Odometry::ConstPtr& odom) {
-        Car& c = cars[name];
-        now = std::max(now, odom->header.stamp.toSec());
-        if (c.finished) return;
-        const auto lap = c.timer->update(odom->header.stamp.toSec(),
-                                         Eigen::Vector2d(odom->pose.pose.position.x, odom->pose.pose.position.y));
-        if (!lap) return;
-        std::string sectors;
-        for (double s : lap->sector_times) {
-          char buf[32];
-          std::snprintf(buf, sizeof(buf), "%s%.3f", sectors.empty() ? "" : " / ", s);
-          sectors += buf;
-        }
-        std::printf("%s lap %d: %.3f s (sectors %s)\n", name.c_str(), lap->lap, lap->lap_time, sectors.c_str());
-        std::fflush(stdout);
-        if (lap->lap >= laps) c.finished = true;
-      });
-      car.collision = nh.subscribe<roar_ros::CollisionEvent>(name + "/collision", 100,
-                                                             [&, name](const roar_ros::CollisionEvent::ConstPtr& ev) {
-        Car& c = cars[name];
-        // One contact lasting several ticks counts once.
-        const double t = ev->header.stamp.toSec();
-        if (t - c.last_contact_time > 0.5) {
-          if (ev->other == "barrier") ++c.barrier_contacts;
-          else if (ev->other != "ground") ++c.car_contacts;
-        }
-        c.last_contact_time = t;
-      });
-    }
-    std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", laps, track.info().name.c_str(), track.length(),
-                cars.size());
+    const RaceControlOptions options = readParameters(pnh);
+    const track::Track track = track::loadMapFolder(options.map_folder);
+    RaceControlNode node(nh, track, options);
+    std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps, track.info().name.c_str(),
+                track.length(), options.vehicles.size());
     std::fflush(stdout);
 
-    bool complete = false;
     // Wall-time loop: the race ends on simulated events, not on a clock of ours.
     while (ros::ok()) {
       ros::spinOnce();
-      complete = std::all_of(cars.begin(), cars.end(), [](const auto& kv) { return kv.second.finished; });
-      if (complete || (max_time > 0 && now > max_time)) break;
+      if (node.race().finished() || (options.max_sim_time > 0 && node.now() > options.max_sim_time)) break;
       ros::WallDuration(0.002).sleep();
     }
-    std::printf("race_control: race %s at t = %.2f s\n", complete ? "finished" : "timed out", now);
-    for (const auto& [name, car] : cars) {
-      const auto best = car.timer->bestLap();
-      std::printf("  %s: %d/%d laps, best lap %s s, barrier contacts %d, car contacts %d\n", name.c_str(),
-                  car.timer->lapsCompleted(), laps, best ? std::to_string(*best).c_str() : "-", car.barrier_contacts,
-                  car.car_contacts);
+    const bool complete = node.race().finished();
+    std::printf("race_control: race %s at t = %.2f s\n", complete ? "finished" : "timed out", node.now());
+    for (const auto& standing : node.race().standings()) {
+      const race::CarRecord& car = node.race().car(standing.name);
+      const auto best = car.timer.bestLap();
+      std::printf("  P%d %s: %d/%d laps, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
+                  "car contacts %d, track limits %d\n",
+                  standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
+                  best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
+                  car.car_contacts, car.track_limit_violations);
     }
-    if (!output_dir.empty()) {
-      writeResults(output_dir, track.info().name, cars, complete);
-      std::printf("race_control: results in %s/results.yaml and laps.csv\n", output_dir.c_str());
+    if (!options.output_dir.empty()) {
+      race::writeResults(options.output_dir, node.race(), complete);
+      std::printf("race_control: results in %s/results.yaml, laps.csv and sectors.csv\n", options.output_dir.c_str());
     }
     std::fflush(stdout);
     ros::shutdown();

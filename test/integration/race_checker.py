@@ -8,6 +8,9 @@ import unittest
 import rospy
 import rostest
 import yaml
+from roar_ros.msg import RaceStatus
+
+STATUS = []
 
 
 class RaceLap(unittest.TestCase):
@@ -33,9 +36,19 @@ class RaceLap(unittest.TestCase):
             self.assertLess(lap["time_s"], 150.0)     # the racing stack, not a cautious drive
             self.assertAlmostEqual(sum(lap["sectors_s"]), lap["time_s"], places=6)
         self.assertAlmostEqual(car["best_lap_s"], min(lap["time_s"] for lap in car["laps"]), places=6)
+        self.assertEqual(car["position"], 1)
+        self.assertEqual(car["penalties_s"], 0.0)
+        self.assertEqual(car["incidents"], [])
+        with open(os.path.join(os.path.dirname(path), "sectors.csv")) as f:
+            self.assertEqual(len(f.read().splitlines()), 1 + 2 * 3)
+        # race_control published the race as it went.
+        self.assertTrue(STATUS, "no /race_status")
+        self.assertEqual(STATUS[-1].cars[0].name, "ego")
+        self.assertGreaterEqual(max(s.cars[0].laps_completed for s in STATUS), 1)
 
 
 if __name__ == "__main__":
     START = time.time()
     rospy.init_node("race_checker", anonymous=True)
+    rospy.Subscriber("/race_status", RaceStatus, STATUS.append)
     rostest.rosrun("roar_ros", "race_lap", RaceLap, sys.argv)

@@ -1,0 +1,89 @@
+#pragma once
+// The rules of a race, without ROS: lap and sector timing per car (LapTimer), incidents (barrier and car
+// contacts, leaving the track limits) with a time penalty or a ROAR-style respawn at the last waypoint
+// passed (the clock keeps running), standings with the gap to the leader, and the end of the race.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "roar/race/lap_timer.h"
+#include "roar/track/track.h"
+
+namespace roar::race {
+
+enum class IncidentRule { kIgnore, kPenalty, kRespawn };
+
+struct RaceRules {
+  int laps = 3;
+  IncidentRule collision = IncidentRule::kPenalty;
+  double collision_penalty = 5.0;     // s per contact with a barrier or another car
+  IncidentRule track_limits = IncidentRule::kPenalty;
+  double track_limits_penalty = 5.0;  // s per excursion
+  // The car has left the track when base_link is this far beyond the road edge (half the car's width:
+  // all four wheels are off).
+  double track_limits_margin = 0.93;  // m
+  double contact_merge = 0.5;         // s: contacts closer together than this are one incident
+};
+
+struct Incident {
+  double time = 0.0;      // s, simulated
+  std::string kind;       // "barrier", "car <name>" or "track limits"
+  double penalty = 0.0;   // s added to the car's race time
+  bool respawn = false;   // the car is to be put back on the track at respawn_pose
+  track::TrackPose respawn_pose;
+};
+
+struct CarRecord {
+  std::string name;
+  LapTimer timer;
+  std::vector<Incident> incidents;
+  double penalties = 0.0;  // s
+  int barrier_contacts = 0, car_contacts = 0, track_limit_violations = 0;
+  bool finished = false;
+  double finish_time = 0.0;  // s when the last lap was completed
+  double last_time = 0.0;
+  double last_contact = -1e9;
+  bool off_track = false;
+  std::vector<double> passage;  // s at which the car first covered each 10 m since its first crossing
+};
+
+struct Standing {
+  std::string name;
+  int position = 0;          // 1 = leading
+  double gap_to_leader = 0;  // s (penalties included once the race is run)
+};
+
+class RaceControl {
+ public:
+  // Throws std::invalid_argument for no cars, a repeated name or non-positive laps.
+  RaceControl(const track::Track& track, RaceRules rules, const std::vector<std::string>& cars);
+
+  // The car's position at a simulated time; returns the lap it completed, if any. An incident (track
+  // limits) is appended to `incident` when given.
+  std::optional<LapRecord> updatePosition(const std::string& car, double time, const Eigen::Vector2d& position,
+                                          std::optional<Incident>* incident = nullptr);
+  // A contact reported by the simulator; returns the incident it makes, if it makes one.
+  std::optional<Incident> updateContact(const std::string& car, double time, const std::string& other);
+
+  bool finished() const;  // every car has completed its laps
+  std::vector<Standing> standings() const;
+  const CarRecord& car(const std::string& name) const;
+  const std::map<std::string, CarRecord>& cars() const { return cars_; }
+  const RaceRules& rules() const { return rules_; }
+  const track::Track& track() const { return track_; }
+
+ private:
+  CarRecord& record(const std::string& name);
+  Incident makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty);
+
+  const track::Track& track_;
+  RaceRules rules_;
+  std::map<std::string, CarRecord> cars_;
+};
+
+// results.yaml (per car: laps, sectors, incidents, penalties, total time), laps.csv (car, lap, lap time,
+// sector times) and sectors.csv (car, lap, sector, time) in `dir`, created if missing.
+void writeResults(const std::string& dir, const RaceControl& race, bool complete);
+
+}  // namespace roar::race

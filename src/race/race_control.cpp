@@ -1,0 +1,170 @@
+#include "roar/race/race_control.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <set>
+#include <stdexcept>
+
+namespace roar::race {
+
+namespace {
+constexpr double kPassageStep = 10.0;  // m between the recorded passage times used for gaps
+}
+
+RaceControl::RaceControl(const track::Track& track, RaceRules rules, const std::vector<std::string>& cars)
+    : track_(track), rules_(rules) {
+  if (cars.empty()) throw std::invalid_argument("race control: no cars");
+  if (rules.laps < 1) throw std::invalid_argument("race control: laps must be at least 1");
+  for (const auto& name : cars) {
+    if (cars_.count(name)) throw std::invalid_argument("race control: car '" + name + "' is listed twice");
+    cars_.emplace(name, CarRecord{name, LapTimer(track)});
+  }
+}
+
+CarRecord& RaceControl::record(const std::string& name) {
+  auto it = cars_.find(name);
+  if (it == cars_.end()) throw std::invalid_argument("race control: unknown car '" + name + "'");
+  return it->second;
+}
+
+const CarRecord& RaceControl::car(const std::string& name) const {
+  auto it = cars_.find(name);
+  if (it == cars_.end()) throw std::invalid_argument("race control: unknown car '" + name + "'");
+  return it->second;
+}
+
+Incident RaceControl::makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty) {
+  Incident incident;
+  incident.time = time;
+  incident.kind = kind;
+  if (rule == IncidentRule::kPenalty) incident.penalty = penalty;
+  if (rule == IncidentRule::kRespawn) {
+    // Back on the centre line where the car last was on the circuit, facing the way of the race.
+    incident.respawn = true;
+    incident.respawn_pose = track_.poseAt(car.timer.progress() + track_.info().start_finish_s);
+  }
+  car.penalties += incident.penalty;
+  car.incidents.push_back(incident);
+  return incident;
+}
+
+std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, double time, const Eigen::Vector2d& position,
+                                                     std::optional<Incident>* incident) {
+  CarRecord& car = record(name);
+  car.last_time = std::max(car.last_time, time);
+  if (car.finished) return std::nullopt;
+  auto lap = car.timer.update(time, position);
+  if (car.timer.started()) {
+    const double covered = car.timer.distanceCovered();
+    while (covered >= 0 && static_cast<double>(car.passage.size()) * kPassageStep <= covered) car.passage.push_back(time);
+  }
+  if (lap && lap->lap >= rules_.laps) {
+    car.finished = true;
+    car.finish_time = lap->finish_time;
+  }
+
+  const track::Projection pr = track_.projectNear(position, car.timer.progress() + track_.info().start_finish_s, 100.0);
+  const double beyond = pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right;
+  const bool off = beyond > rules_.track_limits_margin;
+  if (off && !car.off_track && rules_.track_limits != IncidentRule::kIgnore) {
+    ++car.track_limit_violations;
+    const Incident made = makeIncident(car, time, "track limits", rules_.track_limits, rules_.track_limits_penalty);
+    if (incident) *incident = made;
+  }
+  car.off_track = off;
+  return lap;
+}
+
+std::optional<Incident> RaceControl::updateContact(const std::string& name, double time, const std::string& other) {
+  CarRecord& car = record(name);
+  if (other == "ground" || car.finished) return std::nullopt;
+  // One contact lasting several ticks is one incident.
+  const bool fresh = time - car.last_contact > rules_.contact_merge;
+  car.last_contact = time;
+  if (!fresh) return std::nullopt;
+  const bool barrier = other == "barrier";
+  ++(barrier ? car.barrier_contacts : car.car_contacts);
+  if (rules_.collision == IncidentRule::kIgnore) return std::nullopt;
+  return makeIncident(car, time, barrier ? "barrier" : "car " + other, rules_.collision, rules_.collision_penalty);
+}
+
+bool RaceControl::finished() const {
+  return std::all_of(cars_.begin(), cars_.end(), [](const auto& kv) { return kv.second.finished; });
+}
+
+std::vector<Standing> RaceControl::standings() const {
+  // Finished cars by race time (finish plus penalties), then the others by distance covered.
+  std::vector<const CarRecord*> order;
+  for (const auto& [name, car] : cars_) order.push_back(&car);
+  std::sort(order.begin(), order.end(), [](const CarRecord* a, const CarRecord* b) {
+    if (a->finished != b->finished) return a->finished;
+    if (a->finished) return a->finish_time + a->penalties < b->finish_time + b->penalties;
+    return a->timer.distanceCovered() > b->timer.distanceCovered();
+  });
+  std::vector<Standing> out;
+  const CarRecord& leader = *order.front();
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const CarRecord& car = *order[k];
+    Standing s;
+    s.name = car.name;
+    s.position = static_cast<int>(k) + 1;
+    if (car.finished && leader.finished) {
+      s.gap_to_leader = car.finish_time + car.penalties - (leader.finish_time + leader.penalties);
+    } else if (!car.passage.empty()) {
+      // When the leader was where this car is now.
+      const std::size_t at = car.passage.size() - 1;
+      const double leader_then = at < leader.passage.size() ? leader.passage[at] : car.passage[at];
+      s.gap_to_leader = std::max(0.0, car.passage[at] - leader_then);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+void writeResults(const std::string& dir, const RaceControl& race, bool complete) {
+  std::filesystem::create_directories(dir);
+  std::ofstream yaml(dir + "/results.yaml"), laps(dir + "/laps.csv"), sectors(dir + "/sectors.csv");
+  if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
+  for (auto* out : {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
+    *out << std::setprecision(10);
+  }
+  yaml << "map: \"" << race.track().info().name << "\"\nlaps: " << race.rules().laps
+       << "\nstatus: " << (complete ? "finished" : "timed_out") << "\ncars:\n";
+  laps << "car,lap,lap_time_s,sector_times_s\n";
+  sectors << "car,lap,sector,time_s\n";
+  std::map<std::string, Standing> standing;
+  for (const auto& s : race.standings()) standing[s.name] = s;
+  for (const auto& [name, car] : race.cars()) {
+    const auto& timer = car.timer;
+    double lap_sum = 0.0;
+    for (const auto& lap : timer.laps()) lap_sum += lap.lap_time;
+    yaml << "  - name: " << name << "\n    position: " << standing[name].position
+         << "\n    finished: " << (car.finished ? "true" : "false") << "\n    laps_completed: " << timer.lapsCompleted()
+         << "\n    barrier_contacts: " << car.barrier_contacts << "\n    car_contacts: " << car.car_contacts
+         << "\n    track_limit_violations: " << car.track_limit_violations << "\n    penalties_s: " << car.penalties
+         << "\n    race_time_s: " << lap_sum + car.penalties << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
+    if (auto best = timer.bestLap()) yaml << "\n    best_lap_s: " << *best;
+    yaml << "\n    laps:\n";
+    for (const auto& lap : timer.laps()) {
+      yaml << "      - {lap: " << lap.lap << ", time_s: " << lap.lap_time << ", sectors_s: [";
+      laps << name << "," << lap.lap << "," << lap.lap_time << ",";
+      for (std::size_t k = 0; k < lap.sector_times.size(); ++k) {
+        yaml << (k ? ", " : "") << lap.sector_times[k];
+        laps << (k ? ";" : "") << lap.sector_times[k];
+        sectors << name << "," << lap.lap << "," << k + 1 << "," << lap.sector_times[k] << "\n";
+      }
+      yaml << "]}\n";
+      laps << "\n";
+    }
+    yaml << "    incidents:" << (car.incidents.empty() ? " []\n" : "\n");
+    for (const auto& incident : car.incidents) {
+      yaml << "      - {time_s: " << incident.time << ", kind: \"" << incident.kind << "\", penalty_s: " << incident.penalty
+           << ", respawn: " << (incident.respawn ? "true" : "false") << "}\n";
+    }
+  }
+}
+
+}  // namespace roar::race

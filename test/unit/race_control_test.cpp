@@ -1,0 +1,139 @@
+#include "roar/race/race_control.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "test_support.h"
+
+using namespace roar;
+namespace fs = std::filesystem;
+
+namespace {
+
+// On the 100 m circle track (centre line radius 100, 12 m wide), at arc length s and `lateral` to the left.
+Eigen::Vector2d onCircle(double s, double lateral = 0.0) {
+  const double r = 100.0 - lateral;
+  return {r * std::cos(s / 100.0), r * std::sin(s / 100.0)};
+}
+
+int lines(const std::string& path) {
+  std::ifstream in(path);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(RaceControl, ContactsArePenalisedOncePerIncident) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceControl race(track, {}, {"ego"});
+  race.updatePosition("ego", 0.0, onCircle(-20));
+  auto first = race.updateContact("ego", 1.0, "barrier");
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->kind, "barrier");
+  EXPECT_EQ(first->penalty, 5.0);
+  EXPECT_FALSE(race.updateContact("ego", 1.05, "barrier")) << "the same scrape, a tick later";
+  EXPECT_FALSE(race.updateContact("ego", 1.4, "ground"));
+  auto second = race.updateContact("ego", 3.0, "rival");
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->kind, "car rival");
+  EXPECT_EQ(race.car("ego").barrier_contacts, 1);
+  EXPECT_EQ(race.car("ego").car_contacts, 1);
+  EXPECT_EQ(race.car("ego").penalties, 10.0);
+}
+
+TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
+  const auto track = test::circleTrack(100.0);  // 6 m either side
+  race::RaceRules rules;
+  rules.track_limits_penalty = 3.0;
+  race::RaceControl race(track, rules, {"ego"});
+  int violations = 0;
+  double t = 0.0;
+  // Drive along; from s = 100 m to 140 m run 8 m left of the centre line (2 m beyond the edge: all wheels
+  // off), then come back; again from 300 m to 310 m.
+  for (double s = 0; s < 400; s += 1.0, t += 0.05) {
+    const bool off = (s >= 100 && s < 140) || (s >= 300 && s < 310);
+    std::optional<race::Incident> incident;
+    race.updatePosition("ego", t, onCircle(s, off ? 8.0 : 0.0), &incident);
+    if (incident) {
+      ++violations;
+      EXPECT_EQ(incident->kind, "track limits");
+    }
+  }
+  EXPECT_EQ(violations, 2);
+  EXPECT_EQ(race.car("ego").track_limit_violations, 2);
+  EXPECT_EQ(race.car("ego").penalties, 6.0);
+  // Running wide with two wheels over the edge is not leaving the track.
+  race::RaceControl lenient(track, rules, {"ego"});
+  for (double s = 0; s < 200; s += 1.0) lenient.updatePosition("ego", s * 0.05, onCircle(s, 6.5));
+  EXPECT_EQ(lenient.car("ego").track_limit_violations, 0);
+}
+
+TEST(RaceControl, RespawnRulePutsTheCarBackAtTheLastWaypoint) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.collision = race::IncidentRule::kRespawn;
+  race::RaceControl race(track, rules, {"ego"});
+  for (double s = -20; s <= 150; s += 1.0) race.updatePosition("ego", (s + 20) * 0.05, onCircle(s, 3.0));
+  const auto incident = race.updateContact("ego", 10.0, "barrier");
+  ASSERT_TRUE(incident);
+  EXPECT_TRUE(incident->respawn);
+  EXPECT_EQ(incident->penalty, 0.0) << "the clock running is the penalty";
+  EXPECT_NEAR((incident->respawn_pose.position - onCircle(150)).norm(), 0.0, 1.5) << "on the centre line, where the car was";
+  EXPECT_NEAR(track::wrapAngle(incident->respawn_pose.heading - (1.5 + M_PI / 2)), 0.0, 0.02);
+}
+
+TEST(RaceControl, StandingsGapsFinishAndResults) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 2;
+  race::RaceControl race(track, rules, {"fast", "slow"});
+  EXPECT_THROW(race::RaceControl(track, rules, {"a", "a"}), std::invalid_argument);
+  const double length = track.length();
+  // Both at 20 m/s; slow starts 2 s (40 m) behind fast.
+  for (double t = 0; t < (2 * length + 100) / 20.0; t += 0.05) {
+    race.updatePosition("fast", t, onCircle(-20 + 20 * t));
+    race.updatePosition("slow", t, onCircle(-60 + 20 * t));
+    if (t > 5 && t < 60) {
+      const auto standings = race.standings();
+      ASSERT_EQ(standings[0].name, "fast");
+      EXPECT_NEAR(standings[1].gap_to_leader, 2.0, 0.6);
+    }
+  }
+  ASSERT_TRUE(race.finished());
+  auto standings = race.standings();
+  EXPECT_EQ(standings[0].name, "fast");
+  EXPECT_NEAR(standings[1].gap_to_leader, 2.0, 0.06);
+  // A 5 s penalty for the leader after the flag changes the order.
+  race::RaceControl penalised(track, rules, {"fast", "slow"});
+  for (double t = 0; t < (2 * length + 100) / 20.0; t += 0.05) {
+    if (t > 3 && t < 3.1) penalised.updateContact("fast", t, "barrier");
+    penalised.updatePosition("fast", t, onCircle(-20 + 20 * t));
+    penalised.updatePosition("slow", t, onCircle(-60 + 20 * t));
+  }
+  standings = penalised.standings();
+  EXPECT_EQ(standings[0].name, "slow");
+  EXPECT_NEAR(standings[1].gap_to_leader, 3.0, 0.06);
+
+  const fs::path dir = fs::temp_directory_path() / ("roar_race_" + std::to_string(::getpid()));
+  race::writeResults(dir.string(), penalised, true);
+  const YAML::Node results = YAML::LoadFile((dir / "results.yaml").string());
+  EXPECT_EQ(results["status"].as<std::string>(), "finished");
+  ASSERT_EQ(results["cars"].size(), 2u);
+  const YAML::Node fast = results["cars"][0];
+  EXPECT_EQ(fast["name"].as<std::string>(), "fast");
+  EXPECT_EQ(fast["position"].as<int>(), 2);
+  EXPECT_EQ(fast["penalties_s"].as<double>(), 5.0);
+  EXPECT_EQ(fast["laps"].size(), 2u);
+  EXPECT_EQ(fast["incidents"][0]["kind"].as<std::string>(), "barrier");
+  EXPECT_NEAR(fast["race_time_s"].as<double>(), 2 * length / 20.0 + 5.0, 0.05);
+  EXPECT_EQ(lines((dir / "laps.csv").string()), 1 + 2 * 2);
+  EXPECT_EQ(lines((dir / "sectors.csv").string()), 1 + 2 * 2 * 3);
+  fs::remove_all(dir);
+}
