@@ -2,9 +2,12 @@
 // odometry message with a control stamped with the odometry's time, which is what the simulator's lockstep
 // mode waits for. Until the first trajectory arrives it does not answer, so a lockstep simulator waits for
 // the stack to be ready (an async one holds the car with its control timeout). When odometry stops coming
-// for odom_timeout seconds of wall time it brakes the car to a stop and says so.
+// for odom_timeout seconds of wall time it brakes the car to a stop and says so. Gains and limits are
+// dynamic_reconfigure parameters (cfg/Controller.cfg), tunable while it drives.
+#include <dynamic_reconfigure/server.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <roar_ros/ControllerConfig.h>
 #include <roar_ros/Trajectory.h>
 #include <roar_ros/VehicleControl.h>
 
@@ -34,19 +37,22 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   // The car's geometry comes from the same vehicle files the simulator reads.
   o.car = sim::loadVehicleModel(readString(nh, "model", "sedan"), readString(nh, "urdf_dir", pkg + "/urdf"),
                                 readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
-  auto t = stack::trackerFor(o.car);
-  const std::string lateral = readChoice(nh, "lateral_control", "pure_pursuit", {"pure_pursuit", "stanley"});
-  t.lateral = lateral == "stanley" ? control::LateralMethod::kStanley : control::LateralMethod::kPurePursuit;
-  t.lookahead_min = readDouble(nh, "lookahead_min", t.lookahead_min, 0.5, 100);
-  t.lookahead_time = readDouble(nh, "lookahead_time", t.lookahead_time, 0.0, 5);
-  t.stanley_gain = readDouble(nh, "stanley_gain", t.stanley_gain, 0.01, 50);
-  t.yaw_rate_gain = readDouble(nh, "yaw_rate_gain", t.yaw_rate_gain, 0.0, 2);
-  t.speed_gain = readDouble(nh, "speed_gain", t.speed_gain, 0.01, 10);
-  t.speed_preview = readDouble(nh, "speed_preview", t.speed_preview, 0.0, 3);
-  t.max_speed = readDouble(nh, "max_speed", 0.0, 0.0, 150);
-  o.tracker = t;
+  // Gains come through dynamic_reconfigure (withGains), which reads and range-checks them.
+  o.tracker = stack::trackerFor(o.car);
   o.odom_timeout = readDouble(nh, "odom_timeout", o.odom_timeout, 0.0, 3600);
   return o;
+}
+
+control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::ControllerConfig& c) {
+  t.lateral = c.lateral_control == "stanley" ? control::LateralMethod::kStanley : control::LateralMethod::kPurePursuit;
+  t.lookahead_min = c.lookahead_min;
+  t.lookahead_time = c.lookahead_time;
+  t.stanley_gain = c.stanley_gain;
+  t.yaw_rate_gain = c.yaw_rate_gain;
+  t.speed_gain = c.speed_gain;
+  t.speed_preview = c.speed_preview;
+  t.max_speed = c.max_speed;
+  return t;
 }
 
 class ControllerNode {
@@ -60,6 +66,17 @@ class ControllerNode {
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(
         options.vehicle + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
+    reconfigure_.setCallback([this](const roar_ros::ControllerConfig& config, uint32_t) {
+      if (config.lateral_control != "pure_pursuit" && config.lateral_control != "stanley") {
+        ROS_ERROR("controller: lateral_control '%s' is neither pure_pursuit nor stanley; keeping the gains as they were",
+                  config.lateral_control.c_str());
+        return;
+      }
+      tracker_.setOptions(withGains(tracker_.options(), config));
+      ROS_INFO("controller: %s, lookahead %.2f m + %.2f s, Stanley gain %.2f, speed gain %.2f%s",
+               config.lateral_control.c_str(), config.lookahead_min, config.lookahead_time, config.stanley_gain,
+               config.speed_gain, config.max_speed > 0 ? (", max " + std::to_string(config.max_speed) + " m/s").c_str() : "");
+    });
     if (options.odom_timeout > 0) {
       // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
       watchdog_ = nh.createWallTimer(ros::WallDuration(0.1), &ControllerNode::checkOdometry, this);
@@ -118,6 +135,7 @@ class ControllerNode {
 
   ControllerOptions options_;
   control::TrajectoryTracker tracker_;
+  dynamic_reconfigure::Server<roar_ros::ControllerConfig> reconfigure_{ros::NodeHandle("~")};
   ros::Publisher control_pub_;
   ros::Subscriber trajectory_sub_, odom_sub_;
   ros::WallTimer watchdog_;

@@ -7,6 +7,7 @@ import threading
 import time
 import unittest
 
+import dynamic_reconfigure.client
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
@@ -118,6 +119,23 @@ class StackInputs(unittest.TestCase):
         stop = self.wait_for_control(lambda c: c.brake == 1.0 and c.throttle == 0.0, timeout=5.0)
         self.assertIsNotNone(stop, "the controller brakes when odometry stops")
         self.assertTrue(self.wait_for_log("no odometry on /ego/odom for 1.0 s: braking 'ego' to a stop"))
+
+    def test_3_gains_are_tuned_live(self):
+        good = Trajectory(closed=False, length=200.0)
+        for i in range(201):
+            good.points.append(TrajectoryPoint(s=float(i), speed=20.0))
+            good.points[-1].position.x = float(i)
+        self.trajectory.publish(good)
+        client = dynamic_reconfigure.client.Client("/ego_controller", timeout=20)
+        client.update_configuration({"max_speed": 5.0})
+        self.assertTrue(self.wait_for_log("max 5.000000 m/s"))
+        stamp = rospy.Time(2000, 0)
+        self.odom.publish(self.odometry(stamp, x=2.0))  # 10 m/s, now twice the cap
+        answer = self.wait_for_control(lambda c: c.header.stamp == stamp)
+        self.assertIsNotNone(answer)
+        self.assertEqual(answer.throttle, 0.0)
+        self.assertGreater(answer.brake, 0.5)
+        client.update_configuration({"max_speed": 0.0})
 
 
 if __name__ == "__main__":

@@ -3,6 +3,9 @@
 #include <cmath>
 #include <limits>
 
+#include <roar_ros/ControllerConfig.h>
+
+#include "roar/control/trajectory_tracker.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "test_support.h"
@@ -125,4 +128,18 @@ TEST(MsgConversion, WaypointArraysThatAreNoCircuitAreRefused) {
   msg.friction = 1.0;
   msg.waypoints[5].lane_width = std::numeric_limits<double>::infinity();
   EXPECT_NE(error().find("waypoint 5"), std::string::npos);
+}
+
+// cfg/Controller.cfg repeats the tracker's defaults for dynamic_reconfigure: they must agree.
+TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
+  const auto config = roar_ros::ControllerConfig::__getDefault__();
+  const control::TrackerOptions t;
+  EXPECT_EQ(config.lateral_control, t.lateral == control::LateralMethod::kStanley ? "stanley" : "pure_pursuit");
+  EXPECT_EQ(config.lookahead_min, t.lookahead_min);
+  EXPECT_EQ(config.lookahead_time, t.lookahead_time);
+  EXPECT_EQ(config.stanley_gain, t.stanley_gain);
+  EXPECT_EQ(config.yaw_rate_gain, t.yaw_rate_gain);
+  EXPECT_EQ(config.speed_gain, t.speed_gain);
+  EXPECT_EQ(config.speed_preview, t.speed_preview);
+  EXPECT_EQ(config.max_speed, t.max_speed);
 }
