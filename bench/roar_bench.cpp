@@ -8,9 +8,11 @@
 //                                 20 Hz, a 32-laser LiDAR at 56,000 points/s, IMU and GNSS at 100 Hz.
 //   PlanRacingTrajectory/<map>    the planner's start-up: minimum-curvature line and speed profile.
 // After the benchmarks, the racing table: the stack (planner, tracker, lap timer) races every shipped
-// circuit in lockstep for --laps=N (default 10) and prints achieved and promised laps, tracking error and
-// barrier contacts; --grip-use=F overrides the share of the road's friction the plan uses,
-// --stanley races with Stanley instead of pure pursuit. --race-only skips the benchmarks; --no-race skips the table.
+// circuit in lockstep for --laps=N (default 10) and prints achieved and promised laps, the lap of a
+// minimum-time line searched from the planner's (min_time; vs_min = promised / min_time), tracking error
+// and barrier contacts; --grip-use=F overrides the share of the road's friction the plan uses,
+// --stanley races with Stanley instead of pure pursuit,
+// --minimum-time races the minimum-time line, --no-yardstick skips the minimum-time search (min_time 0). --race-only skips the benchmarks; --no-race skips the table.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -25,6 +27,7 @@
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
+#include "roar/planning/minimum_time.h"
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
@@ -197,24 +200,34 @@ void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_ring, std::string("roar_ring"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_speedway, std::string("roar_speedway"))->Unit(benchmark::kMillisecond);
 
-void printRacingTable(int laps, double grip_use, control::LateralMethod lateral) {
+void printRacingTable(int laps, double grip_use, control::LateralMethod lateral, bool minimum_time, bool yardstick) {
   const auto car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   std::printf("\nRacing stack, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
               laps, grip_use, lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
-  std::printf("%-16s %8s %9s %9s %9s %7s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
-              "ratio", "max_err_m", "rms_err_m", "contacts");
+  std::printf("%-16s %6s %9s %9s %9s %7s %9s %8s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
+              "ratio", "min_time", "vs_min", "max_err_m", "rms_err_m", "contacts");
   for (const auto& map : track::listMaps(sourceDir() + "/maps")) {
     const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
     stack::TimeTrialOptions options;
     options.laps = laps;
     options.grip_use = grip_use;
     options.tracker.lateral = lateral;
+    options.planner.minimum_time = minimum_time;
     const auto r = stack::runTimeTrial(track, car, options);
     double mean = 0.0;
     for (double t : r.lap_times) mean += t / static_cast<double>(r.lap_times.size());
-    std::printf("%-16s %8.2f %9.2f %9.2f %9.2f %7.3f %10.2f %10.2f %9d%s\n", map.c_str(), track.length() / 1000.0,
-                r.best_lap(), mean, r.promised_lap, mean / r.promised_lap, r.max_lateral_error, r.rms_lateral_error,
-                r.barrier_contacts, r.finished ? "" : "  (did not finish)");
+    // The yardstick: a minimum-time line searched from the planner's, with the same car model.
+    const auto limits = planning::vehicleLimits(car, track.info().friction, options.grip_use);
+    planning::MinimumTimeResult fastest;
+    if (yardstick) {
+      fastest = planning::minimumTimeLine(track, planning::minimumCurvatureLine(track, options.planner.line), limits,
+                                          options.planner.line);
+    }
+    std::fflush(stdout);
+    std::printf("%-16s %6.2f %9.2f %9.2f %9.2f %7.3f %9.2f %8.3f %10.2f %10.2f %9d%s\n", map.c_str(),
+                track.length() / 1000.0, r.best_lap(), mean, r.promised_lap, mean / r.promised_lap, fastest.lap_time,
+                r.promised_lap / fastest.lap_time, r.max_lateral_error, r.rms_lateral_error, r.barrier_contacts,
+                r.finished ? "" : "  (did not finish)");
     std::fflush(stdout);
   }
 }
@@ -225,6 +238,7 @@ int main(int argc, char** argv) {
   int laps = 10;
   double grip_use = stack::TimeTrialOptions().grip_use;
   control::LateralMethod lateral = control::TrackerOptions().lateral;
+  bool minimum_time = false, yardstick = true;
   bool race = true, benchmarks = true;
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
@@ -232,6 +246,10 @@ int main(int argc, char** argv) {
       laps = std::max(1, std::atoi(argv[i] + 7));
     } else if (std::strncmp(argv[i], "--grip-use=", 11) == 0) {
       grip_use = std::atof(argv[i] + 11);
+    } else if (std::strcmp(argv[i], "--no-yardstick") == 0) {
+      yardstick = false;
+    } else if (std::strcmp(argv[i], "--minimum-time") == 0) {
+      minimum_time = true;
     } else if (std::strcmp(argv[i], "--stanley") == 0) {
       lateral = control::LateralMethod::kStanley;
     } else if (std::strcmp(argv[i], "--race-only") == 0) {
@@ -248,6 +266,6 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
   }
-  if (race) printRacingTable(laps, grip_use, lateral);
+  if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
   return 0;
 }

@@ -41,6 +41,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   line.step = readDouble(nh, "step", line.step, 0.5, 20.0);
   line.max_iterations = readInt(nh, "max_iterations", line.max_iterations, 1, 100);
   o.planner.profile.max_speed = readDouble(nh, "max_speed", 0.0, 0.0, 150.0);
+  o.planner.minimum_time = readBool(nh, "minimum_time", false);
   o.window_ahead = readDouble(nh, "window_ahead", o.window_ahead, 10.0, 5000.0);
   o.window_behind = readDouble(nh, "window_behind", o.window_behind, 0.0, 100.0);
   o.frame = readString(nh, "frame", o.frame);

@@ -109,29 +109,35 @@ double curvatureChange(const RacingLine& a, const RacingLine& b) {
 
 }  // namespace
 
-void computeGeometry(const track::Track& track, RacingLine* line) {
-  const auto& p = line->points;
+void computeShape(const std::vector<Eigen::Vector2d>& p, std::vector<double>* step, std::vector<double>* heading,
+                  std::vector<double>* curvature) {
   const std::size_t n = p.size();
-  line->s.assign(n, 0.0);
-  line->step.assign(n, 0.0);
-  line->heading.assign(n, 0.0);
-  line->curvature.assign(n, 0.0);
-  line->track_s.assign(n, 0.0);
-  line->offset.assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) line->step[i] = (p[(i + 1) % n] - p[i]).norm();
-  for (std::size_t i = 1; i < n; ++i) line->s[i] = line->s[i - 1] + line->step[i - 1];
-  line->length = line->s.back() + line->step.back();
+  step->assign(n, 0.0);
+  heading->assign(n, 0.0);
+  curvature->assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
+    (*step)[i] = (p[(i + 1) % n] - p[i]).norm();
     // Heading from the neighbours; curvature of the circle through the points two either side, which
     // averages out the millimetre jitter that resampling leaves.
     const Eigen::Vector2d& a = p[(i + n - 2) % n];
     const Eigen::Vector2d& b = p[i];
     const Eigen::Vector2d& c = p[(i + 2) % n];
     const Eigen::Vector2d chord = p[(i + 1) % n] - p[(i + n - 1) % n];
-    line->heading[i] = std::atan2(chord.y(), chord.x());
+    (*heading)[i] = std::atan2(chord.y(), chord.x());
     const double cross = (b - a).x() * (c - b).y() - (b - a).y() * (c - b).x();
-    line->curvature[i] = 2.0 * cross / ((b - a).norm() * (c - b).norm() * (c - a).norm());
+    (*curvature)[i] = 2.0 * cross / ((b - a).norm() * (c - b).norm() * (c - a).norm());
   }
+}
+
+void computeGeometry(const track::Track& track, RacingLine* line) {
+  const auto& p = line->points;
+  const std::size_t n = p.size();
+  computeShape(p, &line->step, &line->heading, &line->curvature);
+  line->s.assign(n, 0.0);
+  line->track_s.assign(n, 0.0);
+  line->offset.assign(n, 0.0);
+  for (std::size_t i = 1; i < n; ++i) line->s[i] = line->s[i - 1] + line->step[i - 1];
+  line->length = line->s.back() + line->step.back();
   double near = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const track::Projection pr = i == 0 ? track.project(p[i]) : track.projectNear(p[i], near, 80.0);

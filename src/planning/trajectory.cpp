@@ -1,5 +1,7 @@
 #include "roar/planning/trajectory.h"
 
+#include "roar/planning/minimum_time.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -60,7 +62,8 @@ Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const
 }
 
 Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options) {
-  const RacingLine line = minimumCurvatureLine(track, options.line);
+  RacingLine line = minimumCurvatureLine(track, options.line);
+  if (options.minimum_time) line = minimumTimeLine(track, line, limits, options.line).line;
   return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, options.profile));
 }
 

@@ -1,4 +1,5 @@
 #include "roar/planning/racing_line.h"
+#include "roar/planning/minimum_time.h"
 
 #include <gtest/gtest.h>
 
@@ -99,4 +100,28 @@ TEST(Trajectory, NonFiniteOrShortTrajectoriesAreRefusedByName) {
   t.points[1].speed = 1.0;
   t.points[2].s = 0.5;
   EXPECT_NE(test::errorOf([&] { planning::validate(t); }).find("does not increase at point 2"), std::string::npos);
+}
+
+TEST(MinimumTimeLine, IsFasterThanItsStartAndStaysInsideTheMargins) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
+  const auto limits = planning::vehicleLimits(test::sedan(), 1.0, 0.85);
+  planning::RacingLineOptions margins;
+  const auto start = planning::minimumCurvatureLine(track, margins);
+  planning::MinimumTimeOptions options;
+  options.max_iterations = 10;
+  const auto result = planning::minimumTimeLine(track, start, limits, margins, options);
+  const double promised = planning::computeSpeedProfile(start.step, start.curvature, limits, true).total_time;
+  EXPECT_NEAR(result.start_lap_time, promised, 1e-9);
+  EXPECT_LT(result.lap_time, result.start_lap_time);
+  EXPECT_GT(result.lap_time, 0.97 * result.start_lap_time) << "the minimum-curvature line is close to minimum time";
+  const double keep = 0.5 * margins.vehicle_width + margins.safety_margin;
+  for (std::size_t i = 0; i < result.line.points.size(); ++i) {
+    const auto pr = track.project(result.line.points[i]);
+    ASSERT_LE(pr.lateral, pr.width_left - keep + 0.05) << "point " << i;
+    ASSERT_GE(pr.lateral, -(pr.width_right - keep) - 0.05) << "point " << i;
+  }
+  // Its lap time is the profile of the line it returns.
+  const double again =
+      planning::computeSpeedProfile(result.line.step, result.line.curvature, limits, true).total_time;
+  EXPECT_NEAR(again, result.lap_time, 1e-6);
 }

@@ -28,8 +28,8 @@ struct TrackerOptions {
   // Steering added per rad/s of yaw rate missing from what the pursuit arc asks (v * kappa): pure pursuit
   // alone weaves when braking hard from high speed.
   double yaw_rate_gain = 0.1;     // rad per rad/s
-  double speed_gain = 0.4;        // throttle or brake per m/s of speed error
-  double speed_preview = 0.3;     // s: the profile is read this far ahead to cover the car's response
+  double speed_gain = 1.0;        // throttle or brake per m/s of speed error
+  double speed_preview = 0.1;     // s: the profile is read this far ahead to cover the car's response
   double max_speed = 0.0;         // m/s cap on the profile; 0: none
 };
 

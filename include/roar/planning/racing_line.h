@@ -45,5 +45,8 @@ RacingLine centreLine(const track::Track& track, double step);
 RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptions& options);
 // Heading, curvature, steps, length and the projection on the track, from the points.
 void computeGeometry(const track::Track& track, RacingLine* line);
+// Only the shape of a closed polyline: steps to the next point, headings and curvatures.
+void computeShape(const std::vector<Eigen::Vector2d>& points, std::vector<double>* step, std::vector<double>* heading,
+                  std::vector<double>* curvature);
 
 }  // namespace roar::planning
