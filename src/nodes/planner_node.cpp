@@ -1,16 +1,19 @@
 // planner: plans the racing line and its speed profile from the track's waypoints (/waypoints, latched by
 // waypoint_server) and the car's own limits (the simulator's vehicle files), publishes the whole
 // trajectory latched on /racing_line (+ /racing_line/path) and, for every odometry message of each car,
-// the window ahead of it on /<vehicle>/local_trajectory, stamped with the odometry's time.
+// the window ahead of it on /<vehicle>/local_trajectory, stamped with the odometry's time. A car ahead
+// on the line caps the window's speeds so the car follows it instead of running into it.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 
 #include "roar/planning/trajectory.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
+#include "roar/ros/scenario_params.h"
 #include "roar/sim/vehicle_config.h"
 
 using namespace roar;
@@ -24,6 +27,8 @@ struct PlannerNodeOptions {
   planning::PlannerOptions planner;
   double window_ahead = 250.0;  // m
   double window_behind = 10.0;  // m
+  double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
+  double follow_lateral = 3.5;  // m: a car this close to the line is in the way
   std::string frame = "map";
 };
 
@@ -31,7 +36,12 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   PlannerNodeOptions o;
   const std::string pkg = packagePath();
-  o.vehicles = readStringList(nh, "vehicles", {"ego"});
+  // Every car of the scenario: the stack's cars follow any car ahead of them.
+  if (const auto scenario = readScenario(nh)) {
+    for (const auto& car : scenario->cars) o.vehicles.push_back(car.name);
+  } else {
+    o.vehicles = readStringList(nh, "vehicles", {"ego"});
+  }
   o.vehicle = sim::loadVehicleModel(readString(nh, "model", "sedan"), readString(nh, "urdf_dir", pkg + "/urdf"),
                                     readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
   o.grip_use = readDouble(nh, "grip_use", o.grip_use, 0.05, 1.0);
@@ -44,6 +54,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   o.planner.minimum_time = readBool(nh, "minimum_time", false);
   o.window_ahead = readDouble(nh, "window_ahead", o.window_ahead, 10.0, 5000.0);
   o.window_behind = readDouble(nh, "window_behind", o.window_behind, 0.0, 100.0);
+  o.follow_gap = readDouble(nh, "follow_gap", o.follow_gap, 5.0, 200.0);
   o.frame = readString(nh, "frame", o.frame);
   return o;
 }
@@ -69,7 +80,28 @@ class PlannerNode {
     ros::Subscriber odom_sub;
     long hint = -1;
     nav_msgs::Odometry::ConstPtr last_odom;
+    planning::TrajectoryProjection on_line;  // where the car was last, on the racing line
+    double speed = 0.0;
+    bool located = false;
   };
+
+  // The nearest car ahead on the racing line within the window, if one is in the way.
+  void followCarAhead(const std::string& name, const Car& car, planning::Trajectory* window) const {
+    double nearest = options_.window_ahead;
+    const Car* leader = nullptr;
+    for (const auto& [other_name, other] : cars_) {
+      if (other_name == name || !other.located || std::abs(other.on_line.lateral) > options_.follow_lateral) continue;
+      double ahead = other.on_line.s - car.on_line.s;
+      ahead -= std::floor(ahead / trajectory_.length) * trajectory_.length;  // forward round the lap
+      if (ahead > 0 && ahead < nearest) {
+        nearest = ahead;
+        leader = &other;
+      }
+    }
+    if (leader) {
+      planning::followBehind(window, car.on_line.s, car.on_line.s + nearest, leader->speed, options_.follow_gap, limits_);
+    }
+  }
 
   void onWaypoints(const roar_ros::WaypointArray& msg) {
     try {
@@ -77,10 +109,14 @@ class PlannerNode {
       const track::Track track = ros_bridge::trackFromMessage(msg);
       const auto limits = planning::vehicleLimits(options_.vehicle, track.info().friction, options_.grip_use);
       planning::Trajectory trajectory = planning::planRacingTrajectory(track, limits, options_.planner);
+      limits_ = limits;
       planning::validate(trajectory);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
       trajectory_ = std::move(trajectory);
-      for (auto& [name, car] : cars_) car.hint = -1;
+      for (auto& [name, car] : cars_) {
+        car.hint = -1;
+        car.located = false;
+      }
       roar_ros::Trajectory out = ros_bridge::toMessage(trajectory_, options_.frame, msg.map_name);
       out.header.stamp = ros::Time::now();
       line_pub_.publish(out);
@@ -108,15 +144,19 @@ class PlannerNode {
     const Eigen::Vector2d position(odom.pose.pose.position.x, odom.pose.pose.position.y);
     const auto projection = planning::project(trajectory_, position, car.hint);
     car.hint = static_cast<long>(projection.segment);
-    roar_ros::Trajectory window = ros_bridge::toMessage(
-        planning::windowAround(trajectory_, projection.s, options_.window_behind, options_.window_ahead), options_.frame,
-        map_name_);
+    car.on_line = projection;
+    car.speed = odom.twist.twist.linear.x;
+    car.located = true;
+    planning::Trajectory local = planning::windowAround(trajectory_, projection.s, options_.window_behind, options_.window_ahead);
+    followCarAhead(name, car, &local);
+    roar_ros::Trajectory window = ros_bridge::toMessage(local, options_.frame, map_name_);
     window.header.stamp = odom.header.stamp;
     car.window_pub.publish(window);
   }
 
   PlannerNodeOptions options_;
   planning::Trajectory trajectory_;
+  planning::VehicleLimits limits_;
   std::string map_name_;
   ros::Publisher line_pub_, path_pub_;
   ros::Subscriber waypoints_sub_;

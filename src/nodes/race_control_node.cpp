@@ -15,6 +15,7 @@
 #include "roar/race/race_control.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/scenario_params.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 
@@ -40,15 +41,15 @@ race::IncidentRule readRule(const ros::NodeHandle& nh, const std::string& name, 
 RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   RaceControlOptions o;
-  const std::string pkg = packagePath();
-  try {
-    o.map_folder = track::resolveMapFolder(readString(nh, "map", "roar_ring"), readString(nh, "maps_dir", pkg + "/maps"));
-  } catch (const track::MapError& e) {
-    throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
+  const auto scenario = readScenario(nh);
+  o.map_folder = readMapFolder(nh, scenario);
+  if (scenario) {
+    for (const auto& car : scenario->cars) o.vehicles.push_back(car.name);
+  } else {
+    o.vehicles = readStringList(nh, "vehicles", {"ego"});
   }
-  o.vehicles = readStringList(nh, "vehicles", {"ego"});
   auto& r = o.rules;
-  r.laps = readInt(nh, "laps", 3, 1, 1000);
+  r.laps = readInt(nh, "laps", scenario ? scenario->laps : 3, 1, 1000);
   r.collision = readRule(nh, "collision_rule", "penalty");
   r.collision_penalty = readDouble(nh, "collision_penalty", r.collision_penalty, 0.0, 3600.0);
   r.track_limits = readRule(nh, "track_limits_rule", "penalty");

@@ -10,6 +10,7 @@
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/scenario_params.h"
 #include "roar/ros/track_msg_conversion.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
@@ -26,11 +27,7 @@ class WaypointServer {
     using namespace ros_bridge;
     const std::string pkg = packagePath();
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
-    try {
-      folder_ = track::resolveMapFolder(readString(pnh, "map", "roar_ring"), maps_dir_);
-    } catch (const track::MapError& e) {
-      throw ParamError("parameter " + pnh.resolveName("map") + ": " + e.what());
-    }
+    folder_ = readMapFolder(pnh, readScenario(pnh));
     frame_ = readString(pnh, "frame_id", "map");
     const int grid = readInt(pnh, "spawn_points", 20, 1, 1000);
     track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));

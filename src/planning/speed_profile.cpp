@@ -14,12 +14,12 @@ double accelerationAt(const VehicleLimits& limits, double v, double kappa, bool 
   return (drive - limits.resistance(v)) / limits.effectiveMass();
 }
 
+}  // namespace
+
 double decelerationAt(const VehicleLimits& limits, double v, double kappa) {
   const double brake = std::min(limits.max_brake_force, limits.longitudinalGrip(v, kappa));
   return (brake + limits.resistance(v)) / limits.effectiveMass();
 }
-
-}  // namespace
 
 SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,
                                  const VehicleLimits& limits, bool closed, const SpeedProfileOptions& options) {

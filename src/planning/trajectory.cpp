@@ -163,3 +163,29 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 }
 
 }  // namespace roar::planning
+
+namespace roar::planning {
+
+void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
+                  const VehicleLimits& limits) {
+  auto& pts = window->points;
+  if (pts.size() < 2) return;
+  const double stop_at = leader_s - gap;
+  const double too_close = std::max(0.0, car_s - stop_at);
+  const double cap = std::max(0.0, leader_speed - too_close);
+  for (auto& p : pts) {
+    if (p.s >= stop_at) p.speed = std::min(p.speed, cap);
+  }
+  for (std::size_t k = pts.size() - 1; k-- > 0;) {
+    const double ds = pts[k + 1].s - pts[k].s;
+    const double a = decelerationAt(limits, pts[k + 1].speed, pts[k + 1].curvature);
+    pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * ds));
+  }
+  for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+    const double ds = pts[k + 1].s - pts[k].s;
+    pts[k].acceleration = (pts[k + 1].speed * pts[k + 1].speed - pts[k].speed * pts[k].speed) / (2.0 * ds);
+  }
+  pts.back().acceleration = 0.0;
+}
+
+}  // namespace roar::planning

@@ -34,7 +34,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
       throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
                        std::to_string(kGridSlots - 1) + ")");
     }
-    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set);
+    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour);
   }
   services_.push_back(private_nh_.advertiseService("spawn_vehicle", &SimNode::onSpawn, this));
   services_.push_back(private_nh_.advertiseService("destroy_vehicle", &SimNode::onDestroy, this));
@@ -65,7 +65,7 @@ std::string SimNode::sensorSetPath(const std::string& set) const {
 }
 
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                         const std::string& sensor_set) {
+                         const std::string& sensor_set, const Eigen::Vector3f& colour) {
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
   // Sensors are read and checked before the car exists, so a bad set leaves nothing half made.
   auto vehicle_sensors = std::make_unique<VehicleSensors>(
@@ -77,7 +77,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   if (!looks_.count(model)) looks_[model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + model + ".urdf");
   world_->spawnVehicle(name, params, pose);
   VehicleIo io;
-  io.scene_id = scene_->addVehicle(looks_[model], paint(io_.size()));
+  io.scene_id = scene_->addVehicle(looks_[model], (colour.array() < 0).any() ? paint(io_.size()) : colour);
   io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
   io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);

@@ -41,8 +41,9 @@ class SimNode {
     std::unique_ptr<VehicleSensors> sensors;
   };
 
+  // A negative colour: the next of the palette.
   void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                  const std::string& sensor_set);
+                  const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1));
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
   void sampleRaySensors();

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "roar/ros/param_reading.h"
+#include "roar/ros/scenario_params.h"
 #include "roar/track/map_folder.h"
 
 namespace roar::ros_bridge {
@@ -61,13 +62,8 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
 SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   SimNodeOptions o;
   const std::string pkg = packagePath();
-  const std::string maps_dir = readString(nh, "maps_dir", pkg + "/maps");
-  const std::string map = readString(nh, "map", "roar_ring");
-  try {
-    o.map_folder = track::resolveMapFolder(map, maps_dir);
-  } catch (const track::MapError& e) {
-    throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
-  }
+  const auto scenario = readScenario(nh);
+  o.map_folder = readMapFolder(nh, scenario);
   o.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
   o.default_model = readString(nh, "default_model", o.default_model);
@@ -81,7 +77,20 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
   o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);
   o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
-  o.vehicles = readVehicles(nh, o.default_model, o.default_sensor_set);
+  if (scenario) {
+    // The scenario's cars (checked when it was read) instead of ~vehicles.
+    for (const auto& car : scenario->cars) {
+      VehicleSpawn spawn;
+      spawn.name = car.name;
+      spawn.model = car.model;
+      spawn.spawn_point = car.spawn_point;
+      spawn.sensor_set = car.sensors.empty() ? o.default_sensor_set : car.sensors;
+      spawn.colour = car.colour;
+      o.vehicles.push_back(spawn);
+    }
+  } else {
+    o.vehicles = readVehicles(nh, o.default_model, o.default_sensor_set);
+  }
   return o;
 }
 

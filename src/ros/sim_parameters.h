@@ -20,6 +20,7 @@ struct VehicleSpawn {
   std::string model;
   int spawn_point = 0;
   std::string sensor_set;  // a set in sensors_dir or a YAML path; empty: no sensors
+  Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB; negative: the n-th of a palette
 };
 
 struct SimNodeOptions {

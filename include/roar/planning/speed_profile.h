@@ -22,6 +22,9 @@ struct SpeedProfileOptions {
   double end_speed = -1.0;    // open paths: speed at the last point (negative: as fast as allowed)
 };
 
+// The hardest braking at speed v on curvature kappa: brakes or the grip the corner leaves, plus drag.
+double decelerationAt(const VehicleLimits& limits, double v, double kappa);
+
 // `step[i]` is the distance from point i to point i + 1 (on a closed path the last entry leads back to
 // point 0; on an open path it is ignored). Throws std::invalid_argument naming the first bad entry.
 SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,

@@ -66,4 +66,10 @@ TrajectoryProjection project(const Trajectory& trajectory, const Eigen::Vector2d
 // The open stretch from `behind` metres before s to `ahead` metres after it, s unwrapped past the lap.
 Trajectory windowAround(const Trajectory& closed, double s, double behind, double ahead);
 
+// Caps an open window's speeds so the car (at `car_s`) stays `gap` metres behind a car at `leader_s` (both
+// in the window's s) going `leader_speed`: no faster than the leader from the gap on, braking for it in
+// time before, and slower than the leader (1 m/s per metre) while closer than the gap.
+void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
+                  const VehicleLimits& limits);
+
 }  // namespace roar::planning

@@ -1,0 +1,49 @@
+#pragma once
+// A race scenario (config/scenarios/<name>.yaml): the map, the laps and the cars (name, model, spawn
+// point, colour, sensor set, whether the stack drives it, a speed cap). roar_sim, planner, controller and
+// race_control all read the same file, so a launch has one list of cars.
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace roar::stack {
+
+struct ScenarioCar {
+  std::string name;
+  std::string model = "sedan";
+  int spawn_point = 0;
+  Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB 0..1; negative: the simulator picks one
+  std::string sensors;      // a sensor set of config/sensors (empty: none)
+  bool driven = true;       // the stack's controller drives it (false: yours does)
+  double max_speed = 0.0;   // m/s the stack may drive it at; 0: no cap
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string map;
+  int laps = 2;
+  std::vector<ScenarioCar> cars;
+};
+
+class ScenarioError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Where the names a scenario uses are checked.
+struct ScenarioContext {
+  std::string maps_dir;
+  std::string sensors_dir;
+  std::string urdf_dir;
+  std::string vehicle_config_dir;
+};
+
+// Reads and checks a scenario: every error names the file and the field (an unknown map, model or
+// sensor set, two cars with one name or one spawn point, a spawn point past the map's grid).
+Scenario loadScenario(const std::string& path, const ScenarioContext& context);
+// `name_or_path`: a file, or the name of one in `scenarios_dir` (without .yaml).
+std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir);
+
+}  // namespace roar::stack

@@ -1,0 +1,114 @@
+#include "roar/stack/scenario.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <set>
+
+#include "roar/sensors/sensor_spec.h"
+#include "roar/sim/vehicle_config.h"
+#include "roar/track/map_folder.h"
+
+namespace roar::stack {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr int kGridSlots = 20;  // waypoint_server's and roar_sim's start grid
+}
+
+std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir) {
+  if (fs::is_regular_file(name_or_path)) return name_or_path;
+  const std::string file = scenarios_dir + "/" + name_or_path + ".yaml";
+  if (fs::is_regular_file(file)) return file;
+  std::string known;
+  if (fs::is_directory(scenarios_dir)) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::directory_iterator(scenarios_dir)) {
+      if (entry.path().extension() == ".yaml") names.insert(entry.path().stem().string());
+    }
+    for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+  }
+  throw ScenarioError("no scenario '" + name_or_path + "' (a file, or one of: " + known + ")");
+}
+
+Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw ScenarioError(path + ": " + e.what());
+  }
+  auto fail = [&](const std::string& field, const std::string& what) { throw ScenarioError(path + ": " + field + ": " + what); };
+  Scenario s;
+  try {
+    s.name = root["name"] ? root["name"].as<std::string>() : fs::path(path).stem().string();
+    s.description = root["description"] ? root["description"].as<std::string>() : "";
+    if (!root["map"]) fail("map", "missing");
+    s.map = root["map"].as<std::string>();
+    if (root["laps"]) s.laps = root["laps"].as<int>();
+  } catch (const YAML::Exception& e) {
+    throw ScenarioError(path + ": " + e.what());
+  }
+  if (s.laps < 1) fail("laps", "must be at least 1");
+  try {
+    track::resolveMapFolder(s.map, context.maps_dir);
+  } catch (const track::MapError& e) {
+    fail("map", e.what());
+  }
+  const YAML::Node cars = root["cars"];
+  if (!cars || !cars.IsSequence() || cars.size() == 0) fail("cars", "must be a list of at least one car");
+  std::set<std::string> names;
+  std::set<int> slots;
+  for (std::size_t i = 0; i < cars.size(); ++i) {
+    const std::string field = "cars[" + std::to_string(i) + "]";
+    const YAML::Node c = cars[i];
+    ScenarioCar car;
+    try {
+      if (!c["name"]) fail(field + ".name", "missing");
+      car.name = c["name"].as<std::string>();
+      car.spawn_point = c["spawn_point"] ? c["spawn_point"].as<int>() : static_cast<int>(i);
+      if (c["model"]) car.model = c["model"].as<std::string>();
+      if (c["sensors"]) car.sensors = c["sensors"].as<std::string>();
+      if (c["driven"]) car.driven = c["driven"].as<bool>();
+      if (c["max_speed"]) car.max_speed = c["max_speed"].as<double>();
+      if (c["colour"]) {
+        const auto rgb = c["colour"].as<std::vector<float>>();
+        if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
+        car.colour = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
+        if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any()) fail(field + ".colour", "each of r, g, b must be 0..1");
+      }
+    } catch (const YAML::Exception& e) {
+      fail(field, e.what());
+    }
+    if (car.name.empty() || car.name.find_first_of(" /") != std::string::npos) {
+      fail(field + ".name", "'" + car.name + "' must be non-empty, without spaces or '/'");
+    }
+    if (!names.insert(car.name).second) fail(field + ".name", "'" + car.name + "' is used by another car");
+    if (car.spawn_point < 0 || car.spawn_point >= kGridSlots) {
+      fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is not a grid slot (0.." + std::to_string(kGridSlots - 1) + ")");
+    }
+    if (!slots.insert(car.spawn_point).second) {
+      fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is taken by another car");
+    }
+    if (car.max_speed < 0) fail(field + ".max_speed", "must not be negative");
+    try {
+      sim::loadVehicleModel(car.model, context.urdf_dir, context.vehicle_config_dir);
+    } catch (const std::exception& e) {
+      fail(field + ".model", e.what());
+    }
+    if (!car.sensors.empty()) {
+      const std::string set = fs::is_regular_file(car.sensors) ? car.sensors : context.sensors_dir + "/" + car.sensors + ".yaml";
+      if (!fs::is_regular_file(set)) fail(field + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
+      try {
+        sensors::readSensorSet(set);
+      } catch (const std::exception& e) {
+        fail(field + ".sensors", e.what());
+      }
+    }
+    s.cars.push_back(car);
+  }
+  return s;
+}
+
+}  // namespace roar::stack

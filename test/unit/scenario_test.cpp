@@ -1,0 +1,98 @@
+#include "roar/stack/scenario.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "roar/planning/trajectory.h"
+#include "test_support.h"
+
+using namespace roar;
+namespace fs = std::filesystem;
+
+namespace {
+
+stack::ScenarioContext shipped() {
+  const std::string src = test::sourceDir();
+  return {src + "/maps", src + "/config/sensors", src + "/urdf", src + "/config/vehicles"};
+}
+
+// Writes `text` as a scenario file and returns the error loading it gives ("" when it loads).
+std::string errorLoading(const std::string& text) {
+  const fs::path path = fs::temp_directory_path() / ("roar_scenario_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << text;
+  const std::string error = test::errorOf([&] { stack::loadScenario(path.string(), shipped()); });
+  fs::remove(path);
+  return error;
+}
+
+}  // namespace
+
+TEST(Scenario, EveryShippedScenarioLoads) {
+  const std::string dir = test::sourceDir() + "/config/scenarios";
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    SCOPED_TRACE(entry.path().string());
+    const auto scenario = stack::loadScenario(entry.path().string(), shipped());
+    EXPECT_FALSE(scenario.cars.empty());
+    EXPECT_FALSE(scenario.description.empty());
+    ++count;
+  }
+  EXPECT_GE(count, 3);
+  const auto race = stack::loadScenario(stack::resolveScenario("multi_car", dir), shipped());
+  EXPECT_GE(race.cars.size(), 3u);
+  EXPECT_GT(race.cars[0].max_speed, 0.0) << "a slower car in front";
+  const auto rl = stack::loadScenario(stack::resolveScenario("rl_headless", dir), shipped());
+  EXPECT_FALSE(rl.cars[0].driven);
+  EXPECT_EQ(rl.cars[0].sensors, "default");
+  EXPECT_NE(test::errorOf([&] { stack::resolveScenario("nascar", dir); }).find("time_trial"), std::string::npos)
+      << "an unknown scenario lists the known ones";
+}
+
+TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
+  const std::string car = "cars:\n  - {name: ego, spawn_point: 0}\n";
+  EXPECT_EQ(errorLoading("map: roar_ring\n" + car), "");
+  EXPECT_NE(errorLoading("map: monaco\n" + car).find("map: "), std::string::npos);
+  EXPECT_NE(errorLoading("map: monaco\n" + car).find("monaco"), std::string::npos);
+  EXPECT_NE(errorLoading(car).find("map: missing"), std::string::npos);
+  const std::string two_on_one = errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n");
+  EXPECT_NE(two_on_one.find("cars[1].spawn_point: 2 is taken by another car"), std::string::npos) << two_on_one;
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a}\n  - {name: a}\n").find("cars[1].name"), std::string::npos);
+  const std::string sensors = errorLoading("map: roar_ring\ncars:\n  - {name: a, sensors: radar}\n");
+  EXPECT_NE(sensors.find("cars[0].sensors: no sensor set 'radar'"), std::string::npos) << sensors;
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, model: bus}\n").find("cars[0].model"), std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, colour: [1, 2]}\n").find("cars[0].colour"), std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 40}\n").find("not a grid slot"), std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars: []\n").find("cars: must be a list"), std::string::npos);
+  EXPECT_NE(errorLoading("map: [roar_ring\n").find(".yaml"), std::string::npos) << "broken YAML names the file";
+}
+
+TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {
+  planning::Trajectory window;
+  window.closed = false;
+  for (int i = 0; i <= 200; ++i) {
+    planning::TrajectoryPoint p;
+    p.position = {1.0 * i, 0.0};
+    p.s = i;
+    p.speed = 40.0;
+    window.points.push_back(p);
+  }
+  const auto limits = planning::vehicleLimits(test::sedan(), 1.0, 0.85);
+  auto following = window;
+  planning::followBehind(&following, 0.0, 150.0, 10.0, 12.0, limits);
+  EXPECT_NEAR(following.points[138].speed, 10.0, 1e-9) << "at the gap: the leader's speed";
+  EXPECT_NEAR(following.points[200].speed, 10.0, 1e-9);
+  for (int i = 0; i < 200; ++i) {
+    const double decel = (following.points[i].speed * following.points[i].speed -
+                          following.points[i + 1].speed * following.points[i + 1].speed) / 2.0;
+    EXPECT_LE(decel, planning::decelerationAt(limits, following.points[i + 1].speed, 0.0) + 1e-6) << i;
+    EXPECT_NEAR(following.points[i].acceleration, -decel, 1e-6) << i;
+  }
+  EXPECT_NEAR(following.points[0].speed, 40.0, 1e-9) << "far enough back to go on at full speed";
+  // Closer than the gap: slower than the leader.
+  auto close = window;
+  planning::followBehind(&close, 0.0, 5.0, 10.0, 12.0, limits);
+  EXPECT_LT(close.points[0].speed, 10.0);
+}
