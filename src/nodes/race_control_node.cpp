@@ -8,11 +8,15 @@
 #include <roar_ros/CollisionEvent.h>
 #include <roar_ros/RaceStatus.h>
 #include <roar_ros/ResetVehicle.h>
+#include <roar_ros/Trajectory.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 
 #include "roar/race/race_control.h"
+#include "roar/report/race_report.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
@@ -103,17 +107,28 @@ class RaceControlNode {
       subs_.push_back(nh.subscribe<roar_ros::CollisionEvent>(
           name + "/collision", 100, [this, name](const roar_ros::CollisionEvent::ConstPtr& m) { onCollision(name, *m); }));
     }
+    // The planner's promise, for the report's speed plots.
+    line_sub_ = nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
+      onRacingLine(*m);
+    });
     // Simulated time: the status stops with the simulator.
     status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
   }
 
   double now() const { return now_; }
   const race::RaceControl& race() const { return race_; }
+  const report::Telemetry& telemetry() const { return telemetry_; }
+  const std::vector<report::ProfilePoint>& profile() const { return profile_; }
 
  private:
   void onOdometry(const std::string& name, const nav_msgs::Odometry& odom) {
     const double t = odom.header.stamp.toSec();
     now_ = std::max(now_, t);
+    if (!race_.car(name).finished) {
+      const auto& v = odom.twist.twist.linear;
+      telemetry_[name].push_back({t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
+                                  std::sqrt(v.x * v.x + v.y * v.y)});
+    }
     std::optional<race::Incident> incident;
     const auto lap = race_.updatePosition(
         name, t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), &incident);
@@ -128,6 +143,21 @@ class RaceControlNode {
     std::printf("%s lap %d: %.3f s (sectors %s)\n", name.c_str(), lap->lap, lap->lap_time, sectors.c_str());
     std::fflush(stdout);
     publishStatus();
+  }
+
+  void onRacingLine(const roar_ros::Trajectory& line) {
+    const track::Track& track = race_.track();
+    profile_.clear();
+    double near = track.info().start_finish_s;
+    for (std::size_t i = 0; i < line.points.size(); ++i) {
+      const auto& p = line.points[i];
+      const Eigen::Vector2d position(p.position.x, p.position.y);
+      const auto pr = i == 0 ? track.project(position) : track.projectNear(position, near, 100.0);
+      near = pr.s;
+      profile_.push_back({track.forwardDistance(track.info().start_finish_s, pr.s), p.speed});
+    }
+    std::sort(profile_.begin(), profile_.end(),
+              [](const report::ProfilePoint& a, const report::ProfilePoint& b) { return a.progress < b.progress; });
   }
 
   void onCollision(const std::string& name, const roar_ros::CollisionEvent& event) {
@@ -158,6 +188,9 @@ class RaceControlNode {
   ros::Publisher status_pub_;
   ros::ServiceClient reset_;
   std::vector<ros::Subscriber> subs_;
+  ros::Subscriber line_sub_;
+  report::Telemetry telemetry_;
+  std::vector<report::ProfilePoint> profile_;
   ros::Timer status_timer_;
   double now_ = 0.0;
 };
@@ -194,7 +227,9 @@ int main(int argc, char** argv) {
     }
     if (!options.output_dir.empty()) {
       race::writeResults(options.output_dir, node.race(), complete);
-      std::printf("race_control: results in %s/results.yaml, laps.csv and sectors.csv\n", options.output_dir.c_str());
+      report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
+      std::printf("race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
+                  "speed_<car>.png\n", options.output_dir.c_str());
     }
     std::fflush(stdout);
     ros::shutdown();

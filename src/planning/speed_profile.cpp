@@ -10,7 +10,8 @@ namespace roar::planning {
 namespace {
 
 double accelerationAt(const VehicleLimits& limits, double v, double kappa, bool shifting) {
-  const double drive = shifting ? 0.0 : std::min(limits.driveForce(v), limits.longitudinalGrip(v, kappa));
+  const double drive =
+      shifting ? 0.0 : std::min(limits.driveForce(v), limits.traction_share * limits.longitudinalGrip(v, kappa));
   return (drive - limits.resistance(v)) / limits.effectiveMass();
 }
 
@@ -47,15 +48,23 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   // Passes start where nothing before matters: the slowest point of a loop, or the path's ends.
   const std::size_t start = closed ? static_cast<std::size_t>(std::min_element(v.begin(), v.end()) - v.begin()) : 0;
   // Each upshift costs the gearbox's shift time without drive: the distance covered meanwhile coasts.
+  // The gear only goes up while the car accelerates (a gearbox has hysteresis: losing a little speed
+  // while shifting does not shift it back down); it follows the speed down where a corner caps it.
   double coast = 0.0;
+  int gear = limits.gearAt(v[start]);
   for (std::size_t k = 0; k < segments; ++k) {
     const std::size_t i = (start + k) % n, j = (i + 1) % n;
     const double a = accelerationAt(limits, v[i], curvature[i], coast > 0);
     coast = std::max(0.0, coast - step[i]);
     const double reachable = std::sqrt(std::max(0.0, v[i] * v[i] + 2.0 * a * step[i]));
     if (reachable < v[j]) {
-      if (limits.gearAt(reachable) > limits.gearAt(v[i])) coast = limits.shift_time * reachable;
+      if (limits.gearAt(reachable) > gear) {
+        gear = limits.gearAt(reachable);
+        coast = limits.shift_time * reachable;
+      }
       v[j] = reachable;
+    } else {
+      gear = limits.gearAt(v[j]);
     }
   }
   const std::size_t end = closed ? start : n - 1;

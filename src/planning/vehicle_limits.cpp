@@ -57,6 +57,26 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
   const double radius = params.wheels[0].radius;
   limits.max_brake_force = brake_torque / radius;
 
+  // Drive force F puts d_axle F on an axle that can carry c_axle mu N_axle; accelerating moves F h / L of
+  // load from the front to the rear axle. The tighter axle bounds F.
+  {
+    const double mu = limits.friction, weight = limits.mass * limits.gravity;
+    const double x_front = params.wheels[0].position.x(), x_rear = params.wheels[2].position.x();
+    const double wheelbase = x_front - x_rear;
+    const double front_load = weight * (params.chassis.centre_of_mass.x() - x_rear) / wheelbase;
+    const double rear_load = weight - front_load;
+    const double transfer = params.chassis.centre_of_mass.z() / wheelbase;  // load moved per N of drive force
+    const double tc = params.traction_control ? 0.95 : 1.0;  // traction control keeps below the peak
+    const double d_front = params.front_drive_share, d_rear = 1.0 - d_front;
+    const double c_front = tc, c_rear = tc * (params.traction_control ? params.rear_grip_share : 1.0);
+    double most = 1e300;
+    if (d_front > 0) most = std::min(most, c_front * mu * front_load / (d_front + c_front * mu * transfer));
+    if (d_rear > 0 && d_rear > c_rear * mu * transfer) {
+      most = std::min(most, c_rear * mu * rear_load / (d_rear - c_rear * mu * transfer));
+    }
+    limits.traction_share = std::clamp(most / (mu * weight), 0.0, 1.0);
+  }
+
   // Full throttle in the gear an automatic gearbox would hold: every forward gear up to its shift-up rpm
   // (the top gear up to the redline); below idle the clutch slips and the engine gives its idle torque.
   sim::Powertrain engine(params);

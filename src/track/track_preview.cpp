@@ -2,11 +2,14 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace roar::track {
 
-void renderTrackPreview(const Track& track, const std::string& png_path, int width_px) {
+void renderTrackPreview(const Track& track, const std::string& png_path, int width_px,
+                        const std::vector<ValuedPath>& paths, const std::string& value_name) {
   const double margin = 40.0 + track.info().barrier_offset;
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (std::size_t i = 0; i < track.size(); ++i) {
@@ -57,6 +60,32 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   std::snprintf(title, sizeof(title), "%s  %.0f m  %d sectors  (100 m = %d px)", track.info().name.c_str(),
                 track.length(), sectors, static_cast<int>(100 * scale));
   cv::putText(image, title, cv::Point(12, 38), cv::FONT_HERSHEY_SIMPLEX, 0.9, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
+  if (!paths.empty()) {
+    double v_lo = 1e300, v_hi = -1e300;
+    for (const auto& path : paths) {
+      for (double v : path.values) v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+    }
+    if (!(v_hi > v_lo)) v_hi = v_lo + 1.0;
+    cv::Mat ramp(1, 256, CV_8UC1), colours;
+    for (int k = 0; k < 256; ++k) ramp.at<uchar>(0, k) = static_cast<uchar>(k);
+    cv::applyColorMap(ramp, colours, cv::COLORMAP_JET);
+    auto colourOf = [&](double v) {
+      const int k = std::clamp(static_cast<int>((v - v_lo) / (v_hi - v_lo) * 255.0), 0, 255);
+      const cv::Vec3b c = colours.at<cv::Vec3b>(0, k);
+      return cv::Scalar(c[0], c[1], c[2]);
+    };
+    for (const auto& path : paths) {
+      for (std::size_t i = 0; i + 1 < path.points.size(); ++i) {
+        cv::line(image, px(path.points[i]), px(path.points[i + 1]), colourOf(path.values[i]), 3, cv::LINE_AA);
+      }
+    }
+    // The scale, bottom left.
+    const int x0 = 20, y0 = image.rows - 40, w = 300;
+    for (int k = 0; k < w; ++k) cv::line(image, {x0 + k, y0}, {x0 + k, y0 + 16}, colourOf(v_lo + (v_hi - v_lo) * k / w));
+    char label[96];
+    std::snprintf(label, sizeof(label), "%s %.1f .. %.1f", value_name.c_str(), v_lo, v_hi);
+    cv::putText(image, label, {x0, y0 - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  }
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the preview image");
 }
 

@@ -18,6 +18,9 @@ struct VehicleLimits {
   double downforce_coefficient = 0.15;  // N per (m/s)^2: 0.5 rho ClA
   double rolling_resistance = 0.012;    // share of the weight
   double max_brake_force = 30000.0;     // N at the road, all wheels
+  // Share of the grip the driven wheels can turn into drive force: the drive split between the axles,
+  // the load on each (with weight transfer under acceleration) and traction control's limit per wheel.
+  double traction_share = 1.0;
   double max_speed = 80.0;              // m/s: top speed (drive force = resistance) or gearing
   double drive_force_step = 0.5;        // m/s between entries of drive_force
   std::vector<double> drive_force;      // N at the road at full throttle in the best gear, per speed step

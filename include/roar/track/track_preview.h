@@ -1,12 +1,22 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "roar/track/track.h"
 
 namespace roar::track {
 
-// Writes a top-down PNG of the track: grass, barriers, road, centre line, start/finish line, sector lines.
+// A path drawn over the track, coloured by a value per point (a car's speed) on a common scale.
+struct ValuedPath {
+  std::string label;
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> values;
+};
+
+// Writes a top-down PNG of the track: grass, barriers, road, centre line, start/finish line, sector lines,
+// and the paths coloured from blue (lowest value) to red (highest) with a scale labelled `value_name`.
 // Throws std::runtime_error when the image cannot be written.
-void renderTrackPreview(const Track& track, const std::string& png_path, int width_px = 1200);
+void renderTrackPreview(const Track& track, const std::string& png_path, int width_px = 1200,
+                        const std::vector<ValuedPath>& paths = {}, const std::string& value_name = "");
 
 }  // namespace roar::track
