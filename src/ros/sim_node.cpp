@@ -1,7 +1,11 @@
 #include "sim_node.h"
 
 #include <ros/callback_queue.h>
+#include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
+
+#include <map>
+#include <set>
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
@@ -178,11 +182,64 @@ bool SimNode::controlsArrived() const {
   return true;
 }
 
+bool SimNode::recordersReady() const {
+  if (options_.wait_for_recorders.empty()) return true;
+  XmlRpc::XmlRpcValue request, response, payload;
+  request[0] = ros::this_node::getName();
+  if (!ros::master::execute("getSystemState", request, response, payload, false)) return false;
+  // payload[1]: the subscriptions, [topic, [node, ...]] each.
+  std::map<std::string, std::set<std::string>> subscribers;
+  for (int i = 0; i < payload[1].size(); ++i) {
+    auto& nodes = subscribers[static_cast<std::string>(payload[1][i][0])];
+    for (int k = 0; k < payload[1][i][1].size(); ++k) nodes.insert(static_cast<std::string>(payload[1][i][1][k]));
+  }
+  std::vector<std::string> topics = {ros::names::resolve("/clock")};
+  for (const auto& [name, io] : io_) {
+    for (const char* topic : {"odom", "vehicle_status", "control"}) topics.push_back(nh_.resolveName(name + "/" + topic));
+  }
+  for (const auto& recorder : options_.wait_for_recorders) {
+    const std::string node = ros::names::resolve(recorder);
+    for (const auto& topic : topics) {
+      if (!subscribers[topic].count(node)) return false;
+    }
+  }
+  // Registered is not yet connected: every subscriber the master knows must be connected to us.
+  if (clock_pub_.getNumSubscribers() < subscribers[ros::names::resolve("/clock")].size()) return false;
+  for (const auto& [name, io] : io_) {
+    if (io.odom.getNumSubscribers() < subscribers[nh_.resolveName(name + "/odom")].size()) return false;
+    if (io.status.getNumSubscribers() < subscribers[nh_.resolveName(name + "/vehicle_status")].size()) return false;
+  }
+  return true;
+}
+
+void SimNode::paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick) {
+  if (options_.real_time_factor <= 0) return;
+  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
+  const double sim_elapsed = static_cast<double>(world_->tick() - start_tick) * options_.world.control_dt;
+  const ros::WallTime due = start + ros::WallDuration(sim_elapsed / options_.real_time_factor);
+  while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
+}
+
 void SimNode::run() {
   ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
-  // Give subscribers a moment to connect before the first state goes out.
-  const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(0.5);
+  // Give subscribers a moment to connect before the first state goes out (a recorder needs longer).
+  const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(options_.start_wait);
   while (ros::ok() && ros::WallTime::now() < settle) queue->callAvailable(ros::WallDuration(0.05));
+  // A recorder must hear the first tick: wait until it subscribes to the clock and every car's topics.
+  const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
+  while (ros::ok() && !recordersReady()) {
+    if (ros::WallTime::now() > give_up) {
+      ROS_WARN("roar_sim: the recorders %s did not subscribe within 60 s; starting without them",
+               options_.wait_for_recorders.front().c_str());
+      break;
+    }
+    queue->callAvailable(ros::WallDuration(0.1));
+  }
+  // The recorder's links to the drivers' control topics are not ours to see: give them a moment.
+  if (!options_.wait_for_recorders.empty()) {
+    const ros::WallTime links = ros::WallTime::now() + ros::WallDuration(1.0);
+    while (ros::ok() && ros::WallTime::now() < links) queue->callAvailable(ros::WallDuration(0.05));
+  }
   publishState();
 
   const ros::WallTime start = ros::WallTime::now();
@@ -203,17 +260,14 @@ void SimNode::run() {
           }
           tick();
           waiting_since = ros::WallTime::now();
+          paceToRealTime(start, start_tick);
         }
         break;
       }
       case SteppingMode::kAsync: {
         queue->callAvailable(ros::WallDuration(0));
         tick();
-        if (options_.real_time_factor > 0) {
-          const double sim_elapsed = static_cast<double>(world_->tick() - start_tick) * options_.world.control_dt;
-          const ros::WallTime due = start + ros::WallDuration(sim_elapsed / options_.real_time_factor);
-          while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
-        }
+        paceToRealTime(start, start_tick);
         break;
       }
     }

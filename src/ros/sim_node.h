@@ -46,6 +46,9 @@ class SimNode {
                   const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1));
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
+  bool recordersReady() const;
+  // Async and lockstep: no faster than real_time_factor (0: as fast as possible).
+  void paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick);
   void sampleRaySensors();
   sim::Pose spawnPose(int spawn_point) const;
   // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.

@@ -77,6 +77,8 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
   o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);
   o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
+  o.start_wait = readDouble(nh, "start_wait", o.start_wait, 0.0, 600.0);
+  o.wait_for_recorders = readStringList(nh, "wait_for_recorders", {});
   if (scenario) {
     // The scenario's cars (checked when it was read) instead of ~vehicles.
     for (const auto& car : scenario->cars) {

@@ -34,6 +34,10 @@ struct SimNodeOptions {
   sim::WorldOptions world;
   SteppingMode mode = SteppingMode::kAsync;
   double real_time_factor = 1.0;
+  double start_wait = 0.5;        // wall seconds between start-up and the first state
+  // Nodes (rosbag recorders) that must subscribe to /clock and every car's odom, vehicle_status and
+  // control before the first tick, so a recording starts at tick 0.
+  std::vector<std::string> wait_for_recorders;
   double lockstep_timeout = 5.0;  // wall seconds a tick waits for a connected driver before going on without it
   std::vector<VehicleSpawn> vehicles;
 };

@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""rostest: the race bag holds every tick of the recorded topics, and feeding its controls to a second
+roar_sim in step mode reproduces its odometry exactly."""
+import os
+import sys
+import threading
+import time
+import unittest
+
+import rosbag
+import rosnode
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from roar_ros.srv import Step
+
+BAG = None
+
+
+def state(odom):
+    p, q, v, w = odom.pose.pose.position, odom.pose.pose.orientation, odom.twist.twist.linear, odom.twist.twist.angular
+    return (p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z)
+
+
+def wait_for_bag(out):
+    results = os.path.join(out, "results.yaml")
+    deadline = time.time() + 250
+    while time.time() < deadline and not (os.path.exists(results) and os.path.getmtime(results) > START):
+        time.sleep(0.5)
+    if not os.path.exists(results):
+        return None
+    # The race is over: stop the recorder so it closes the bag.
+    rosnode.kill_nodes(["/recorder"])
+    path = os.path.join(out, "race.bag")
+    deadline = time.time() + 60
+    while time.time() < deadline and not (os.path.exists(path) and os.path.getmtime(path) > START):
+        time.sleep(0.5)
+    return path if os.path.exists(path) else None
+
+
+class RecordResim(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.path = wait_for_bag(rospy.get_param("~output_dir"))
+        cls.messages = {}
+        if cls.path:
+            with rosbag.Bag(cls.path) as bag:
+                for topic, msg, _ in bag.read_messages():
+                    cls.messages.setdefault(topic, []).append(msg)
+
+    def test_1_bag_holds_every_tick(self):
+        self.assertIsNotNone(self.path, "no race.bag")
+        for topic in ["/clock", "/tf", "/ego/odom", "/ego/control", "/ego/vehicle_status", "/race_status",
+                      "/racing_line", "/waypoints", "/track/markers", "/ego/local_trajectory"]:
+            self.assertIn(topic, self.messages, topic)
+        odom_stamps = [m.header.stamp for m in self.messages["/ego/odom"]]
+        ticks = round(odom_stamps[-1].to_sec() / 0.05) + 1
+        self.assertGreater(ticks, 2000, "a whole lap")
+        # One odometry, one status and one clock per tick from tick 0, none lost or repeated.
+        self.assertEqual([round(s.to_sec() / 0.05) for s in odom_stamps], list(range(ticks)))
+        self.assertEqual(len(self.messages["/ego/vehicle_status"]), ticks)
+        self.assertEqual(len(self.messages["/clock"]), ticks)
+        # A control answers every tick's odometry (the last one may still be on its way).
+        control_stamps = [m.header.stamp for m in self.messages["/ego/control"]]
+        self.assertEqual(control_stamps, odom_stamps[:len(control_stamps)])
+        self.assertGreaterEqual(len(control_stamps), ticks - 1)
+
+    def test_2_resimulation_reproduces_the_odometry(self):
+        self.assertIsNotNone(self.path, "no race.bag")
+        recorded = {m.header.stamp: m for m in self.messages["/ego/odom"]}
+        latest = {}
+        arrived = threading.Event()
+
+        def on_odom(msg):
+            latest["odom"] = msg
+            arrived.set()
+
+        rospy.Subscriber("/resim/ego/odom", Odometry, on_odom, tcp_nodelay=True)
+        rospy.wait_for_service("/resim/roar_sim/step", timeout=30)
+        step = rospy.ServiceProxy("/resim/roar_sim/step", Step, persistent=True)
+        time.sleep(1.0)
+        compared = 0
+        for control in self.messages["/ego/control"][:1200]:  # the first minute
+            arrived.clear()
+            answer = step(ticks=1, vehicle_names=["ego"], controls=[control])
+            self.assertTrue(answer.success, answer.message)
+            self.assertTrue(arrived.wait(10.0))
+            while latest["odom"].header.stamp != answer.stamp:
+                arrived.clear()
+                self.assertTrue(arrived.wait(10.0), "odometry of the step")
+            mine, theirs = latest["odom"], recorded[answer.stamp]
+            # Bit for bit (a bag's messages are of a class of their own, so compare the numbers).
+            self.assertEqual(state(mine), state(theirs), "tick at t = %.2f s" % answer.stamp.to_sec())
+            compared += 1
+        self.assertEqual(compared, 1200)
+
+
+if __name__ == "__main__":
+    START = time.time()
+    rospy.init_node("record_resim_checker")
+    rostest.rosrun("roar_ros", "record_resim", RecordResim, sys.argv)
