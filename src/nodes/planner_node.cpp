@@ -1,7 +1,7 @@
 // planner: plans the racing line and its speed profile from the track's waypoints (/waypoints, latched by
 // waypoint_server) and the car's own limits (the simulator's vehicle files), publishes the whole
 // trajectory latched on /racing_line (+ /racing_line/path) and, for every odometry message of each car,
-// the window ahead of it on /<vehicle>/local_trajectory, stamped with the odometry's time. A car ahead
+// the window ahead of it on /<vehicle>/local_trajectory (and as a path on /<vehicle>/local_path), stamped with the odometry's time. A car ahead
 // on the line caps the window's speeds so the car follows it instead of running into it.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -68,6 +68,7 @@ class PlannerNode {
     for (const auto& name : options_.vehicles) {
       Car& car = cars_[name];
       car.window_pub = nh.advertise<roar_ros::Trajectory>(name + "/local_trajectory", 10);
+      car.path_pub = nh.advertise<nav_msgs::Path>(name + "/local_path", 10);
       car.odom_sub = nh.subscribe<nav_msgs::Odometry>(
           name + "/odom", 10, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, m); },
           ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
@@ -76,7 +77,7 @@ class PlannerNode {
 
  private:
   struct Car {
-    ros::Publisher window_pub;
+    ros::Publisher window_pub, path_pub;
     ros::Subscriber odom_sub;
     long hint = -1;
     nav_msgs::Odometry::ConstPtr last_odom;
@@ -152,6 +153,11 @@ class PlannerNode {
     roar_ros::Trajectory window = ros_bridge::toMessage(local, options_.frame, map_name_);
     window.header.stamp = odom.header.stamp;
     car.window_pub.publish(window);
+    if (car.path_pub.getNumSubscribers() > 0) {  // for rviz
+      nav_msgs::Path path = ros_bridge::toPath(local, options_.frame);
+      path.header.stamp = odom.header.stamp;
+      car.path_pub.publish(path);
+    }
   }
 
   PlannerNodeOptions options_;

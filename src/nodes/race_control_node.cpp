@@ -9,6 +9,7 @@
 #include <roar_ros/RaceStatus.h>
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/Trajectory.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
 #include <cmath>
@@ -79,8 +80,7 @@ roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
     s.laps_completed = car.timer.lapsCompleted();
     if (car.timer.started()) {
       s.sector = 1 + static_cast<int>(car.timer.progress() / race.track().length() * race.track().info().sectors);
-      const double lap_start = car.timer.laps().empty() ? 0.0 : car.timer.laps().back().finish_time;
-      s.current_lap_time = car.timer.laps().empty() ? 0.0 : car.last_time - lap_start;
+      s.current_lap_time = car.last_time - car.timer.lapStart();
     }
     if (!car.timer.laps().empty()) s.last_lap = car.timer.laps().back().lap_time;
     if (auto best = car.timer.bestLap()) s.best_lap = *best;
@@ -100,6 +100,7 @@ class RaceControlNode {
   RaceControlNode(ros::NodeHandle& nh, const track::Track& track, const RaceControlOptions& options)
       : options_(options), race_(track, options.rules, options.vehicles) {
     status_pub_ = nh.advertise<roar_ros::RaceStatus>("race_status", 10);
+    markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("race_status/markers", 10);
     reset_ = nh.serviceClient<roar_ros::ResetVehicle>("/roar_sim/reset_vehicle");
     for (const auto& name : options.vehicles) {
       subs_.push_back(nh.subscribe<nav_msgs::Odometry>(
@@ -181,11 +182,49 @@ class RaceControlNode {
     }
   }
 
-  void publishStatus() { status_pub_.publish(toMessage(race_, now_)); }
+  void publishStatus() {
+    const roar_ros::RaceStatus status = toMessage(race_, now_);
+    status_pub_.publish(status);
+    if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(timingMarkers(status));
+  }
+
+  // For rviz: each car's place, lap and times as text floating above it.
+  visualization_msgs::MarkerArray timingMarkers(const roar_ros::RaceStatus& status) const {
+    visualization_msgs::MarkerArray markers;
+    for (const auto& car : status.cars) {
+      auto samples = telemetry_.find(car.name);
+      if (samples == telemetry_.end() || samples->second.empty()) continue;
+      visualization_msgs::Marker m;
+      m.header.frame_id = "map";
+      m.header.stamp = status.header.stamp;
+      m.ns = "timing";
+      m.id = static_cast<int>(markers.markers.size());
+      m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+      m.pose.position.x = samples->second.back().position.x();
+      m.pose.position.y = samples->second.back().position.y();
+      m.pose.position.z = 3.2;
+      m.pose.orientation.w = 1.0;
+      m.scale.z = 0.8;
+      m.color.r = m.color.g = m.color.b = m.color.a = 1.0;
+      auto seconds = [](double t) {
+        char buf[32] = "-";
+        if (t > 0.0) std::snprintf(buf, sizeof(buf), "%.2f", t);
+        return std::string(buf);
+      };
+      char text[256];
+      std::snprintf(text, sizeof(text), "P%d %s  lap %d/%d  S%d  %.1f s\nlast %s  best %s  %.0f km/h", car.position,
+                    car.name.c_str(), std::min(car.laps_completed + 1, status.laps), status.laps, car.sector,
+                    car.current_lap_time, seconds(car.last_lap).c_str(), seconds(car.best_lap).c_str(),
+                    samples->second.back().speed * 3.6);
+      m.text = text;
+      markers.markers.push_back(m);
+    }
+    return markers;
+  }
 
   RaceControlOptions options_;
   race::RaceControl race_;
-  ros::Publisher status_pub_;
+  ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;
   std::vector<ros::Subscriber> subs_;
   ros::Subscriber line_sub_;

@@ -125,4 +125,23 @@ double yawOf(const geometry_msgs::Quaternion& q) {
   return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
 }
 
+// The URDF's joints: <wheel>_joint turns about the axle, steer_<front wheel>_joint about z.
+sensor_msgs::JointState toJointState(const sim::VehicleState& state, const sim::VehicleParams& params,
+                                     const std::array<double, 4>& wheel_angles, const ros::Time& stamp) {
+  sensor_msgs::JointState msg;
+  msg.header.stamp = stamp;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::string& wheel = params.wheels[i].name;  // wheel_front_left, ...
+    msg.name.push_back(wheel + "_joint");
+    msg.position.push_back(wheel_angles[i]);
+    msg.velocity.push_back(state.wheels[i].angular_velocity);
+    if (params.wheels[i].front) {
+      msg.name.push_back("steer_" + wheel.substr(wheel.find('_') + 1) + "_joint");  // steer_front_left_joint
+      msg.position.push_back(state.wheels[i].steer_angle);
+      msg.velocity.push_back(0.0);
+    }
+  }
+  return msg;
+}
+
 }  // namespace roar::ros_bridge

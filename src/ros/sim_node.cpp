@@ -85,6 +85,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
   io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);
+  io.joints = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 50);
   io.collision = nh_.advertise<roar_ros::CollisionEvent>(name + "/collision", 50);
   io.control = nh_.subscribe<roar_ros::VehicleControl>(
       name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
@@ -166,6 +167,11 @@ void SimNode::publishState() {
     const std::string base = name + "/base_link";
     io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
     io.status.publish(toStatus(state, stamp, base));
+    for (std::size_t w = 0; w < 4; ++w) {
+      io.wheel_angles[w] = std::remainder(io.wheel_angles[w] + state.wheels[w].angular_velocity * options_.world.control_dt,
+                                          2.0 * M_PI);
+    }
+    io.joints.publish(toJointState(state, world_->vehicleParams(name), io.wheel_angles, stamp));
     transforms.push_back(toTransform(state.pose, stamp, options_.map_frame, base));
     for (const auto& contact : world_->contacts(name)) io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
   }

@@ -8,6 +8,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <array>
 #include <map>
 #include <memory>
 
@@ -33,7 +34,8 @@ class SimNode {
 
  private:
   struct VehicleIo {
-    ros::Publisher odom, status, collision;
+    ros::Publisher odom, status, collision, joints;
+    std::array<double, 4> wheel_angles{};  // rad, integrated for the URDF's wheel joints
     ros::Subscriber control;
     ros::Time last_control_stamp{0, 0};
     bool control_seen = false;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include <roar_ros/ControllerConfig.h>
 
@@ -55,6 +56,30 @@ TEST(MsgConversion, OdometryUsesBodyTwistAndFrames) {
   EXPECT_EQ(odom.twist.twist.linear.x, 5);
   EXPECT_EQ(odom.twist.twist.angular.z, 0.2);
   EXPECT_NEAR(odom.header.stamp.toSec(), 12.35, 1e-9);
+}
+
+TEST(MsgConversion, JointStatesNameTheUrdfsJoints) {
+  const sim::VehicleParams sedan = test::sedan();
+  sim::VehicleState s;
+  for (std::size_t i = 0; i < 4; ++i) {
+    s.wheels[i].angular_velocity = 10.0 + i;
+    s.wheels[i].steer_angle = sedan.wheels[i].front ? 0.1 * (i + 1) : 0.0;
+  }
+  const auto joints = ros_bridge::toJointState(s, sedan, {0.5, 1.0, 1.5, 2.0}, ros_bridge::toRosTime(1.0));
+  std::map<std::string, double> position;
+  for (std::size_t k = 0; k < joints.name.size(); ++k) position[joints.name[k]] = joints.position[k];
+  // The joints of urdf/sedan.urdf, each once: four wheels turning, two front wheels steering.
+  ASSERT_EQ(position.size(), 6u);
+  ASSERT_EQ(joints.name.size(), 6u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const std::string& wheel = sedan.wheels[i].name;
+    EXPECT_EQ(position.at(wheel + "_joint"), 0.5 * (i + 1)) << wheel;
+    if (sedan.wheels[i].front) {
+      EXPECT_EQ(position.at("steer_" + wheel.substr(std::string("wheel_").size()) + "_joint"), 0.1 * (i + 1)) << wheel;
+    }
+  }
+  EXPECT_EQ(position.count("steer_front_left_joint"), 1u);
+  EXPECT_EQ(position.count("steer_front_right_joint"), 1u);
 }
 
 TEST(MsgConversion, TimeIsExactForControlTicks) {

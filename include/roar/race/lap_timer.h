@@ -35,6 +35,7 @@ class LapTimer {
   const std::vector<LapRecord>& laps() const { return laps_; }
   std::optional<double> bestLap() const;
   double progress() const { return progress_; }  // metres after the start/finish line, [0, length)
+  double lapStart() const { return lap_start_; }  // s, when the lap under way began (once started)
   // Distance covered since the first crossing: laps * length + progress; for gaps between cars.
   double distanceCovered() const;
 

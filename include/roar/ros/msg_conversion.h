@@ -4,6 +4,7 @@
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <sensor_msgs/JointState.h>
 #include <ros/time.h>
 #include <roar_ros/CollisionEvent.h>
 #include <roar_ros/VehicleControl.h>
@@ -26,6 +27,10 @@ ros::Time toRosTime(double seconds);
 nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
                               const std::string& base_frame);
 roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame);
+// The URDF's joints for robot_state_publisher: <wheel>_joint (rotation angle, rad; wheel_angles in the
+// order of params.wheels) and steer_<front wheel>_joint (steering angle).
+sensor_msgs::JointState toJointState(const sim::VehicleState& state, const sim::VehicleParams& params,
+                                     const std::array<double, 4>& wheel_angles, const ros::Time& stamp);
 geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
                                            const std::string& child);
 roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
