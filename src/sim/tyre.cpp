@@ -51,4 +51,14 @@ TyreForce TyreModel::force(double slip_ratio, double slip_angle, double load, do
   return {fx * sx / rho, -fy * sy / rho};
 }
 
+double TyreModel::longitudinalForce(double slip_ratio, double slip_angle, double load, double mu) const {
+  // force()'s longitudinal half, without the lateral curve: the wheel-spin integration asks for it twice.
+  const double d = peakForce(load, mu);
+  if (d <= 0) return 0.0;
+  const double sx = slip_ratio / peak_slip_ratio_;
+  const double rho = std::hypot(sx, slip_angle / peak_slip_angle_);
+  if (rho < 1e-12) return 0.0;
+  return d * magicFormula(params_.long_b, params_.long_c, params_.long_e, rho * peak_slip_ratio_) * sx / rho;
+}
+
 }  // namespace roar::sim

@@ -16,7 +16,7 @@ constexpr double kLowSpeed = 1.5;  // m/s
 btVector3 toBt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
 Eigen::Vector3d toEigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
 
-// Nearest hit below a wheel, ignoring the car's own body.
+// Nearest hit below a wheel, ignoring the car's own body; remembers which triangle of a mesh it was.
 struct WheelRay : public btCollisionWorld::ClosestRayResultCallback {
   WheelRay(const btVector3& from, const btVector3& to, const btCollisionObject* self)
       : ClosestRayResultCallback(from, to), self_(self) {}
@@ -24,8 +24,57 @@ struct WheelRay : public btCollisionWorld::ClosestRayResultCallback {
     return static_cast<const btCollisionObject*>(proxy->m_clientObject) != self_ &&
            ClosestRayResultCallback::needsCollision(proxy);
   }
+  btScalar addSingleResult(btCollisionWorld::LocalRayResult& result, bool normal_in_world_space) override {
+    // Bullet reports a hit only when it is nearer than the nearest so far: this one is the nearest now.
+    triangle = result.m_localShapeInfo ? result.m_localShapeInfo->m_triangleIndex : -1;
+    return ClosestRayResultCallback::addSingleResult(result, normal_in_world_space);
+  }
   const btCollisionObject* self_;
+  int triangle = -1;
 };
+
+// The corners of triangle `index` of a static triangle-mesh body, in the world frame.
+std::array<btVector3, 3> meshTriangle(const btCollisionObject* object, int index) {
+  const auto* shape = static_cast<const btTriangleMeshShape*>(object->getCollisionShape());
+  const btStridingMeshInterface* mesh = shape->getMeshInterface();
+  const unsigned char *vertices = nullptr, *indices = nullptr;
+  int num_vertices = 0, vertex_stride = 0, index_stride = 0, num_faces = 0;
+  PHY_ScalarType vertex_type, index_type;
+  mesh->getLockedReadOnlyVertexIndexBase(&vertices, num_vertices, vertex_type, vertex_stride, &indices, index_stride,
+                                         num_faces, index_type, 0);
+  std::array<btVector3, 3> corners;
+  for (int k = 0; k < 3; ++k) {
+    const unsigned char* at_index = indices + index * index_stride;
+    const int v = index_type == PHY_SHORT ? reinterpret_cast<const unsigned short*>(at_index)[k]
+                                          : reinterpret_cast<const unsigned int*>(at_index)[k];
+    const unsigned char* at = vertices + v * vertex_stride;
+    corners[k] = vertex_type == PHY_DOUBLE
+                     ? btVector3(reinterpret_cast<const double*>(at)[0], reinterpret_cast<const double*>(at)[1],
+                                 reinterpret_cast<const double*>(at)[2])
+                     : btVector3(reinterpret_cast<const float*>(at)[0], reinterpret_cast<const float*>(at)[1],
+                                 reinterpret_cast<const float*>(at)[2]);
+    corners[k] = object->getWorldTransform() * corners[k];
+  }
+  mesh->unLockReadOnlyVertexBase(0);
+  return corners;
+}
+
+// Where the segment from -> to crosses the triangle: the fraction along it and the triangle's normal
+// facing `from`, as Bullet's triangle ray test reports them.
+bool crossTriangle(const std::array<btVector3, 3>& t, const btVector3& from, const btVector3& to, double* fraction,
+                   btVector3* normal) {
+  const btVector3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+  const double d_from = (from - t[0]).dot(n), d_to = (to - t[0]).dot(n);
+  if (d_from * d_to >= 0.0) return false;
+  const double f = d_from / (d_from - d_to);
+  const btVector3 p = from.lerp(to, f);
+  for (int k = 0; k < 3; ++k) {
+    if ((t[(k + 1) % 3] - t[k]).cross(p - t[k]).dot(n) < 0.0) return false;
+  }
+  *fraction = f;
+  *normal = (d_from > 0.0 ? n : -n).normalized();
+  return true;
+}
 
 }  // namespace
 
@@ -83,6 +132,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
     w.omega = 0.0;
     w.steer = 0.0;
     w.state = WheelState();
+    w.road_object = nullptr;
   }
   steering_ = 0.0;
   anti_roll_load_.fill(0.0);
@@ -155,8 +205,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const btVector3 from = com * (wheel.centre + btVector3(0, 0, susp.travel));
   const double reach = susp.travel + susp.droop + wp.radius;
   const btVector3 to = from - up * reach;
-  WheelRay ray(from, to, body_.get());
-  world_->rayTest(from, to, ray);
+  const GroundHit ray = castWheelRay(wheel, from, to);
   WheelState& st = wheel.state;
   st.steer_angle = wheel.steer;
   const double r = wp.radius;
@@ -165,7 +214,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   double brake_torque = control_.brake * (rear ? params_.brakes.max_torque_rear : params_.brakes.max_torque_front);
   const double hand_brake_torque = (rear && control_.hand_brake) ? params_.brakes.hand_brake_torque : 0.0;
 
-  if (!ray.hasHit()) {
+  if (!ray.hit) {
     st = WheelState();
     st.steer_angle = wheel.steer;
     // Airborne: the wheel spins up under drive and down under the brakes.
@@ -177,10 +226,10 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
     return;
   }
 
-  const double distance = ray.m_closestHitFraction * reach;
+  const double distance = ray.fraction * reach;
   const double compression = susp.travel + r - distance;
-  const btVector3 normal = ray.m_hitNormalWorld.normalized();
-  const btVector3 contact = ray.m_hitPointWorld;
+  const btVector3 normal = ray.normal;
+  const btVector3 contact = from.lerp(to, ray.fraction);
   const btVector3 rel = contact - com.getOrigin();
   const btVector3 v_contact = body_->getVelocityInLocalPoint(rel);
   const double compression_rate = -v_contact.dot(normal) / std::max(0.2, static_cast<double>(up.dot(normal)));
@@ -190,7 +239,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   if (compression > susp.travel) load += 20.0 * susp.stiffness * (compression - susp.travel);  // bump stop
   load = std::max(0.0, load);
 
-  const int surface = ray.m_collisionObject->getUserIndex();
+  const int surface = ray.object->getUserIndex();
   const double mu = surface == kRoad ? friction.road : friction.ground;
 
   // Wheel axes in the contact plane.
@@ -202,7 +251,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const double denom = std::max(std::abs(vx), kLowSpeed);
   const double slip_angle = std::atan(vy / denom);
   auto longitudinal = [&](double omega) {
-    return tyre_.force((omega * r - vx) / denom, slip_angle, load, mu).longitudinal;
+    return tyre_.longitudinalForce((omega * r - vx) / denom, slip_angle, load, mu);
   };
 
   // Wheel spin, integrated implicitly in the tyre force (linearised), which is stiff at low speed.
@@ -251,6 +300,45 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   st.compression = compression;
   st.in_contact = true;
   st.on_road = surface == kRoad;
+}
+
+VehicleDynamics::GroundHit VehicleDynamics::castWheelRay(Wheel& wheel, const btVector3& from, const btVector3& to) {
+  // A wheel on the road meets the road triangle it met last substep most of the time (they are metres
+  // long): the ray is tried on it first, and the whole world is searched only when it misses, or when
+  // another car is near enough to be nearer than the road (the ground and barriers are never above it).
+  GroundHit hit;
+  if (wheel.road_object && crossTriangle(wheel.road_triangle, from, to, &hit.fraction, &hit.normal) &&
+      !otherCarNear(from, to)) {
+    hit.hit = true;
+    hit.object = wheel.road_object;
+    return hit;
+  }
+  WheelRay ray(from, to, body_.get());
+  world_->rayTest(from, to, ray);
+  wheel.road_object = nullptr;
+  if (!ray.hasHit()) return hit;
+  hit.hit = true;
+  hit.object = ray.m_collisionObject;
+  hit.fraction = ray.m_closestHitFraction;
+  hit.normal = ray.m_hitNormalWorld.normalized();
+  if (hit.object->getUserIndex() == kRoad && ray.triangle >= 0) {
+    wheel.road_object = hit.object;
+    wheel.road_triangle = meshTriangle(hit.object, ray.triangle);
+  }
+  return hit;
+}
+
+bool VehicleDynamics::otherCarNear(const btVector3& from, const btVector3& to) const {
+  const btVector3 lo(std::min(from.x(), to.x()), std::min(from.y(), to.y()), std::min(from.z(), to.z()));
+  const btVector3 hi(std::max(from.x(), to.x()), std::max(from.y(), to.y()), std::max(from.z(), to.z()));
+  const btCollisionObjectArray& objects = world_->getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) {
+    const btCollisionObject* other = objects[i];
+    if (other == body_.get() || other->getUserIndex() < kVehicleBase) continue;
+    const btBroadphaseProxy* box = other->getBroadphaseHandle();
+    if (TestAabbAgainstAabb2(lo, hi, box->m_aabbMin, box->m_aabbMax)) return true;
+  }
+  return false;
 }
 
 void VehicleDynamics::beginSubstep() { substep_start_velocity_ = body_->getLinearVelocity(); }

@@ -46,10 +46,22 @@ class VehicleDynamics {
     double omega = 0.0;           // rad/s
     double steer = 0.0;           // rad
     WheelState state;
+    const btCollisionObject* road_object = nullptr;  // the road, when the last ray met one of its triangles
+    std::array<btVector3, 3> road_triangle;           // that triangle's corners, world frame
+  };
+
+  struct GroundHit {
+    bool hit = false;
+    const btCollisionObject* object = nullptr;
+    double fraction = 1.0;  // along the ray
+    btVector3 normal{0, 0, 1};
   };
 
   std::array<double, 4> wheelSteerAngles() const;
   void updateWheel(int index, double drive_torque, double dt, const SurfaceFriction& friction);
+  // The suspension ray's nearest hit, the car's own body aside.
+  GroundHit castWheelRay(Wheel& wheel, const btVector3& from, const btVector3& to);
+  bool otherCarNear(const btVector3& from, const btVector3& to) const;
 
   std::string name_;
   VehicleParams params_;

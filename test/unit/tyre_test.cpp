@@ -53,3 +53,15 @@ TEST(Tyre, LoadSensitivityLowersTheFrictionCoefficient) {
   EXPECT_EQ(tyre.peakForce(0, 1.0), 0.0);
   EXPECT_EQ(tyre.force(0.1, 0.1, 0, 1.0).longitudinal, 0.0);
 }
+
+TEST(Tyre, LongitudinalForceIsForcesLongitudinalHalfExactly) {
+  TyreModel tyre{TyreParams{}};
+  for (double load : {0.0, 2500.0, 6000.0}) {
+    for (double k = -1; k <= 1; k += 0.1) {
+      for (double a = -0.4; a <= 0.4; a += 0.05) {
+        EXPECT_EQ(tyre.longitudinalForce(k, a, load, 1.05), tyre.force(k, a, load, 1.05).longitudinal)
+            << "slip " << k << ", angle " << a << ", load " << load;
+      }
+    }
+  }
+}

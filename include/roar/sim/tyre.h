@@ -20,6 +20,8 @@ class TyreModel {
   // slip_ratio = (omega r - vx) / |vx|; slip_angle = atan(vy / |vx|) in radians (vy: contact patch velocity to
   // the left); load in N; mu: road friction. The lateral force opposes the slip angle.
   TyreForce force(double slip_ratio, double slip_angle, double load, double mu) const;
+  // force(...).longitudinal, bit for bit, at half the cost.
+  double longitudinalForce(double slip_ratio, double slip_angle, double load, double mu) const;
   // Friction force available at this load and road: the magic formula's D.
   double peakForce(double load, double mu) const;
   double peakSlipRatio() const { return peak_slip_ratio_; }
