@@ -7,6 +7,9 @@
 //   SensorSuiteRealTimeFactor     one car driving with config/sensors/default.yaml: three 84x84 cameras at
 //                                 20 Hz, a 32-laser LiDAR at 56,000 points/s, IMU and GNSS at 100 Hz.
 //   PlanRacingTrajectory/<map>    the planner's start-up: minimum-curvature line and speed profile.
+//   RlEnvSteps/camera:C/threads:T the RL environment's steps per second on Roar Sprint, state observations
+//                                 (C=0) or with an 84x84 RGB camera (C=1), one environment on one thread
+//                                 or two environments per thread on T threads.
 // After the benchmarks, the racing table: the stack (planner, tracker, lap timer) races every shipped
 // circuit in lockstep for --laps=N (default 10) and prints achieved and promised laps, the lap of a
 // minimum-time line searched from the planner's (min_time; vs_min = promised / min_time), tracking error
@@ -20,6 +23,9 @@
 #include <cstring>
 #include <string>
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <random>
 
 #include "roar/sensors/camera.h"
@@ -28,6 +34,7 @@
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/planning/minimum_time.h"
+#include "roar/rl/vector_env.h"
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
@@ -181,6 +188,57 @@ void SensorSuiteRealTimeFactor(benchmark::State& state) {
 }
 
 }  // namespace
+
+namespace {
+
+// The RL environment on Roar Sprint: steps per second of one environment (one thread) and of a vectorised
+// one (two environments per thread), observing config/rl/state.yaml (state and waypoints) or that plus an
+// 84x84 RGB camera. The car chases the waypoint 10 m ahead, so it drives (and auto-resets) like an agent.
+rl::EnvOptions benchEnv(bool camera) {
+  rl::EnvOptions o = rl::readEnvOptions(sourceDir() + "/config/rl/state.yaml");
+  if (camera) {
+    o.observation.camera.width = o.observation.camera.height = 84;
+    o.observation.camera.rgb = true;
+  }
+  return o;
+}
+
+rl::Value chaseAction(const rl::Space& actions, const rl::Value& obs) {
+  const auto& wp = obs.at("waypoints_information").at("waypoint_10").numbers;
+  rl::Value a = rl::zeros(actions);
+  a.at("throttle").numbers[0] = 0.6;
+  a.at("steer").numbers[0] = std::clamp(1.5 * std::atan2(wp[1], wp[0]), -1.0, 1.0);
+  return a;
+}
+
+void RlEnvSteps(benchmark::State& state) {
+  const bool camera = state.range(0) == 1;
+  const int threads = static_cast<int>(state.range(1));
+  const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
+  const sim::VehicleParams car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+  const int count = threads == 1 ? 1 : 2 * threads;
+  for (int i = 0; i < count; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, benchEnv(camera)));
+  rl::VectorEnv vec(std::move(envs), threads);
+  std::vector<rl::Value> obs;
+  for (auto& r : vec.reset(1)) obs.push_back(r.observation);
+  std::vector<rl::Value> actions(obs.size());
+  std::int64_t steps = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < obs.size(); ++i) actions[i] = chaseAction(vec.actionSpace(), obs[i]);
+    rl::VectorStepResult r = vec.step(actions);
+    for (std::size_t i = 0; i < obs.size(); ++i) obs[i] = std::move(r.steps[i].observation);
+    steps += static_cast<std::int64_t>(obs.size());
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+  state.counters["steps_per_s_per_thread"] =
+      benchmark::Counter(static_cast<double>(steps) / threads, benchmark::Counter::kIsRate);
+}
+
+}  // namespace
+
+BENCHMARK(RlEnvSteps)->ArgNames({"camera", "threads"})->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})
+    ->MinTime(3.0)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(RayCast)->ArgName("coherent")->Arg(0)->Arg(1)->MinTime(2.0)->Unit(benchmark::kMillisecond);
 BENCHMARK(CameraFrame)->ArgName("width")->Arg(84)->Arg(800)->MinTime(2.0)->Unit(benchmark::kMicrosecond);

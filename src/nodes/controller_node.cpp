@@ -1,5 +1,5 @@
 // controller: drives cars along the planner's trajectories (<vehicle>/local_trajectory): the scenario's
-// cars that the stack drives, or ~vehicle. Answers every odometry message with a control stamped with the
+// cars that the stack drives (less ~exclude), or ~vehicle. Answers every odometry message with a control stamped with the
 // odometry's time, which is what the simulator's lockstep mode waits for. Until a car's first trajectory
 // arrives it does not answer, so a lockstep simulator waits for the stack to be ready (an async one holds
 // the car with its control timeout). When a car's odometry stops for odom_timeout seconds of wall time it
@@ -12,6 +12,7 @@
 #include <roar_ros/Trajectory.h>
 #include <roar_ros/VehicleControl.h>
 
+#include <algorithm>
 #include <list>
 
 #include "roar/control/trajectory_tracker.h"
@@ -45,8 +46,12 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   const std::string config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
   // The car's geometry comes from the same vehicle files the simulator reads.
   if (const auto scenario = readScenario(nh)) {
+    // Cars another driver (a policy_driver) drives instead.
+    const std::vector<std::string> exclude = readStringList(nh, "exclude", {});
     for (const auto& car : scenario->cars) {
-      if (car.driven) o.cars.push_back({car.name, sim::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
+      if (car.driven && std::find(exclude.begin(), exclude.end(), car.name) == exclude.end()) {
+        o.cars.push_back({car.name, sim::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
+      }
     }
   } else {
     o.cars.push_back({readString(nh, "vehicle", "ego"),

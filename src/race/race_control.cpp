@@ -67,8 +67,7 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   }
 
   const track::Projection pr = track_.projectNear(position, car.timer.progress() + track_.info().start_finish_s, 100.0);
-  const double beyond = pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right;
-  const bool off = beyond > rules_.track_limits_margin;
+  const bool off = pr.beyondEdge() > rules_.track_limits_margin;
   if (off && !car.off_track && rules_.track_limits != IncidentRule::kIgnore) {
     ++car.track_limit_violations;
     const Incident made = makeIncident(car, time, "track limits", rules_.track_limits, rules_.track_limits_penalty);

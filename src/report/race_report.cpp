@@ -36,15 +36,16 @@ std::string format(const char* fmt, double v) {
 
 void renderPlot(const std::string& png_path, const std::string& title, const std::string& x_label,
                 const std::string& y_label, const std::vector<Series>& series, int width_px, int height_px) {
-  double x_lo = 1e300, x_hi = -1e300, y_hi = -1e300;
+  double x_lo = 1e300, x_hi = -1e300, y_lo = 0.0, y_hi = -1e300;
   for (const auto& s : series) {
     for (double x : s.x) x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
-    for (double y : s.y) y_hi = std::max(y_hi, y);
+    for (double y : s.y) y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
   }
   if (!(x_hi > x_lo)) x_lo = 0, x_hi = 1;
-  const double y_lo = 0.0;
-  if (!(y_hi > y_lo)) y_hi = 1;
-  y_hi *= 1.08;
+  if (!(y_hi > y_lo)) y_hi = y_lo + 1;
+  const double margin = 0.08 * (y_hi - y_lo);
+  y_hi += margin;
+  if (y_lo < 0) y_lo -= margin;
   cv::Mat image(height_px, width_px, CV_8UC3, cv::Scalar(30, 30, 30));
   const int left = 80, right = 20, top = 50, bottom = 60;
   auto px = [&](double x, double y) {
@@ -57,21 +58,21 @@ void renderPlot(const std::string& png_path, const std::string& title, const std
     cv::line(image, px(x, y_lo), px(x, y_hi), grid, 1);
     cv::putText(image, format("%.0f", x), px(x, y_lo) + cv::Point(-15, 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
   }
-  for (double y = 0.0; y <= y_hi; y += dy) {
+  for (double y = std::ceil(y_lo / dy) * dy; y <= y_hi; y += dy) {
     cv::line(image, px(x_lo, y), px(x_hi, y), grid, 1);
     cv::putText(image, format("%.0f", y), px(x_lo, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
   }
-  cv::putText(image, title, {left, 32}, cv::FONT_HERSHEY_SIMPLEX, 0.8, text, 2, cv::LINE_AA);
+  cv::putText(image, title, {left, 26}, cv::FONT_HERSHEY_SIMPLEX, 0.8, text, 2, cv::LINE_AA);
   cv::putText(image, x_label, {width_px / 2 - 60, height_px - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.6, text, 1, cv::LINE_AA);
-  cv::putText(image, y_label, {8, top - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.6, text, 1, cv::LINE_AA);
+  cv::putText(image, y_label, {8, top - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
   int legend_y = top + 20;
   for (const auto& s : series) {
     const cv::Scalar colour(s.bgr.x(), s.bgr.y(), s.bgr.z());
     std::vector<cv::Point> pts;
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) pts.push_back(px(s.x[i], s.y[i]));
     if (pts.size() > 1) cv::polylines(image, pts, false, colour, 2, cv::LINE_AA);
-    cv::line(image, {width_px - 330, legend_y - 5}, {width_px - 300, legend_y - 5}, colour, 3);
-    cv::putText(image, s.label, {width_px - 290, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, text, 1, cv::LINE_AA);
+    cv::line(image, {width_px - 430, legend_y - 5}, {width_px - 400, legend_y - 5}, colour, 3);
+    cv::putText(image, s.label, {width_px - 390, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, text, 1, cv::LINE_AA);
     legend_y += 24;
   }
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the plot");

@@ -76,6 +76,21 @@ nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& s
   return odom;
 }
 
+sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom) {
+  sim::VehicleState s;
+  s.pose = fromMessage(odom.pose.pose);
+  const auto& v = odom.twist.twist.linear;
+  const auto& w = odom.twist.twist.angular;
+  s.body_linear_velocity = Eigen::Vector3d(v.x, v.y, v.z);
+  s.body_angular_velocity = Eigen::Vector3d(w.x, w.y, w.z);
+  s.linear_velocity = s.pose.orientation * s.body_linear_velocity;
+  s.angular_velocity = s.pose.orientation * s.body_angular_velocity;
+  s.body_acceleration.setZero();
+  s.speed = s.body_linear_velocity.norm();
+  s.forward_speed = s.body_linear_velocity.x();
+  return s;
+}
+
 roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame) {
   roar_ros::VehicleStatus msg;
   msg.header.stamp = stamp;

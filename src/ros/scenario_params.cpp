@@ -14,6 +14,7 @@ std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
   context.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
   context.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   context.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
+  context.rl_dir = readString(nh, "rl_dir", pkg + "/config/rl");
   try {
     return stack::loadScenario(stack::resolveScenario(name, readString(nh, "scenarios_dir", pkg + "/config/scenarios")),
                                context);

@@ -38,12 +38,13 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
       throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
                        std::to_string(kGridSlots - 1) + ")");
     }
-    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour);
+    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent);
   }
   services_.push_back(private_nh_.advertiseService("spawn_vehicle", &SimNode::onSpawn, this));
   services_.push_back(private_nh_.advertiseService("destroy_vehicle", &SimNode::onDestroy, this));
   services_.push_back(private_nh_.advertiseService("reset_vehicle", &SimNode::onReset, this));
   services_.push_back(private_nh_.advertiseService("step", &SimNode::onStep, this));
+  services_.push_back(private_nh_.advertiseService("reset_episode", &SimNode::onResetEpisode, this));
   services_.push_back(private_nh_.advertiseService("attach_sensor", &SimNode::onAttachSensor, this));
   services_.push_back(private_nh_.advertiseService("detach_sensor", &SimNode::onDetachSensor, this));
   ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s", track_.info().name.c_str(),
@@ -69,7 +70,7 @@ std::string SimNode::sensorSetPath(const std::string& set) const {
 }
 
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                         const std::string& sensor_set, const Eigen::Vector3f& colour) {
+                         const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env) {
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
   // Sensors are read and checked before the car exists, so a bad set leaves nothing half made.
   auto vehicle_sensors = std::make_unique<VehicleSensors>(
@@ -78,9 +79,22 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   if (!sensor_set.empty()) {
     for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set))) vehicle_sensors->attach(spec, world_->time());
   }
+  std::unique_ptr<AgentInterface> agent;
+  if (!agent_env.empty()) {
+    const rl::EnvOptions env = rl::readEnvOptions(agent_env);
+    // One agent step is one tick of this simulator.
+    if (env.world.control_dt != options_.world.control_dt || env.world.physics_dt != options_.world.physics_dt) {
+      throw ParamError("vehicle '" + name + "': the agent's environment " + agent_env + " steps control_dt " +
+                       std::to_string(env.world.control_dt) + " / physics_dt " + std::to_string(env.world.physics_dt) +
+                       " s, roar_sim " + std::to_string(options_.world.control_dt) + " / " +
+                       std::to_string(options_.world.physics_dt) + " s (parameters ~control_dt, ~physics_dt)");
+    }
+    agent = std::make_unique<AgentInterface>(nh_, name, track_, env, static_cast<int>(params.gearbox.ratios.size()));
+  }
   if (!looks_.count(model)) looks_[model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + model + ".urdf");
   world_->spawnVehicle(name, params, pose);
   VehicleIo io;
+  io.agent = std::move(agent);
   io.scene_id = scene_->addVehicle(looks_[model], (colour.array() < 0).any() ? paint(io_.size()) : colour);
   io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
@@ -139,21 +153,26 @@ void SimNode::tick() {
       if (!io.sensors->empty()) io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
     }
   });
+  updateRayScene();
   sampleRaySensors();
   publishState();
 }
 
-void SimNode::sampleRaySensors() {
+void SimNode::updateRayScene() {
   bool any = false;
-  for (auto& [name, io] : io_) any = any || !io.sensors->empty();
+  for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return;
-  std::map<std::string, Eigen::Isometry3d> poses;
-  for (auto& [name, io] : io_) {
-    poses[name] = sensors::poseOf(world_->vehicleState(name));
-    scene_->setVehiclePose(io.scene_id, poses[name]);
-  }
+  for (auto& [name, io] : io_) scene_->setVehiclePose(io.scene_id, sensors::poseOf(world_->vehicleState(name)));
   scene_->commit();
-  for (auto& [name, io] : io_) io.sensors->rig().sampleRays(world_->time(), *scene_, poses[name], io.scene_id, *io.sensors);
+}
+
+void SimNode::sampleRaySensors() {
+  for (auto& [name, io] : io_) {
+    if (!io.sensors->empty()) {
+      io.sensors->rig().sampleRays(world_->time(), *scene_, sensors::poseOf(world_->vehicleState(name)), io.scene_id,
+                                   *io.sensors);
+    }
+  }
 }
 
 void SimNode::publishState() {
@@ -174,6 +193,7 @@ void SimNode::publishState() {
     io.joints.publish(toJointState(state, world_->vehicleParams(name), io.wheel_angles, stamp));
     transforms.push_back(toTransform(state.pose, stamp, options_.map_frame, base));
     for (const auto& contact : world_->contacts(name)) io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
+    if (io.agent) io.agent->afterTick(state, world_->contacts(name), world_->time(), scene_.get(), io.scene_id);
   }
   tf_.sendTransform(transforms);
 }
@@ -247,6 +267,11 @@ void SimNode::run() {
     while (ros::ok() && ros::WallTime::now() < links) queue->callAvailable(ros::WallDuration(0.05));
   }
   publishState();
+  // Agents' first episodes begin where their cars were spawned; /roar_sim/reset_episode starts others.
+  updateRayScene();
+  for (auto& [name, io] : io_) {
+    if (io.agent) io.agent->begin(world_->vehicleState(name), world_->time(), scene_.get(), io.scene_id);
+  }
 
   const ros::WallTime start = ros::WallTime::now();
   const std::uint64_t start_tick = world_->tick();
@@ -350,6 +375,35 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   res.message = warnings;
   res.tick = world_->tick();
   res.stamp = toRosTime(world_->time());
+  return true;
+}
+
+bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::ResetEpisode::Response& res) {
+  auto it = io_.find(req.vehicle);
+  if (it == io_.end() || !it->second.agent) {
+    res.success = false;
+    res.message = "no agent's car named '" + req.vehicle + "' (a car whose scenario entry names an agent environment)";
+    return true;
+  }
+  AgentInterface& agent = *it->second.agent;
+  try {
+    world_->resetVehicle(req.vehicle, agent.nextSpawn(req.seed));
+  } catch (const std::exception& e) {
+    res.success = false;
+    res.message = e.what();
+    return true;
+  }
+  // The car settles, held by its brakes, before the episode's first observation.
+  agent.pause();
+  for (int i = 0; i < rl::settleTicks(agent.options()); ++i) {
+    world_->setControl(req.vehicle, sim::parkedControl());
+    tick();
+  }
+  updateRayScene();
+  res.observation = agent.begin(world_->vehicleState(req.vehicle), world_->time(), scene_.get(), it->second.scene_id);
+  res.stamp = res.observation.header.stamp;
+  res.success = true;
+  res.message = "episode of '" + req.vehicle + "' begins at t = " + std::to_string(world_->time()) + " s";
   return true;
 }
 

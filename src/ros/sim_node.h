@@ -14,10 +14,12 @@
 
 #include "roar/sensors/ray_scene.h"
 #include "roar/sim/world.h"
+#include "agent_interface.h"
 #include "roar_ros/AttachSensor.h"
 #include "roar_ros/DetachSensor.h"
 #include "roar/track/track.h"
 #include "roar_ros/DestroyVehicle.h"
+#include "roar_ros/ResetEpisode.h"
 #include "roar_ros/ResetVehicle.h"
 #include "roar_ros/SpawnVehicle.h"
 #include "roar_ros/Step.h"
@@ -41,16 +43,20 @@ class SimNode {
     bool control_seen = false;
     int scene_id = -1;
     std::unique_ptr<VehicleSensors> sensors;
+    std::unique_ptr<AgentInterface> agent;  // when an RL agent drives the car
   };
 
   // A negative colour: the next of the palette.
   void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                  const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1));
+                  const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
+                  const std::string& agent_env = "");
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
   bool recordersReady() const;
   // Async and lockstep: no faster than real_time_factor (0: as fast as possible).
   void paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick);
+  // Moves the cars in the ray scene when a sensor or an agent's observation will cast rays this tick.
+  void updateRayScene();
   void sampleRaySensors();
   sim::Pose spawnPose(int spawn_point) const;
   // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.
@@ -65,6 +71,7 @@ class SimNode {
   bool onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res);
   bool onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res);
   bool onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res);
+  bool onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::ResetEpisode::Response& res);
   bool onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res);
   bool onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res);
 

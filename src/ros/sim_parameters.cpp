@@ -10,9 +10,9 @@ namespace roar::ros_bridge {
 
 namespace {
 
-// ~vehicles: a list of {name, model, spawn_point}; model and spawn_point are optional.
+// ~vehicles: a list of {name, model, spawn_point, sensors, agent}; all but name are optional.
 std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::string& default_model,
-                                       const std::string& default_sensor_set) {
+                                       const std::string& default_sensor_set, const std::string& rl_dir) {
   XmlRpc::XmlRpcValue list;
   if (!nh.getParam("vehicles", list)) return {{"ego", default_model, 0, default_sensor_set}};
   const std::string where = nh.resolveName("vehicles");
@@ -37,6 +37,14 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
     if (v.hasMember("sensors")) {
       if (v["sensors"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".sensors must be a string");
       spawn.sensor_set = static_cast<std::string>(v["sensors"]);
+    }
+    if (v.hasMember("agent")) {
+      if (v["agent"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".agent must be a string");
+      try {
+        spawn.agent = stack::resolveAgentEnv(static_cast<std::string>(v["agent"]), rl_dir);
+      } catch (const std::exception& e) {
+        throw ParamError("parameter " + item + ".agent: " + e.what());
+      }
     }
     if (v.hasMember("model")) {
       if (v["model"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".model must be a string");
@@ -69,6 +77,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.default_model = readString(nh, "default_model", o.default_model);
   o.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
   o.default_sensor_set = readString(nh, "sensor_set", "");
+  o.rl_dir = readString(nh, "rl_dir", pkg + "/config/rl");
   o.map_frame = readString(nh, "map_frame", o.map_frame);
   o.world.control_dt = readDouble(nh, "control_dt", o.world.control_dt, 1e-4, 1.0);
   o.world.physics_dt = readDouble(nh, "physics_dt", o.world.physics_dt, 1e-4, 0.05);
@@ -88,10 +97,11 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
       spawn.spawn_point = car.spawn_point;
       spawn.sensor_set = car.sensors.empty() ? o.default_sensor_set : car.sensors;
       spawn.colour = car.colour;
+      if (!car.agent.empty()) spawn.agent = stack::resolveAgentEnv(car.agent, o.rl_dir);
       o.vehicles.push_back(spawn);
     }
   } else {
-    o.vehicles = readVehicles(nh, o.default_model, o.default_sensor_set);
+    o.vehicles = readVehicles(nh, o.default_model, o.default_sensor_set, o.rl_dir);
   }
   return o;
 }

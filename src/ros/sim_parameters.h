@@ -21,6 +21,7 @@ struct VehicleSpawn {
   int spawn_point = 0;
   std::string sensor_set;  // a set in sensors_dir or a YAML path; empty: no sensors
   Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB; negative: the n-th of a palette
+  std::string agent;       // an RL environment file: an agent drives the car through the RL interface
 };
 
 struct SimNodeOptions {
@@ -30,6 +31,7 @@ struct SimNodeOptions {
   std::string default_model = "sedan";
   std::string sensors_dir;
   std::string default_sensor_set;  // for vehicles that name none
+  std::string rl_dir;              // RL environments named by a vehicle's agent
   std::string map_frame = "map";
   sim::WorldOptions world;
   SteppingMode mode = SteppingMode::kAsync;

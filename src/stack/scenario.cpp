@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "roar/rl/env_options.h"
 #include "roar/sensors/sensor_spec.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -72,6 +73,7 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
       if (c["sensors"]) car.sensors = c["sensors"].as<std::string>();
       if (c["driven"]) car.driven = c["driven"].as<bool>();
       if (c["max_speed"]) car.max_speed = c["max_speed"].as<double>();
+      if (c["agent"]) car.agent = c["agent"].as<std::string>();
       if (c["colour"]) {
         const auto rgb = c["colour"].as<std::vector<float>>();
         if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
@@ -106,9 +108,24 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
         fail(field + ".sensors", e.what());
       }
     }
+    if (!car.agent.empty()) {
+      if (car.driven) fail(field + ".agent", "an agent's car must have driven: false (the stack would drive it too)");
+      try {
+        rl::readEnvOptions(resolveAgentEnv(car.agent, context.rl_dir));
+      } catch (const std::exception& e) {
+        fail(field + ".agent", e.what());
+      }
+    }
     s.cars.push_back(car);
   }
   return s;
+}
+
+std::string resolveAgentEnv(const std::string& name_or_path, const std::string& rl_dir) {
+  if (fs::is_regular_file(name_or_path)) return name_or_path;
+  const std::string file = rl_dir + "/" + name_or_path + ".yaml";
+  if (!fs::is_regular_file(file)) throw ScenarioError("no RL environment '" + name_or_path + "' (a file, or a name in " + rl_dir + ")");
+  return file;
 }
 
 }  // namespace roar::stack

@@ -82,6 +82,22 @@ TEST(MsgConversion, JointStatesNameTheUrdfsJoints) {
   EXPECT_EQ(position.count("steer_front_right_joint"), 1u);
 }
 
+TEST(MsgConversion, OdometryGivesBackPoseAndVelocities) {
+  sim::VehicleState s;
+  s.pose.position = {10, 20, 0.5};
+  s.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  s.body_linear_velocity = {5, 0.5, 0};
+  s.body_angular_velocity = {0, 0, 0.2};
+  const sim::VehicleState back = ros_bridge::fromOdometry(ros_bridge::toOdometry(s, ros_bridge::toRosTime(1.0), "map", "b"));
+  EXPECT_EQ(back.pose.position, s.pose.position);
+  EXPECT_EQ(back.body_linear_velocity, s.body_linear_velocity);
+  EXPECT_EQ(back.body_angular_velocity, s.body_angular_velocity);
+  EXPECT_NEAR(back.linear_velocity.x(), -0.5, 1e-12) << "facing north: body left is map west";
+  EXPECT_NEAR(back.linear_velocity.y(), 5.0, 1e-12);
+  EXPECT_NEAR(back.speed, std::hypot(5.0, 0.5), 1e-12);
+  EXPECT_EQ(back.forward_speed, 5.0);
+}
+
 TEST(MsgConversion, TimeIsExactForControlTicks) {
   // 0.05 s ticks: tick 7 and 7 * 0.05 agree to the nanosecond.
   EXPECT_EQ(ros_bridge::toRosTime(7 * 0.05).toNSec(), 350000000u);

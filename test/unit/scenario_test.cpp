@@ -16,7 +16,7 @@ namespace {
 
 stack::ScenarioContext shipped() {
   const std::string src = test::sourceDir();
-  return {src + "/maps", src + "/config/sensors", src + "/urdf", src + "/config/vehicles"};
+  return {src + "/maps", src + "/config/sensors", src + "/urdf", src + "/config/vehicles", src + "/config/rl"};
 }
 
 // Writes `text` as a scenario file and returns the error loading it gives ("" when it loads).
@@ -67,6 +67,11 @@ TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
   EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 40}\n").find("not a grid slot"), std::string::npos);
   EXPECT_NE(errorLoading("map: roar_ring\ncars: []\n").find("cars: must be a list"), std::string::npos);
   EXPECT_NE(errorLoading("map: [roar_ring\n").find(".yaml"), std::string::npos) << "broken YAML names the file";
+  EXPECT_EQ(errorLoading("map: roar_ring\ncars:\n  - {name: a, driven: false, agent: state}\n"), "");
+  const std::string agent = errorLoading("map: roar_ring\ncars:\n  - {name: a, driven: false, agent: telepathy}\n");
+  EXPECT_NE(agent.find("cars[0].agent: no RL environment 'telepathy'"), std::string::npos) << agent;
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, agent: state}\n").find("cars[0].agent: an agent's car must have driven: false"),
+            std::string::npos);
 }
 
 TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {

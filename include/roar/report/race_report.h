@@ -29,7 +29,7 @@ struct Series {
   Eigen::Vector3i bgr = Eigen::Vector3i(255, 255, 255);
 };
 
-// A line plot with axes, grid and a legend. Throws std::runtime_error when the file cannot be written.
+// A line plot with axes, grid and a legend; the y axis starts at zero or below the lowest value. Throws std::runtime_error when the file cannot be written.
 void renderPlot(const std::string& png_path, const std::string& title, const std::string& x_label,
                 const std::string& y_label, const std::vector<Series>& series, int width_px = 1200, int height_px = 520);
 

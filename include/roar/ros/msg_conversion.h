@@ -26,6 +26,9 @@ ros::Time toRosTime(double seconds);
 // Pose of base_link in `map_frame`; twist in base_link (nav_msgs/Odometry convention).
 nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
                               const std::string& base_frame);
+// What odometry tells of a car's state: pose, body and map-frame velocities, speed (not its wheels,
+// drivetrain or acceleration).
+sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom);
 roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame);
 // The URDF's joints for robot_state_publisher: <wheel>_joint (rotation angle, rad; wheel_angles in the
 // order of params.wheels) and steer_<front wheel>_joint (steering angle).

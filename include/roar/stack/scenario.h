@@ -17,6 +17,8 @@ struct ScenarioCar {
   std::string sensors;      // a sensor set of config/sensors (empty: none)
   bool driven = true;       // the stack's controller drives it (false: yours does)
   double max_speed = 0.0;   // m/s the stack may drive it at; 0: no cap
+  std::string agent;        // an RL environment of config/rl (or a path): an agent drives it through roar_sim's
+                            // RL interface (then driven must be false); empty: none
 };
 
 struct Scenario {
@@ -38,12 +40,15 @@ struct ScenarioContext {
   std::string sensors_dir;
   std::string urdf_dir;
   std::string vehicle_config_dir;
+  std::string rl_dir;  // RL environments (config/rl)
 };
 
-// Reads and checks a scenario: every error names the file and the field (an unknown map, model or
-// sensor set, two cars with one name or one spawn point, a spawn point past the map's grid).
+// Reads and checks a scenario: every error names the file and the field (an unknown map, model, sensor
+// set or RL environment, two cars with one name or one spawn point, a spawn point past the map's grid).
 Scenario loadScenario(const std::string& path, const ScenarioContext& context);
 // `name_or_path`: a file, or the name of one in `scenarios_dir` (without .yaml).
 std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir);
+// An RL environment file: a path, or a name in `rl_dir` (without .yaml). Throws ScenarioError.
+std::string resolveAgentEnv(const std::string& name_or_path, const std::string& rl_dir);
 
 }  // namespace roar::stack

@@ -51,6 +51,8 @@ struct Projection {
   double width_right = 0.0;
   double width_left = 0.0;
   bool on_track() const { return lateral <= width_left && -lateral <= width_right; }
+  // Metres beyond the nearer road edge (negative: on the road, that far inside the edge on its side).
+  double beyondEdge() const { return lateral >= 0 ? lateral - width_left : -lateral - width_right; }
 };
 
 class Track {

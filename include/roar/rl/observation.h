@@ -1,0 +1,91 @@
+#pragma once
+// What an agent observes of its car, selectable, as a Gymnasium Dict (keys sorted):
+//   speed              Box(0, inf, (1,))   m/s
+//   velocity           Box(3)              m/s, base_link frame (x forward, y left, z up): ROAR_PY's velocimeter
+//   angular_velocity   Box(3)              rad/s, base_link frame
+//   imu                Box(6)              specific force (m/s^2, +9.81 up at rest) then angular velocity, base_link
+//   waypoints_information  Dict of waypoint_<d>: Box(4) for each distance d ahead along the centre line, as
+//                      ROAR_PY_RL: the waypoint's x and y in the car's frame, its yaw relative to the car's,
+//                      and the lane width (m)
+//   lidar              Box(0, max_range, (beams,))  ranges of a horizontal fan of beams, right to left
+//   camera_rgb         Box(0, 255, (height, width, 3), uint8)
+//   camera_depth       Box(0, max_depth, (height, width), float32)  metres along the optical axis
+// Camera and LiDAR are cast in the sensors module's ray scene; the car carrying them is invisible to them.
+#include <memory>
+#include <vector>
+
+#include "roar/rl/space.h"
+#include "roar/sensors/sensor_spec.h"
+#include "roar/sim/world.h"
+#include "roar/track/track.h"
+
+namespace roar::sensors {
+class RayScene;
+class CameraRenderer;
+}  // namespace roar::sensors
+
+namespace roar::rl {
+
+struct LidarObservation {
+  int beams = 0;             // 0: no lidar key
+  double max_range = 50.0;   // m: a beam that hits nothing nearer reads this
+  double fov_deg = 180.0;    // horizontal, centred straight ahead
+  double height = 0.6;       // m above base_link
+};
+
+struct CameraObservation {
+  int width = 0, height = 0;  // 0: no camera keys
+  double fov_deg = 90.0;      // horizontal
+  bool rgb = true;
+  bool depth = false;
+  double max_depth = 100.0;   // m: farther (and sky) reads this
+  sensors::Mount mount = defaultMount();
+  static sensors::Mount defaultMount();  // the default sensor set's front camera: 0.6 m ahead, 1.55 m up, 5 deg down
+};
+
+struct ObservationOptions {
+  bool speed = true;
+  bool velocity = true;
+  bool angular_velocity = true;
+  bool imu = false;
+  std::vector<double> waypoint_distances = {5.0, 10.0, 20.0, 40.0, 60.0, 80.0};  // m; empty: no waypoints
+  LidarObservation lidar;
+  CameraObservation camera;
+};
+
+// Throws std::invalid_argument naming the option that cannot work (nothing observed, a negative distance,
+// a camera of zero width, ...).
+void validate(const ObservationOptions& options);
+
+// The key of the waypoint d metres ahead: "waypoint_10", "waypoint_2.5".
+std::string waypointKey(double distance);
+
+// The Dict these options observe (validated first).
+Space observationSpace(const ObservationOptions& options);
+
+class ObservationBuilder {
+ public:
+  ObservationBuilder(const track::Track& track, const ObservationOptions& options, double gravity = 9.81);
+  ~ObservationBuilder();
+  ObservationBuilder(ObservationBuilder&&) noexcept;
+
+  const Space& space() const { return space_; }
+  const ObservationOptions& options() const { return options_; }
+  // Camera or LiDAR: observe() needs the ray scene.
+  bool needsScene() const;
+
+  // The observation of a car in `state`, `where` its projection on the track (TrackProgress). `scene` (in
+  // which the car is `own_vehicle`, -1 when it is not in it) is used when needsScene().
+  Value observe(const sim::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
+                int own_vehicle);
+
+ private:
+  const track::Track* track_;
+  ObservationOptions options_;
+  double gravity_;
+  Space space_;
+  std::unique_ptr<sensors::CameraRenderer> camera_;
+  std::vector<Eigen::Vector3f> lidar_dirs_;  // base_link frame
+};
+
+}  // namespace roar::rl

@@ -1,0 +1,176 @@
+#include "roar/rl/observation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "roar/sensors/camera.h"
+#include "roar/sensors/inertial.h"
+#include "roar/sensors/ray_scene.h"
+#include "roar/sensors/vehicle_motion.h"
+
+namespace roar::rl {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double yawOf(const Eigen::Quaterniond& q) {
+  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
+}
+
+Space dictOf(const ObservationOptions& o) {
+  std::vector<std::pair<std::string, Space>> entries;
+  if (o.speed) entries.emplace_back("speed", Space::box(0.0, kInf, {1}));
+  if (o.velocity) entries.emplace_back("velocity", Space::box(-kInf, kInf, {3}));
+  if (o.angular_velocity) entries.emplace_back("angular_velocity", Space::box(-kInf, kInf, {3}));
+  if (o.imu) entries.emplace_back("imu", Space::box(-kInf, kInf, {6}));
+  if (!o.waypoint_distances.empty()) {
+    std::vector<std::pair<std::string, Space>> waypoints;
+    for (double d : o.waypoint_distances) {
+      // x, y and lane width unbounded like ROAR_PY_RL's; the relative yaw is an angle in [-pi, pi].
+      waypoints.emplace_back(waypointKey(d), Space::box({-kInf, -kInf, -M_PI, 0.0}, {kInf, kInf, M_PI, kInf}, {4}));
+    }
+    entries.emplace_back("waypoints_information", Space::dict(std::move(waypoints)));
+  }
+  if (o.lidar.beams > 0) entries.emplace_back("lidar", Space::box(0.0, o.lidar.max_range, {o.lidar.beams}));
+  if (o.camera.width > 0) {
+    if (o.camera.rgb) entries.emplace_back("camera_rgb", Space::box(0.0, 255.0, {o.camera.height, o.camera.width, 3}, DType::kUInt8));
+    if (o.camera.depth) entries.emplace_back("camera_depth", Space::box(0.0, o.camera.max_depth, {o.camera.height, o.camera.width}));
+  }
+  return Space::dict(std::move(entries));
+}
+
+}  // namespace
+
+Space observationSpace(const ObservationOptions& options) {
+  validate(options);
+  return dictOf(options);
+}
+
+sensors::Mount CameraObservation::defaultMount() {
+  sensors::Mount m;
+  m.position = Eigen::Vector3d(0.6, 0.0, 1.55);
+  m.pitch = 5.0 * M_PI / 180.0;
+  return m;
+}
+
+std::string waypointKey(double distance) {
+  char key[64];
+  std::snprintf(key, sizeof(key), "waypoint_%g", distance);
+  return key;
+}
+
+void validate(const ObservationOptions& o) {
+  auto fail = [](const std::string& why) { throw std::invalid_argument("observation: " + why); };
+  for (double d : o.waypoint_distances) {
+    if (!(d >= 0.0) || !std::isfinite(d)) fail("waypoint_distances: " + std::to_string(d) + " is not a distance ahead (>= 0)");
+  }
+  for (std::size_t i = 0; i < o.waypoint_distances.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      if (waypointKey(o.waypoint_distances[i]) == waypointKey(o.waypoint_distances[k])) {
+        fail("waypoint_distances: " + waypointKey(o.waypoint_distances[i]) + " is asked for twice");
+      }
+    }
+  }
+  if (o.lidar.beams < 0 || o.lidar.beams > 4096) fail("lidar.beams must be in [0, 4096]");
+  if (o.lidar.beams > 0 && !(o.lidar.max_range > 0.0)) fail("lidar.max_range must be positive");
+  if (o.lidar.beams > 0 && !(o.lidar.fov_deg > 0.0 && o.lidar.fov_deg <= 360.0)) fail("lidar.fov must be in (0, 360]");
+  const auto& c = o.camera;
+  if (c.width < 0 || c.height < 0 || (c.width > 0) != (c.height > 0) || c.width > 4096 || c.height > 4096) {
+    fail("camera.width and camera.height must both be 0 (no camera) or in [1, 4096]");
+  }
+  if (c.width > 0 && !(c.fov_deg > 0.0 && c.fov_deg < 180.0)) fail("camera.fov must be in (0, 180)");
+  if (c.width > 0 && !c.rgb && !c.depth) fail("camera: neither rgb nor depth is asked for");
+  if (c.width > 0 && c.depth && !(c.max_depth > 0.0)) fail("camera.max_depth must be positive");
+  if (!o.speed && !o.velocity && !o.angular_velocity && !o.imu && o.waypoint_distances.empty() && o.lidar.beams == 0 &&
+      c.width == 0) {
+    fail("nothing is observed");
+  }
+}
+
+ObservationBuilder::ObservationBuilder(const track::Track& track, const ObservationOptions& options, double gravity)
+    : track_(&track), options_(options), gravity_(gravity) {
+  space_ = observationSpace(options_);
+  if (options_.camera.width > 0) {
+    sensors::CameraSpec spec;
+    spec.fov_deg = options_.camera.fov_deg;
+    spec.width = options_.camera.width;
+    spec.height = options_.camera.height;
+    camera_ = std::make_unique<sensors::CameraRenderer>(spec);
+  }
+  const auto& lidar = options_.lidar;
+  for (int i = 0; i < lidar.beams; ++i) {
+    const double fov = lidar.fov_deg * M_PI / 180.0;
+    // A full circle has no edge to repeat; a partial fan spans its edges.
+    const double a = lidar.fov_deg >= 360.0 ? -M_PI + 2.0 * M_PI * (i + 0.5) / lidar.beams
+                                            : -0.5 * fov + (lidar.beams == 1 ? 0.5 * fov : fov * i / (lidar.beams - 1));
+    lidar_dirs_.emplace_back(static_cast<float>(std::cos(a)), static_cast<float>(std::sin(a)), 0.0f);
+  }
+}
+
+ObservationBuilder::~ObservationBuilder() = default;
+ObservationBuilder::ObservationBuilder(ObservationBuilder&&) noexcept = default;
+
+bool ObservationBuilder::needsScene() const { return options_.lidar.beams > 0 || options_.camera.width > 0; }
+
+Value ObservationBuilder::observe(const sim::VehicleState& state, const track::Projection& where,
+                                  const sensors::RayScene* scene, int own_vehicle) {
+  const auto& o = options_;
+  Value obs;
+  if (o.speed) obs.at("speed") = Value::of({state.speed});
+  const Eigen::Vector3d& v = state.body_linear_velocity;
+  const Eigen::Vector3d& w = state.body_angular_velocity;
+  if (o.velocity) obs.at("velocity") = Value::of({v.x(), v.y(), v.z()});
+  if (o.angular_velocity) obs.at("angular_velocity") = Value::of({w.x(), w.y(), w.z()});
+  if (o.imu) {
+    const sensors::ImuSample imu = sensors::sampleImu(sensors::motionOf(state), sensors::Mount(), sensors::ImuSpec(), gravity_, nullptr);
+    const Eigen::Vector3d& a = imu.linear_acceleration;
+    const Eigen::Vector3d& g = imu.angular_velocity;
+    obs.at("imu") = Value::of({a.x(), a.y(), a.z(), g.x(), g.y(), g.z()});
+  }
+  if (!o.waypoint_distances.empty()) {
+    const double yaw = yawOf(state.pose.orientation);
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const Eigen::Vector2d at = state.pose.position.head<2>();
+    Value& waypoints = obs.at("waypoints_information");
+    for (double d : o.waypoint_distances) {
+      const track::TrackPose p = track_->poseAt(where.s + d);
+      const Eigen::Vector2d delta = p.position - at;
+      waypoints.at(waypointKey(d)) = Value::of({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
+                                                track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
+    }
+  }
+  if (needsScene()) {
+    if (!scene) throw std::invalid_argument("observe: camera and LiDAR observations need the ray scene");
+    const Eigen::Isometry3d base = sensors::poseOf(state);
+    if (o.lidar.beams > 0) {
+      std::vector<Eigen::Vector3f> dirs(lidar_dirs_.size());
+      const Eigen::Matrix3f rotation = base.linear().cast<float>();
+      for (std::size_t i = 0; i < dirs.size(); ++i) dirs[i] = rotation * lidar_dirs_[i];
+      std::vector<sensors::RayHit> hits(dirs.size());
+      const Eigen::Vector3d origin = base * Eigen::Vector3d(0.0, 0.0, o.lidar.height);
+      scene->cast(origin, dirs.data(), dirs.size(), own_vehicle, static_cast<float>(o.lidar.max_range), false, hits.data());
+      Value& ranges = obs.at("lidar");
+      ranges.numbers.reserve(hits.size());
+      for (const auto& h : hits) ranges.numbers.push_back(h.hit ? std::min<double>(h.distance, o.lidar.max_range) : o.lidar.max_range);
+    }
+    if (camera_) {
+      sensors::CameraChannels channels;
+      channels.rgb = o.camera.rgb;
+      channels.depth = o.camera.depth;
+      sensors::CameraFrame frame;
+      camera_->render(*scene, base * sensors::mountTransform(o.camera.mount), own_vehicle, channels, &frame);
+      if (o.camera.rgb) obs.at("camera_rgb").numbers.assign(frame.rgb.begin(), frame.rgb.end());
+      if (o.camera.depth) {
+        auto& depth = obs.at("camera_depth").numbers;
+        depth.reserve(frame.depth.size());
+        for (float d : frame.depth) depth.push_back(std::isfinite(d) ? std::min<double>(d, o.camera.max_depth) : o.camera.max_depth);
+      }
+    }
+  }
+  return obs;
+}
+
+}  // namespace roar::rl

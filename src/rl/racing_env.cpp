@@ -1,0 +1,90 @@
+#include "roar/rl/racing_env.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "roar/rl/action.h"
+#include "roar/sensors/ray_scene.h"
+#include "roar/sim/world.h"
+
+namespace roar::rl {
+
+namespace {
+
+EnvOptions checked(EnvOptions options) {
+  validate(options);
+  return options;
+}
+
+}  // namespace
+
+RacingEnv::RacingEnv(const track::Track& track, const sim::VehicleParams& vehicle, const EnvOptions& options)
+    : track_(track),
+      vehicle_(vehicle),
+      options_(checked(options)),
+      action_space_(rl::actionSpace(options_.action, static_cast<int>(vehicle.gearbox.ratios.size()))),
+      world_(std::make_unique<sim::World>(track_, options_.world)),
+      observer_(track_, options_.observation, options_.world.gravity),
+      episode_(track_, options_.reward, options_.termination) {
+  if (observer_.needsScene()) scene_ = std::make_unique<sensors::RayScene>(track_);
+  world_->spawnVehicle(kCar, vehicle_, sim::poseOnTrack(track_.gridSpawnPoints(1).front()));
+}
+
+RacingEnv::~RacingEnv() = default;
+
+const Space& RacingEnv::observationSpace() const { return observer_.space(); }
+const sim::World& RacingEnv::world() const { return *world_; }
+
+sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng) {
+  if (options.spawn == SpawnMode::kGrid) return sim::poseOnTrack(track.gridSpawnPoints(1).front());
+  track::TrackPose at = track.poseAt(std::uniform_real_distribution<double>(0.0, track.length())(rng));
+  if (options.spawn_lateral > 0.0) {
+    // Keep the car's half width and a little more on the road.
+    const double room_left = std::max(0.0, at.width_left - 1.5), room_right = std::max(0.0, at.width_right - 1.5);
+    const double offset = std::clamp(std::uniform_real_distribution<double>(-1.0, 1.0)(rng) * options.spawn_lateral,
+                                     -room_right, room_left);
+    at.position += offset * Eigen::Vector2d(-std::sin(at.heading), std::cos(at.heading));
+  }
+  return sim::poseOnTrack(at);
+}
+
+Value RacingEnv::observe() {
+  return observer_.observe(world_->vehicleState(kCar), episode_.where(), scene_.get(), -1);
+}
+
+ResetResult RacingEnv::reset(std::uint64_t seed) {
+  rng_.seed(seed);
+  return reset();
+}
+
+ResetResult RacingEnv::reset() {
+  world_->resetVehicle(kCar, drawSpawnPose(track_, options_, rng_));
+  for (int i = 0; i < settleTicks(options_); ++i) {
+    world_->setControl(kCar, sim::parkedControl());
+    world_->step();
+  }
+  started_ = true;
+  ResetResult r;
+  r.info = episode_.begin(world_->vehicleState(kCar), world_->time());
+  r.observation = observe();
+  return r;
+}
+
+StepResult RacingEnv::step(const Value& action) {
+  if (!started_) throw std::logic_error("RacingEnv::step before the first reset");
+  const sim::VehicleControl control = toControl(action_space_, action);
+  const int gears = static_cast<int>(vehicle_.gearbox.ratios.size());
+  world_->setControl(kCar, sim::checkControl(control, gears).control);
+  world_->step();
+  const StepOutcome outcome = episode_.step(world_->vehicleState(kCar), world_->contacts(kCar), world_->time());
+  StepResult r;
+  r.reward = outcome.reward;
+  r.terminated = outcome.terminated;
+  r.truncated = outcome.truncated;
+  r.info = outcome.info;
+  r.observation = observe();
+  return r;
+}
+
+}  // namespace roar::rl

@@ -1,0 +1,248 @@
+// The racing environment: spaces against what it returns, determinism, resets, rewards, termination,
+// rejected actions and the vectorised environment.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roar/rl/racing_env.h"
+#include "roar/rl/vector_env.h"
+#include "roar/track/map_folder.h"
+#include "test_support.h"
+
+using namespace roar;
+using rl::Space;
+using rl::Value;
+
+namespace {
+
+const track::Track& sprint() {
+  static const track::Track t = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
+  return t;
+}
+
+rl::EnvOptions stateOptions() { return rl::readEnvOptions(test::sourceDir() + "/config/rl/state.yaml"); }
+
+// Full throttle, steering at the waypoint 10 m ahead: a crude driver that makes progress.
+Value chase(const Space& actions, const Value& obs, double throttle = 0.5) {
+  const auto& wp = obs.at("waypoints_information").at("waypoint_10").numbers;
+  Value a = rl::zeros(actions);
+  a.at("throttle").numbers[0] = throttle;
+  a.at("steer").numbers[0] = std::clamp(1.5 * std::atan2(wp[1], wp[0]), -1.0, 1.0);
+  return a;
+}
+
+// What a step said, as numbers (the observation in double precision, not flattened to float).
+std::vector<double> trace(const rl::StepResult& r) {
+  std::vector<double> out = {r.reward, r.info.track_s, r.info.lateral, r.info.speed};
+  for (const auto& key : r.observation.keys) {
+    const Value& v = r.observation.at(key);
+    out.insert(out.end(), v.numbers.begin(), v.numbers.end());
+    for (const auto& inner : v.entries) out.insert(out.end(), inner.numbers.begin(), inner.numbers.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(RlEnv, WhatResetAndStepReturnLiesInTheSpaces) {
+  rl::EnvOptions options = rl::readEnvOptions(test::sourceDir() + "/config/rl/camera.yaml");
+  rl::RacingEnv env(sprint(), test::sedan(), options);
+  const Space& obs = env.observationSpace();
+  EXPECT_EQ(obs.keys, (std::vector<std::string>{"angular_velocity", "camera_depth", "camera_rgb", "imu", "lidar", "speed",
+                                                "velocity", "waypoints_information"}));
+  EXPECT_EQ(obs.at("camera_rgb").shape, (std::vector<int>{84, 84, 3}));
+  EXPECT_EQ(obs.at("camera_rgb").dtype, rl::DType::kUInt8);
+  EXPECT_EQ(obs.at("camera_depth").shape, (std::vector<int>{84, 84}));
+  EXPECT_EQ(obs.at("lidar").shape, std::vector<int>{64});
+  EXPECT_EQ(obs.at("lidar").high[0], 50.0);
+  EXPECT_EQ(obs.at("waypoints_information").keys, (std::vector<std::string>{"waypoint_10", "waypoint_20", "waypoint_40"}));
+  rl::ResetResult reset = env.reset(11);
+  rl::check(obs, reset.observation, "reset observation");
+  Value o = reset.observation;
+  for (int i = 0; i < 60; ++i) {
+    const rl::StepResult r = env.step(chase(env.actionSpace(), o));
+    rl::check(obs, r.observation, "step observation");
+    o = r.observation;
+  }
+  // The scene is seen: the road ahead is grey, the sky blue; some LiDAR beams hit the barriers.
+  const auto& rgb = o.at("camera_rgb").numbers;
+  const auto& depth = o.at("camera_depth").numbers;
+  EXPECT_GT(rgb[2], rgb[0]) << "the top-left pixel is sky";
+  EXPECT_LT(depth[83 * 84 + 42], 10.0) << "the road just ahead is near";
+  const auto& lidar = o.at("lidar").numbers;
+  EXPECT_LT(*std::min_element(lidar.begin(), lidar.end()), 50.0);
+  EXPECT_GT(o.at("speed").numbers[0], 5.0);
+  // IMU: a car on a flat road reads about +g upwards.
+  EXPECT_NEAR(o.at("imu").numbers[2], 9.81, 3.0);
+}
+
+TEST(RlEnv, TheSameSeedGivesTheSameEpisodeBitForBit) {
+  rl::RacingEnv env(sprint(), test::sedan(), stateOptions());
+  auto episode = [&](std::uint64_t seed) {
+    std::vector<std::vector<double>> out;
+    Value o = env.reset(seed).observation;
+    std::mt19937_64 actions(99);
+    for (int i = 0; i < 150; ++i) {
+      Value a = chase(env.actionSpace(), o, 0.8);
+      a.at("steer").numbers[0] = std::clamp(a.at("steer").numbers[0] + std::uniform_real_distribution<double>(-0.3, 0.3)(actions), -1.0, 1.0);
+      const rl::StepResult r = env.step(a);
+      out.push_back(trace(r));
+      o = r.observation;
+      if (r.done()) break;
+    }
+    return out;
+  };
+  const auto first = episode(7);
+  const auto other = episode(8);
+  const auto again = episode(7);
+  EXPECT_EQ(first, again);
+  EXPECT_NE(first, other) << "another seed spawns elsewhere";
+  rl::RacingEnv fresh(sprint(), test::sedan(), stateOptions());
+  rl::ResetResult a = fresh.reset(7);
+  EXPECT_EQ(rl::flatten(fresh.observationSpace(), a.observation),
+            rl::flatten(env.observationSpace(), env.reset(7).observation))
+      << "a used environment resets to what a new one does";
+}
+
+TEST(RlEnv, ResetPutsTheCarAtRestOnItsSpawnAndClearsTheEpisode) {
+  rl::EnvOptions options = stateOptions();
+  options.observation.lidar.beams = 16;
+  rl::RacingEnv env(sprint(), test::sedan(), options);
+  const rl::ResetResult first = env.reset(21);
+  Value o = first.observation;
+  double driven = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const rl::StepResult r = env.step(chase(env.actionSpace(), o, 1.0));
+    o = r.observation;
+    driven = r.info.progress;
+    if (r.done()) break;
+  }
+  EXPECT_GT(driven, 50.0);
+  EXPECT_GT(o.at("speed").numbers[0], 10.0);
+  const rl::ResetResult again = env.reset(21);
+  EXPECT_LT(again.observation.at("speed").numbers[0], 0.05) << "at rest";
+  EXPECT_EQ(again.info.progress, 0.0);
+  EXPECT_EQ(again.info.episode_steps, 0);
+  EXPECT_EQ(again.info.episode_return, 0.0);
+  EXPECT_EQ(again.info.laps, 0);
+  EXPECT_NEAR(again.info.track_s, first.info.track_s, 1e-9) << "the same spawn point";
+  EXPECT_EQ(again.observation.at("lidar").numbers, first.observation.at("lidar").numbers) << "the sensors see the spawn";
+  const sim::VehicleState state = env.world().vehicleState(rl::RacingEnv::kCar);
+  EXPECT_LT(state.speed, 0.05);
+  const rl::StepResult step = env.step(rl::zeros(env.actionSpace()));
+  EXPECT_EQ(step.info.episode_steps, 1) << "the step count starts again";
+}
+
+TEST(RlEnv, ProgressIsRewardedAndDrivingIntoTheBarrierEndsTheEpisode) {
+  rl::RacingEnv env(sprint(), test::sedan(), stateOptions());
+  Value o = env.reset(4).observation;
+  double reward = 0.0;
+  rl::StepInfo info;
+  for (int i = 0; i < 60; ++i) {
+    const rl::StepResult r = env.step(chase(env.actionSpace(), o));
+    reward += r.reward;
+    info = r.info;
+    o = r.observation;
+    ASSERT_FALSE(r.done());
+  }
+  EXPECT_GT(info.progress, 20.0);
+  // Progress near the centre line earns close to 20 per metre.
+  EXPECT_NEAR(reward, info.episode_return, 1e-9);
+  EXPECT_GT(reward, 10.0 * info.progress);
+  EXPECT_LE(reward, 20.0 * info.progress + 1e-6);
+  // Hard left at full throttle: into the run-off and the barrier.
+  rl::StepResult r;
+  for (int i = 0; i < 400; ++i) {
+    Value a = rl::zeros(env.actionSpace());
+    a.at("throttle").numbers[0] = 1.0;
+    a.at("steer").numbers[0] = 1.0;
+    r = env.step(a);
+    if (r.done()) break;
+  }
+  ASSERT_TRUE(r.terminated) << "the episode ends at the barrier or off the track";
+  EXPECT_TRUE(r.info.collided || r.info.off_track);
+  EXPECT_LT(r.reward, 0.0);
+}
+
+TEST(RlEnv, TheTimeLimitTruncates) {
+  rl::EnvOptions options = stateOptions();
+  options.termination.time_limit = 2.0;
+  rl::RacingEnv env(sprint(), test::sedan(), options);
+  env.reset(1);
+  int steps = 0;
+  rl::StepResult r;
+  do {
+    r = env.step(rl::zeros(env.actionSpace()));
+    ++steps;
+  } while (!r.done() && steps < 1000);
+  EXPECT_TRUE(r.truncated);
+  EXPECT_FALSE(r.terminated);
+  EXPECT_EQ(steps, 40) << "2 s of 0.05 s steps";
+}
+
+TEST(RlEnv, AnActionOutsideTheSpaceIsRejectedAndNothingMoves) {
+  rl::RacingEnv env(sprint(), test::sedan(), stateOptions());
+  EXPECT_NE(test::errorOf([&] { env.step(rl::zeros(env.actionSpace())); }).find("before the first reset"), std::string::npos);
+  env.reset(2);
+  const std::uint64_t tick = env.world().tick();
+  Value a = rl::zeros(env.actionSpace());
+  a.at("steer").numbers[0] = 1.5;
+  EXPECT_EQ(test::errorOf([&] { env.step(a); }), "action['steer'][0] = 1.5 is outside [-1, 1]");
+  a.at("steer").numbers[0] = std::nan("");
+  EXPECT_EQ(test::errorOf([&] { env.step(a); }), "action['steer'][0] is NaN");
+  Value missing = rl::zeros(env.actionSpace());
+  missing.keys.erase(missing.keys.begin());
+  missing.entries.erase(missing.entries.begin());
+  EXPECT_EQ(test::errorOf([&] { env.step(missing); }), "action['brake'] is missing");
+  Value gear = rl::zeros(env.actionSpace());
+  gear.at("target_gear") = Value::of({2});
+  EXPECT_EQ(test::errorOf([&] { env.step(gear); }), "action: unknown key 'target_gear'");
+  EXPECT_EQ(env.world().tick(), tick);
+}
+
+TEST(RlVectorEnv, StepsInParallelLikeOneAtATimeAndResetsFinishedEpisodes) {
+  rl::EnvOptions options = stateOptions();
+  options.termination.time_limit = 1.0;  // every 20 steps
+  auto make = [&](int n, int threads) {
+    std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+    for (int i = 0; i < n; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), options));
+    return rl::VectorEnv(std::move(envs), threads);
+  };
+  rl::VectorEnv parallel = make(4, 2), serial = make(4, 1);
+  std::vector<rl::ResetResult> p0 = parallel.reset(100), s0 = serial.reset(100);
+  std::vector<Value> po, so;
+  for (std::size_t i = 0; i < 4; ++i) {
+    po.push_back(p0[i].observation);
+    so.push_back(s0[i].observation);
+    EXPECT_EQ(p0[i].info.track_s, serial.env(i).reset(100 + i).info.track_s) << "env i is seeded with seed + i";
+  }
+  serial.reset(100);
+  int finished = 0;
+  for (int step = 0; step < 30; ++step) {
+    std::vector<Value> pa, sa;
+    for (std::size_t i = 0; i < 4; ++i) {
+      pa.push_back(chase(parallel.actionSpace(), po[i]));
+      sa.push_back(chase(serial.actionSpace(), so[i]));
+    }
+    const rl::VectorStepResult pr = parallel.step(pa), sr = serial.step(sa);
+    for (std::size_t i = 0; i < 4; ++i) {
+      EXPECT_EQ(pr.steps[i].reward, sr.steps[i].reward);
+      EXPECT_EQ(pr.steps[i].info.track_s, sr.steps[i].info.track_s);
+      po[i] = pr.steps[i].observation;
+      so[i] = sr.steps[i].observation;
+      if (pr.steps[i].done()) {
+        ++finished;
+        EXPECT_TRUE(pr.steps[i].truncated);
+        ASSERT_TRUE(pr.final_observations[i].has_value());
+        EXPECT_GT(pr.final_observations[i]->at("speed").numbers[0], 1.0) << "the last observation of the old episode";
+        EXPECT_LT(po[i].at("speed").numbers[0], 0.05) << "the first of the new one, at rest";
+      } else {
+        EXPECT_FALSE(pr.final_observations[i].has_value());
+      }
+    }
+  }
+  EXPECT_EQ(finished, 4) << "each environment ended its 20-step episode once in 30 steps";
+  std::vector<Value> bad(4, rl::zeros(parallel.actionSpace()));
+  bad[2].at("brake").numbers[0] = -1;
+  EXPECT_EQ(test::errorOf([&] { parallel.step(bad); }), "actions[2]['brake'][0] = -1 is outside [0, 1]");
+}
