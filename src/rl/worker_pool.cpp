@@ -1,8 +1,23 @@
 #include "roar/rl/worker_pool.h"
 
+#include <chrono>
 #include <stdexcept>
 
 namespace roar::rl {
+
+namespace {
+// How long an idle worker spins for the next job before it sleeps: a little more than a step's gap.
+constexpr auto kSpin = std::chrono::microseconds(200);
+
+// Tells the core this is a spin loop (frees the pipeline for the sibling thread, saves power).
+inline void relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#else
+  std::this_thread::yield();
+#endif
+}
+}  // namespace
 
 WorkerPool::WorkerPool(int threads) {
   if (threads < 1) throw std::invalid_argument("WorkerPool needs at least one thread");
@@ -33,33 +48,42 @@ void WorkerPool::runShare(int share) {
 void WorkerPool::work(int share) {
   std::uint64_t seen = 0;
   for (;;) {
-    {
+    const auto spin_until = std::chrono::steady_clock::now() + kSpin;
+    for (unsigned spins = 0; generation_.load(std::memory_order_acquire) == seen && !stopping_; ++spins) {
+      relax();
+      if (spins % 256 == 255 && std::chrono::steady_clock::now() >= spin_until) break;  // the clock is dearer than a spin
+    }
+    if (generation_.load(std::memory_order_acquire) == seen) {
       std::unique_lock<std::mutex> lock(mutex_);
-      start_.wait(lock, [&] { return stopping_ || generation_ != seen; });
-      if (stopping_) return;
-      seen = generation_;
+      start_.wait(lock, [&] { return stopping_ || generation_.load(std::memory_order_acquire) != seen; });
     }
+    if (stopping_) return;
+    seen = generation_.load(std::memory_order_acquire);
     runShare(share);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (--pending_ == 0) finished_.notify_one();
-    }
+    pending_.fetch_sub(1, std::memory_order_acq_rel);
   }
 }
 
 void WorkerPool::run(std::size_t count, const Job& job) {
+  count_ = count;
+  job_ = &job;
+  error_ = nullptr;
+  pending_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
   {
+    // Under the lock, so a worker between its last check and its wait cannot miss the notification.
     std::lock_guard<std::mutex> lock(mutex_);
-    count_ = count;
-    job_ = &job;
-    error_ = nullptr;
-    pending_ = static_cast<int>(workers_.size());
-    ++generation_;
+    generation_.fetch_add(1, std::memory_order_acq_rel);
   }
   start_.notify_all();
   runShare(0);
-  std::unique_lock<std::mutex> lock(mutex_);
-  finished_.wait(lock, [&] { return pending_ == 0; });
+  // The workers' shares take about as long as this thread's: spin, do not sleep.
+  for (unsigned spins = 0; pending_.load(std::memory_order_acquire) != 0; ++spins) {
+    if (spins < 100000) {
+      relax();
+    } else {
+      std::this_thread::yield();  // a worker was descheduled: let it run
+    }
+  }
   job_ = nullptr;
   if (error_) std::rethrow_exception(error_);
 }

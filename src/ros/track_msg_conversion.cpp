@@ -1,5 +1,7 @@
 #include "roar/ros/track_msg_conversion.h"
 
+#include <cmath>
+
 #include "roar/ros/msg_conversion.h"
 #include "roar/track/road_mesh.h"
 
@@ -93,6 +95,22 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
     for (int k = 0; k < 3; ++k) road.points.push_back(point(mesh.vertices[t[k]].x(), mesh.vertices[t[k]].y(), mesh.vertices[t[k]].z()));
   }
   out.markers.push_back(road);
+  // The cameras' red and white kerbs: stripes alternate every 2 m of the centre line.
+  Marker kerbs = marker(frame, "kerbs", Marker::TRIANGLE_LIST, 1.0, 1, 1, 1);
+  const track::KerbMesh kerb = track::kerbMesh(track);
+  for (std::size_t t = 0; t < kerb.mesh.triangles.size(); ++t) {
+    const bool red = static_cast<long>(std::floor(track.s(static_cast<std::size_t>(kerb.segment_of[t])) / 2.0)) % 2 == 0;
+    std_msgs::ColorRGBA colour;
+    colour.r = red ? 0.85f : 0.95f;
+    colour.g = colour.b = red ? 0.1f : 0.95f;
+    colour.a = 1.0f;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& v = kerb.mesh.vertices[kerb.mesh.triangles[t][k]];
+      kerbs.points.push_back(point(v.x(), v.y(), v.z()));
+      kerbs.colors.push_back(colour);
+    }
+  }
+  if (!kerbs.points.empty()) out.markers.push_back(kerbs);
   const double offset = track.info().barrier_offset;
   auto strip = [&](const std::string& ns, double width, float r, float g, float b, auto&& at) {
     Marker m = marker(frame, ns, Marker::LINE_STRIP, width, r, g, b);

@@ -16,13 +16,39 @@ Eigen::Vector3f skyColour(const Eigen::Vector3f& dir) {
   return Eigen::Vector3f(0.70f, 0.80f, 0.95f) * (1.0f - up) + Eigen::Vector3f(0.25f, 0.45f, 0.85f) * up;
 }
 
-std::uint8_t toByte(float linear) {
-  // Gamma 2.2 so that the image looks right on a screen.
-  const float v = std::pow(std::clamp(linear, 0.0f, 1.0f), 1.0f / 2.2f);
-  return static_cast<std::uint8_t>(std::lround(v * 255.0f));
-}
+// Linear light to an 8-bit value with gamma 2.2, so that the image looks right on a screen: the byte of
+// round(255 * linear^(1/2.2)), found from the linear thresholds between bytes instead of a pow per
+// channel (which cost a third of a small frame).
+class GammaEncoder {
+ public:
+  GammaEncoder() {
+    for (int k = 0; k < 255; ++k) threshold_[k] = std::pow((k + 0.5f) / 255.0f, 2.2f);
+    for (int i = 0; i <= kBuckets; ++i) {
+      const float x = static_cast<float>(i) / kBuckets;
+      int b = 0;
+      while (b < 255 && x >= threshold_[b]) ++b;
+      bucket_start_[i] = static_cast<std::uint8_t>(b);
+    }
+  }
+  std::uint8_t operator()(float linear) const {
+    const float x = std::clamp(linear, 0.0f, 1.0f);
+    int b = bucket_start_[static_cast<int>(x * kBuckets)];
+    while (b < 255 && x >= threshold_[b]) ++b;  // at most a few steps, in the darkest bucket
+    return static_cast<std::uint8_t>(b);
+  }
+
+ private:
+  static constexpr int kBuckets = 4096;
+  float threshold_[255];
+  std::uint8_t bucket_start_[kBuckets + 1];
+};
 
 }  // namespace
+
+std::uint8_t gammaEncode(float linear) {
+  static const GammaEncoder encode;
+  return encode(linear);
+}
 
 CameraIntrinsics intrinsicsOf(const CameraSpec& spec) {
   CameraIntrinsics k;
@@ -99,11 +125,11 @@ void CameraRenderer::render(const RayScene& scene, const Eigen::Isometry3d& sens
       colour = colour * (1.0f - haze) + Eigen::Vector3f(0.7f, 0.8f, 0.95f) * haze;
     }
     if (channels.rgb) {
-      frame->rgb[3 * p] = toByte(colour.x());
-      frame->rgb[3 * p + 1] = toByte(colour.y());
-      frame->rgb[3 * p + 2] = toByte(colour.z());
+      frame->rgb[3 * p] = gammaEncode(colour.x());
+      frame->rgb[3 * p + 1] = gammaEncode(colour.y());
+      frame->rgb[3 * p + 2] = gammaEncode(colour.z());
     }
-    if (channels.grey) frame->grey[p] = toByte(0.299f * colour.x() + 0.587f * colour.y() + 0.114f * colour.z());
+    if (channels.grey) frame->grey[p] = gammaEncode(0.299f * colour.x() + 0.587f * colour.y() + 0.114f * colour.z());
   }
 }
 

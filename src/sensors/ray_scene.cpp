@@ -14,7 +14,7 @@ constexpr unsigned kStaticMask = 0x80000000u;
 constexpr float kGroundZ = -0.02f;   // as in the physics: grass just below the road
 constexpr float kKerbZ = 0.01f;
 constexpr double kKerbWidth = 1.2;
-constexpr double kKerbCurvature = 1.0 / 250.0;  // corners tighter than this radius get kerbs
+constexpr double kKerbRadius = 250.0;  // m: corners tighter than this get kerbs
 
 unsigned vehicleMask(int id) { return 1u << (static_cast<unsigned>(id) % 31u); }
 
@@ -72,7 +72,10 @@ struct RayScene::Impl {
     }
     road_geom = attach(static_scene, triangleGeometry(device, track::roadSurfaceMesh(track), kStaticMask));
     barrier_geom = attach(static_scene, triangleGeometry(device, track::barrierMesh(track), kStaticMask));
-    kerb_geom = attach(static_scene, triangleGeometry(device, kerbMesh(), kStaticMask));
+    // Red and white kerbs outside both road edges wherever the corner is tight.
+    track::KerbMesh kerbs = track::kerbMesh(track, kKerbWidth, kKerbRadius, kKerbZ);
+    kerb_segments = std::move(kerbs.segment_of);
+    kerb_geom = attach(static_scene, triangleGeometry(device, kerbs.mesh, kStaticMask));
     ground_geom = attach(static_scene, triangleGeometry(device, groundMesh(), kStaticMask));
     rtcCommitScene(static_scene);
 
@@ -102,31 +105,6 @@ struct RayScene::Impl {
     const unsigned id = rtcAttachGeometry(target, geom);
     rtcReleaseGeometry(geom);
     return id;
-  }
-
-  // Red and white kerbs outside both road edges wherever the corner is tight.
-  track::TriangleMesh kerbMesh() {
-    track::TriangleMesh mesh;
-    const std::size_t n = track.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const double k = std::max(std::abs(track.curvature(i)), std::abs(track.curvature((i + 1) % n)));
-      if (k < kKerbCurvature) continue;
-      const std::size_t j = (i + 1) % n;
-      for (int side = 0; side < 2; ++side) {
-        auto edge = [&](std::size_t p, double extra) { return side == 0 ? track.leftEdge(p, extra) : track.rightEdge(p, extra); };
-        const int base = static_cast<int>(mesh.vertices.size());
-        const double zi = track.surfaceHeight(i, side == 0 ? track.point(i).width_left : -track.point(i).width_right);
-        const double zj = track.surfaceHeight(j, side == 0 ? track.point(j).width_left : -track.point(j).width_right);
-        const Eigen::Vector2d q[4] = {edge(i, 0), edge(i, kKerbWidth), edge(j, kKerbWidth), edge(j, 0)};
-        const double qz[4] = {zi, zi, zj, zj};
-        for (int c = 0; c < 4; ++c) mesh.vertices.emplace_back(q[c].x(), q[c].y(), qz[c] + kKerbZ);
-        mesh.triangles.push_back({base, base + 1, base + 2});
-        mesh.triangles.push_back({base, base + 2, base + 3});
-        kerb_segments.push_back(static_cast<int>(i));
-        kerb_segments.push_back(static_cast<int>(i));
-      }
-    }
-    return mesh;
   }
 
   track::TriangleMesh groundMesh() const {

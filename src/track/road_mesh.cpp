@@ -1,6 +1,7 @@
 #include "roar/track/road_mesh.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace roar::track {
 
@@ -82,6 +83,29 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
   addWall(&mesh, left_in, left_out, left_z, track.info().barrier_height);
   addWall(&mesh, right_in, right_out, right_z, track.info().barrier_height);
   return mesh;
+}
+
+KerbMesh kerbMesh(const Track& track, double width, double min_radius, double lift) {
+  KerbMesh out;
+  const std::size_t n = track.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    if (std::max(std::abs(track.curvature(i)), std::abs(track.curvature(j))) < 1.0 / min_radius) continue;
+    for (int side = 0; side < 2; ++side) {
+      auto edge = [&](std::size_t p, double extra) { return side == 0 ? track.leftEdge(p, extra) : track.rightEdge(p, extra); };
+      const int base = static_cast<int>(out.mesh.vertices.size());
+      const double zi = track.surfaceHeight(i, side == 0 ? track.point(i).width_left : -track.point(i).width_right);
+      const double zj = track.surfaceHeight(j, side == 0 ? track.point(j).width_left : -track.point(j).width_right);
+      const Eigen::Vector2d q[4] = {edge(i, 0), edge(i, width), edge(j, width), edge(j, 0)};
+      const double qz[4] = {zi, zi, zj, zj};
+      for (int c = 0; c < 4; ++c) out.mesh.vertices.emplace_back(q[c].x(), q[c].y(), qz[c] + lift);
+      out.mesh.triangles.push_back({base, base + 1, base + 2});
+      out.mesh.triangles.push_back({base, base + 2, base + 3});
+      out.segment_of.push_back(static_cast<int>(i));
+      out.segment_of.push_back(static_cast<int>(i));
+    }
+  }
+  return out;
 }
 
 }  // namespace roar::track

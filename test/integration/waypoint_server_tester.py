@@ -30,7 +30,10 @@ class WaypointServer(unittest.TestCase):
         self.assertEqual(len(path.poses), len(waypoints.waypoints) + 1)
         markers = rospy.wait_for_message("/track/markers", MarkerArray, timeout=30)
         namespaces = {m.ns for m in markers.markers}
-        self.assertTrue({"road", "edges", "centre_line", "start_finish", "sectors", "barriers"} <= namespaces)
+        self.assertTrue({"road", "kerbs", "edges", "centre_line", "start_finish", "sectors", "barriers"} <= namespaces)
+        kerbs = [m for m in markers.markers if m.ns == "kerbs"][0]
+        self.assertEqual(len(kerbs.colors), len(kerbs.points), "a colour per kerb vertex")
+        self.assertGreater(len({(c.r, c.g) for c in kerbs.colors}), 1, "red and white stripes")
         spawns = rospy.wait_for_message("/spawn_points", PoseArray, timeout=30)
         self.assertEqual(len(spawns.poses), 20)
 

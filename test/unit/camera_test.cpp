@@ -31,6 +31,22 @@ SemanticClass centreClass(const CameraFrame& f) {
 
 }  // namespace
 
+TEST(Camera, GammaEncodingIsRoundedPowerOneOverTwoPointTwo) {
+  int checked = 0;
+  for (int i = -100; i <= 1100000; ++i) {
+    const float linear = i / 1000000.0f;
+    const float x = std::clamp(linear, 0.0f, 1.0f);
+    const double exact = 255.0 * std::pow(static_cast<double>(x), 1.0 / 2.2);
+    // Values within a hair of a rounding boundary may go either way in float arithmetic.
+    if (std::abs(exact - std::floor(exact) - 0.5) < 1e-4) continue;
+    ASSERT_EQ(sensors::gammaEncode(linear), static_cast<int>(std::lround(exact))) << "linear " << linear;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000000);
+  EXPECT_EQ(sensors::gammaEncode(-1.0f), 0);
+  EXPECT_EQ(sensors::gammaEncode(2.0f), 255);
+}
+
 TEST(Camera, IntrinsicsFromFieldOfView) {
   const auto k = sensors::intrinsicsOf(spec(800, 600, 90));
   EXPECT_NEAR(k.fx, 400.0, 1e-9);

@@ -17,6 +17,9 @@ struct CameraIntrinsics {
 };
 CameraIntrinsics intrinsicsOf(const CameraSpec& spec);
 
+// Linear light (0..1, clamped) to an 8-bit channel with gamma 2.2: round(255 * linear^(1/2.2)).
+std::uint8_t gammaEncode(float linear);
+
 // Body frame of a sensor (x forward, y left, z up) -> optical frame (z forward, x right, y down).
 Eigen::Matrix3d opticalFromBody();
 

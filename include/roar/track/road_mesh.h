@@ -1,6 +1,6 @@
 #pragma once
-// Triangle meshes of a track, in the map frame: the road surface between the edges and a barrier wall
-// along each side. Shared by the physics (Bullet) and, later, the ray-casting scene.
+// Triangle meshes of a track, in the map frame: the road surface between the edges, a barrier wall along
+// each side and the kerbs of the corners. Shared by the physics (Bullet), the ray-casting scene and rviz.
 #include <Eigen/Core>
 #include <array>
 #include <vector>
@@ -18,5 +18,13 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z = 0.0);
 
 // A wall `thickness` thick whose inner face stands barrier_offset outside each road edge.
 TriangleMesh barrierMesh(const Track& track, double thickness = 0.5);
+
+// Kerbs: strips `width` wide outside both road edges along every centre-line segment of a corner tighter
+// than `min_radius`, `lift` above the road; segment_of[t] is the centre-line segment of triangle t.
+struct KerbMesh {
+  TriangleMesh mesh;
+  std::vector<int> segment_of;
+};
+KerbMesh kerbMesh(const Track& track, double width = 1.2, double min_radius = 250.0, double lift = 0.01);
 
 }  // namespace roar::track
