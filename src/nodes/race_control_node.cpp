@@ -202,7 +202,7 @@ class RaceControlNode {
       m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
       m.pose.position.x = samples->second.back().position.x();
       m.pose.position.y = samples->second.back().position.y();
-      m.pose.position.z = 3.2;
+      m.pose.position.z = 4.5;  // m: above the car, clear of its roof in a view from behind
       m.pose.orientation.w = 1.0;
       m.scale.z = 0.8;
       m.color.r = m.color.g = m.color.b = m.color.a = 1.0;

@@ -7,12 +7,13 @@ import sys
 import tempfile
 import unittest
 
+import roslib.packages
 import rospy
 import rostest
 
 CAR = "cars:\n  - {name: ego, spawn_point: 0}\n"
 BAD = {
-    "unknown_map": ("map: monaco\n" + CAR, "map: no map 'monaco'"),
+    "unknown_map": ("map: monaco\n" + CAR, "map: unknown map 'monaco'"),
     "one_spawn_point": ("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n",
                         "cars[1].spawn_point: 2 is taken by another car"),
     "unknown_sensor": ("map: roar_ring\ncars:\n  - {name: a, sensors: radar}\n", "cars[0].sensors: no sensor set 'radar'"),
@@ -21,7 +22,9 @@ BAD = {
 
 def start(node, scenario):
     """Runs the node on the scenario; returns its exit code and what it printed."""
-    run = subprocess.run(["rosrun", "roar_ros", node, "__name:=bad_" + node, "_scenario:=" + scenario],
+    # Found as roslaunch finds it (rosrun looks in the source tree only).
+    executable = roslib.packages.find_node("roar_ros", node)[0]
+    run = subprocess.run([executable, "__name:=bad_" + node, "_scenario:=" + scenario],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, timeout=60)
     return run.returncode, run.stdout
 
