@@ -18,7 +18,8 @@ build: setup
 	@cmake -S . -B $(BUILD) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCATKIN_ENABLE_TESTING=ON > $(BUILD)/configure.log 2>&1 \
 	  || { cat $(BUILD)/configure.log; exit 1; }
-	@cmake --build $(BUILD) -j2
+	@# Up-to-date targets are not news: only what is built (and any error) is printed.
+	@set -o pipefail; cmake --build $(BUILD) -j2 | sed -u '/Built target/d'
 
 race: build
 	@bash scripts/race
