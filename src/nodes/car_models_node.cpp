@@ -10,8 +10,6 @@
 #include <urdf/model.h>
 
 #include <Eigen/Core>
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -21,6 +19,7 @@
 
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
+#include "roar/sensors/camera.h"
 
 using namespace roar;
 
@@ -57,8 +56,9 @@ std::string painted(std::string urdf_text, const Eigen::Vector3f& linear_rgb) {
   std::smatch match;
   if (!std::regex_search(urdf_text, match, body_colour)) return urdf_text;
   char rgba[64];
-  auto srgb = [](float c) { return std::pow(std::clamp(c, 0.0f, 1.0f), 1.0f / 2.2f); };
-  std::snprintf(rgba, sizeof(rgba), "%.3f %.3f %.3f 1", srgb(linear_rgb.x()), srgb(linear_rgb.y()), srgb(linear_rgb.z()));
+  // The cameras' own gamma encoding, so that rviz shows the colour the cameras see.
+  auto screen = [](float c) { return sensors::gammaEncode(c) / 255.0; };
+  std::snprintf(rgba, sizeof(rgba), "%.3f %.3f %.3f 1", screen(linear_rgb.x()), screen(linear_rgb.y()), screen(linear_rgb.z()));
   return urdf_text.replace(static_cast<std::size_t>(match.position(1)), static_cast<std::size_t>(match.length(1)), rgba);
 }
 

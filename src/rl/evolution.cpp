@@ -31,15 +31,12 @@ void validate(const EvolutionOptions& o) {
 
 }  // namespace
 
-Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed,
-                const std::function<void(const Value& observation)>& observe) {
+Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed) {
   Rollout out;
   Value observation = env.reset(seed).observation;
   for (;;) {
-    if (observe) observe(observation);
     StepResult step = env.step(policy.act(env.actionSpace(), observation));
     out.episode_return += step.reward;
-    if (step.info.collision_impulse > 0.0) ++out.contact_steps;
     out.info = step.info;
     if (step.done()) {
       out.terminated = step.terminated;

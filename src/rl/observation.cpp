@@ -16,10 +16,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double yawOf(const Eigen::Quaterniond& q) {
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
-}
-
 Space dictOf(const ObservationOptions& o) {
   std::vector<std::pair<std::string, Space>> entries;
   if (o.speed) entries.emplace_back("speed", Space::box(0.0, kInf, {1}));
@@ -131,7 +127,7 @@ Value ObservationBuilder::observe(const sim::VehicleState& state, const track::P
     obs.at("imu") = Value::of({a.x(), a.y(), a.z(), g.x(), g.y(), g.z()});
   }
   if (!o.waypoint_distances.empty()) {
-    const double yaw = yawOf(state.pose.orientation);
+    const double yaw = sim::yawOf(state.pose.orientation);
     const double c = std::cos(yaw), s = std::sin(yaw);
     const Eigen::Vector2d at = state.pose.position.head<2>();
     Value& waypoints = obs.at("waypoints_information");

@@ -153,25 +153,26 @@ void SimNode::tick() {
       if (!io.sensors->empty()) io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
     }
   });
-  updateRayScene();
-  sampleRaySensors();
+  sampleRaySensors(updateRayScene());
   publishState();
 }
 
-void SimNode::updateRayScene() {
+std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
+  std::map<std::string, Eigen::Isometry3d> poses;
   bool any = false;
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
-  if (!any) return;
-  for (auto& [name, io] : io_) scene_->setVehiclePose(io.scene_id, sensors::poseOf(world_->vehicleState(name)));
+  if (!any) return poses;
+  for (auto& [name, io] : io_) {
+    poses[name] = sensors::poseOf(world_->vehicleState(name));
+    scene_->setVehiclePose(io.scene_id, poses[name]);
+  }
   scene_->commit();
+  return poses;
 }
 
-void SimNode::sampleRaySensors() {
+void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses) {
   for (auto& [name, io] : io_) {
-    if (!io.sensors->empty()) {
-      io.sensors->rig().sampleRays(world_->time(), *scene_, sensors::poseOf(world_->vehicleState(name)), io.scene_id,
-                                   *io.sensors);
-    }
+    if (!io.sensors->empty()) io.sensors->rig().sampleRays(world_->time(), *scene_, poses.at(name), io.scene_id, *io.sensors);
   }
 }
 

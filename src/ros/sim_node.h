@@ -55,9 +55,10 @@ class SimNode {
   bool recordersReady() const;
   // Async and lockstep: no faster than real_time_factor (0: as fast as possible).
   void paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick);
-  // Moves the cars in the ray scene when a sensor or an agent's observation will cast rays this tick.
-  void updateRayScene();
-  void sampleRaySensors();
+  // Moves the cars in the ray scene when a sensor or an agent's observation will cast rays this tick;
+  // returns their poses (none when nothing casts).
+  std::map<std::string, Eigen::Isometry3d> updateRayScene();
+  void sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses);
   sim::Pose spawnPose(int spawn_point) const;
   // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.
   sim::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;

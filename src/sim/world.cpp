@@ -49,11 +49,11 @@ bool footprintsOverlap(const std::array<Eigen::Vector2d, 4>& a, const std::array
   return true;
 }
 
+}  // namespace
+
 double yawOf(const Eigen::Quaterniond& q) {
   return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
 }
-
-}  // namespace
 
 Pose poseOnTrack(const track::TrackPose& track_pose) {
   Pose pose;

@@ -34,16 +34,13 @@ struct GenerationReport {
   std::int64_t env_steps = 0;       // this generation
 };
 
-// How a policy drives one episode from a reset of `env`: its return, what the last step said and whether
-// the car touched anything on the way.
+// How a policy drives one episode from a reset of `env`: its return and what the last step said.
 struct Rollout {
   double episode_return = 0.0;
   StepInfo info;
   bool terminated = false, truncated = false;
-  int contact_steps = 0;            // steps with any collision impulse
 };
-Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed,
-                const std::function<void(const Value& observation)>& observe = {});
+Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed);
 
 class EvolutionStrategy {
  public:

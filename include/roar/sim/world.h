@@ -110,4 +110,7 @@ class World {
 // A spawn pose on the track surface at a track pose (heading along the driving direction).
 Pose poseOnTrack(const track::TrackPose& track_pose);
 
+// Heading (rad, about z, from x towards y) of an orientation.
+double yawOf(const Eigen::Quaterniond& q);
+
 }  // namespace roar::sim
