@@ -53,7 +53,13 @@ PolicyDriverOptions readParameters(const ros::NodeHandle& nh) {
 class PolicyDriver {
  public:
   PolicyDriver(ros::NodeHandle& nh, const PolicyDriverOptions& options)
-      : options_(options),
+      // The topics first, before the policy and map load: lockstep waits for connected drivers only, and
+      // odometry that arrives meanwhile waits in the queue (callbacks run only in ros::spin, after this).
+      : control_(nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10)),
+        odom_(nh.subscribe<nav_msgs::Odometry>(options.vehicle + "/odom", 10,
+                                               [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m); },
+                                               ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay())),
+        options_(options),
         track_(track::loadMapFolder(options.map_folder)),
         policy_(rl::MlpPolicy::load(options.policy_file)),
         observer_(track_, policy_.observation()),
@@ -65,10 +71,6 @@ class PolicyDriver {
                                    " observes a camera, LiDAR or IMU; policy_driver reads odometry only (speed, "
                                    "velocity, angular_velocity, waypoints_information)");
     }
-    control_ = nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10);
-    odom_ = nh.subscribe<nav_msgs::Odometry>(options.vehicle + "/odom", 10,
-                                             [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m); },
-                                             ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
 
  private:
@@ -87,14 +89,14 @@ class PolicyDriver {
     control_.publish(msg);
   }
 
+  ros::Publisher control_;
+  ros::Subscriber odom_;
   PolicyDriverOptions options_;
   track::Track track_;
   rl::MlpPolicy policy_;
   rl::ObservationBuilder observer_;
   rl::TrackProgress progress_;
   rl::Space action_space_;
-  ros::Publisher control_;
-  ros::Subscriber odom_;
   bool started_ = false;
 };
 

@@ -265,7 +265,7 @@ int main(int argc, char** argv) {
                   car.car_contacts, car.track_limit_violations);
     }
     if (!options.output_dir.empty()) {
-      race::writeResults(options.output_dir, node.race(), complete);
+      race::writeResults(options.output_dir, node.race(), complete, ros::param::param<std::string>("/run_id", ""));
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
       std::printf("race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
                   "speed_<car>.png\n", options.output_dir.c_str());

@@ -123,13 +123,14 @@ std::vector<Standing> RaceControl::standings() const {
   return out;
 }
 
-void writeResults(const std::string& dir, const RaceControl& race, bool complete) {
+void writeResults(const std::string& dir, const RaceControl& race, bool complete, const std::string& run) {
   std::filesystem::create_directories(dir);
   std::ofstream yaml(dir + "/results.yaml"), laps(dir + "/laps.csv"), sectors(dir + "/sectors.csv");
   if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
   for (auto* out : {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
     *out << std::setprecision(10);
   }
+  if (!run.empty()) yaml << "run_id: \"" << run << "\"\n";
   yaml << "map: \"" << race.track().info().name << "\"\nlaps: " << race.rules().laps
        << "\nstatus: " << (complete ? "finished" : "timed_out") << "\ncars:\n";
   laps << "car,lap,lap_time_s,sector_times_s\n";

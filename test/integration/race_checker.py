@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest: waits for race_control's results and checks them: every car of ~cars finished ~laps laps
 without touching a barrier or another car, lap times within [~min_lap, ~max_lap], sectors adding up, and
-race_control published /race_status on the way."""
+race_control published /race_status on the way. The results are this launch's when their run_id is ours,
+however early the race ended."""
 import os
 import sys
 import time
@@ -15,21 +16,35 @@ from roar_ros.msg import RaceStatus
 STATUS = []
 
 
+def this_runs_results(path, run_id):
+    """results.yaml once race_control of this launch has written it whole, else None."""
+    try:
+        with open(path) as f:
+            results = yaml.safe_load(f)
+    except (OSError, yaml.YAMLError):
+        return None
+    if not isinstance(results, dict) or results.get("run_id") != run_id or "cars" not in results:
+        return None
+    time.sleep(0.5)  # let the writer finish the rest of the report
+    with open(path) as f:
+        return yaml.safe_load(f)
+
+
 class RaceResults(unittest.TestCase):
     def test_every_car_finishes_clean(self):
         cars = rospy.get_param("~cars", ["ego"])
         laps = rospy.get_param("~laps", 2)
         min_lap, max_lap = rospy.get_param("~min_lap", 90.0), rospy.get_param("~max_lap", 150.0)
         path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
+        run_id = rospy.get_param("/run_id")
         deadline = time.time() + 280
+        results = None
         while time.time() < deadline and not rospy.is_shutdown():
-            if os.path.exists(path) and os.path.getmtime(path) > START:
+            results = this_runs_results(path, run_id)
+            if results:
                 break
             time.sleep(0.5)
-        self.assertTrue(os.path.exists(path) and os.path.getmtime(path) > START, "race_control wrote no results")
-        time.sleep(0.5)  # let the writer finish
-        with open(path) as f:
-            results = yaml.safe_load(f)
+        self.assertTrue(results, "race_control wrote no results of run %s in %s" % (run_id, path))
         self.assertEqual(results["status"], "finished")
         self.assertEqual(sorted(car["name"] for car in results["cars"]), sorted(cars))
         self.assertEqual(sorted(car["position"] for car in results["cars"]), list(range(1, len(cars) + 1)))
@@ -54,7 +69,6 @@ class RaceResults(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    START = time.time()
     rospy.init_node("race_checker", anonymous=True)
     rospy.Subscriber("/race_status", RaceStatus, STATUS.append)
     rostest.rosrun("roar_ros", "race_results", RaceResults, sys.argv)

@@ -123,7 +123,10 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
 
   const fs::path dir = fs::temp_directory_path() / ("roar_race_" + std::to_string(::getpid()));
   race::writeResults(dir.string(), penalised, true);
+  EXPECT_FALSE(YAML::LoadFile((dir / "results.yaml").string())["run_id"]) << "no run named";
+  race::writeResults(dir.string(), penalised, true, "0f3c-run");
   const YAML::Node results = YAML::LoadFile((dir / "results.yaml").string());
+  EXPECT_EQ(results["run_id"].as<std::string>(), "0f3c-run");
   EXPECT_EQ(results["status"].as<std::string>(), "finished");
   ASSERT_EQ(results["cars"].size(), 2u);
   const YAML::Node fast = results["cars"][0];

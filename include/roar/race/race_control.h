@@ -83,7 +83,9 @@ class RaceControl {
 };
 
 // results.yaml (per car: laps, sectors, incidents, penalties, total time), laps.csv (car, lap, lap time,
-// sector times) and sectors.csv (car, lap, sector, time) in `dir`, created if missing.
-void writeResults(const std::string& dir, const RaceControl& race, bool complete);
+// sector times) and sectors.csv (car, lap, sector, time) in `dir`, created if missing. `run`, when not
+// empty, names the run the results are of (race_control: the ROS launch's run_id), so that a reader of a
+// folder that several races wrote to can tell whose results it holds.
+void writeResults(const std::string& dir, const RaceControl& race, bool complete, const std::string& run = "");
 
 }  // namespace roar::race
