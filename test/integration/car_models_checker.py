@@ -22,6 +22,17 @@ CARS = ["pace", "ego", "rival", "third"]
 PKG = rospkg.RosPack().get_path("roar_ros")
 
 
+def wall_lookup(buffer, target, source, stamp, seconds):
+    """The transform, waiting on the wall clock: tf2's own timeout is in simulated time, which stands still
+    between steps, so lookup_transform(..., timeout) never returns when the transform is late."""
+    deadline = time.time() + seconds
+    while not buffer.can_transform(target, source, stamp):
+        if time.time() > deadline:
+            raise AssertionError("no transform %s -> %s at %s after %.0f s" % (target, source, stamp, seconds))
+        time.sleep(0.02)
+    return buffer.lookup_transform(target, source, stamp)
+
+
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
@@ -57,18 +68,17 @@ class CarModels(unittest.TestCase):
         steering = status["last"].steering_angle
         self.assertGreater(steering, 0.1, "steering left")
         stamp = joints["last"].header.stamp
-        t = buffer.lookup_transform("ego/base_link", "ego/steer_front_left", stamp, rospy.Duration(10.0))
+        t = wall_lookup(buffer, "ego/base_link", "ego/steer_front_left", stamp, 20)
         # Ackermann: each front wheel turns by its own angle about the mean the status reports.
         self.assertAlmostEqual(yaw_of(t.transform.rotation), steering, delta=0.25 * steering)
         self.assertGreater(yaw_of(t.transform.rotation), 0.0)
         # The wheel turns about its axle while the car rolls.
-        wheel = buffer.lookup_transform("ego/steer_front_left", "ego/wheel_front_left", stamp, rospy.Duration(5.0))
+        wheel = wall_lookup(buffer, "ego/steer_front_left", "ego/wheel_front_left", stamp, 10)
         self.assertAlmostEqual(wheel.transform.rotation.z, 0.0, places=6)
         self.assertGreater(abs(wheel.transform.rotation.y), 1e-3)
         # Every other car's frames exist too.
         for car in CARS:
-            self.assertTrue(buffer.can_transform(car + "/base_link", car + "/wheel_rear_right", rospy.Time(0),
-                                                 rospy.Duration(5.0)), car)
+            wall_lookup(buffer, car + "/base_link", car + "/wheel_rear_right", rospy.Time(0), 10)
 
     def test_3_rviz_shows_every_car_and_race_rviz_is_current(self):
         with tempfile.TemporaryDirectory() as folder:
