@@ -77,32 +77,17 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
     limits.traction_share = std::clamp(most / (mu * weight), 0.0, 1.0);
   }
 
-  // Full throttle in the gear an automatic gearbox would hold: every forward gear up to its shift-up rpm
-  // (the top gear up to the redline); below idle the clutch slips and the engine gives its idle torque.
+  // Full throttle in the gear the automatic gearbox's kickdown picks (Powertrain::strongestGear).
   sim::Powertrain engine(params);
-  const auto& gearbox = params.gearbox;
-  const std::size_t gears = gearbox.ratios.size();
   limits.drive_force.clear();
   limits.gear.clear();
   limits.max_speed = 0.0;
   for (double v = 0.0;; v += limits.drive_force_step) {
     const double wheel_rpm = v / radius * 60.0 / (2.0 * M_PI);
-    double best = 0.0;
-    int best_gear = 1;
-    for (std::size_t g = 0; g < gears; ++g) {
-      const double ratio = gearbox.ratios[g] * gearbox.final_drive;
-      const double rpm = wheel_rpm * ratio;
-      const double ceiling = g + 1 == gears ? params.engine.redline_rpm : gearbox.shift_up_rpm;
-      if (rpm > ceiling) continue;
-      const double torque = engine.engineTorqueAt(std::max(rpm, params.engine.idle_rpm));
-      const double force = torque * ratio * gearbox.efficiency / radius;
-      if (force > best) {
-        best = force;
-        best_gear = static_cast<int>(g) + 1;
-      }
-    }
+    const int best_gear = engine.strongestGear(wheel_rpm);
+    const double best = best_gear > 0 ? engine.fullThrottleWheelTorque(best_gear, wheel_rpm) / radius : 0.0;
     limits.drive_force.push_back(best);
-    limits.gear.push_back(best_gear);
+    limits.gear.push_back(std::max(1, best_gear));
     if (best <= limits.resistance(v) || v > 150.0) {
       limits.max_speed = v;
       break;

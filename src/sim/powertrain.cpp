@@ -7,6 +7,10 @@ namespace roar::sim {
 
 namespace {
 constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
+// Kickdown needs the pedal nearly floored, like a road car's; a part-throttle cruise keeps its gear.
+constexpr double kKickdownThrottle = 0.9;
+// A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
+constexpr double kKickdownHeadroomRpm = 300.0;
 }
 
 Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
@@ -33,6 +37,27 @@ double Powertrain::engineTorqueAt(double rpm) const {
   return lo->second + t * (hi->second - lo->second);
 }
 
+double Powertrain::fullThrottleWheelTorque(int gear, double wheel_rpm) const {
+  const double r = ratio(gear);
+  return engineTorqueAt(std::max(wheel_rpm * r, engine_.idle_rpm)) * r * gearbox_.efficiency;
+}
+
+int Powertrain::strongestGear(double wheel_rpm, double headroom_rpm) const {
+  const int top = static_cast<int>(gearbox_.ratios.size());
+  int best_gear = 0;
+  double best = 0.0;
+  for (int g = 1; g <= top; ++g) {
+    const double ceiling = g == top ? engine_.redline_rpm : gearbox_.shift_up_rpm - headroom_rpm;
+    if (wheel_rpm * ratio(g) > ceiling) continue;
+    const double torque = fullThrottleWheelTorque(g, wheel_rpm);
+    if (torque > best) {
+      best = torque;
+      best_gear = g;
+    }
+  }
+  return best_gear;
+}
+
 double Powertrain::update(const DriveRequest& request, double driven_wheel_omega, double dt) {
   const int top = static_cast<int>(gearbox_.ratios.size());
   int wanted = gear_;
@@ -49,20 +74,29 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
   }
 
   const double wheel_rpm = std::abs(driven_wheel_omega) * kRadPerSecToRpm;
+  const double throttle = std::clamp(request.throttle, 0.0, 1.0);
   if (!request.manual && gear_ > 0 && shift_timer_ <= 0) {
     const double rpm = wheel_rpm * ratio(gear_);
+    int next = gear_;
     if (rpm > gearbox_.shift_up_rpm && gear_ < top) {
-      ++gear_;
-      shift_timer_ = gearbox_.shift_time;
-    } else if (rpm < gearbox_.shift_down_rpm && gear_ > 1) {
-      --gear_;
+      next = gear_ + 1;
+    } else {
+      // Kickdown: floored, or off the throttle into a corner (so the exit starts in the right gear), the
+      // gearbox drops straight to the gear that pulls hardest, instead of lugging the one it came in with.
+      if (gearbox_.kickdown && (throttle >= kKickdownThrottle || throttle <= 0.0)) {
+        const int strongest = strongestGear(wheel_rpm, kKickdownHeadroomRpm);
+        if (strongest > 0 && strongest < gear_) next = strongest;
+      }
+      if (next == gear_ && rpm < gearbox_.shift_down_rpm && gear_ > 1) next = gear_ - 1;
+    }
+    if (next != gear_) {
+      gear_ = next;
       shift_timer_ = gearbox_.shift_time;
     }
   }
   shift_timer_ = std::max(0.0, shift_timer_ - dt);
 
   const double r = ratio(gear_);
-  const double throttle = std::clamp(request.throttle, 0.0, 1.0);
   if (r == 0.0) {
     rpm_ = engine_.idle_rpm + throttle * (engine_.redline_rpm - engine_.idle_rpm);
     return 0.0;

@@ -197,6 +197,7 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.gearbox.shift_up_rpm = r.positive("gearbox.shift_up_rpm");
   p.gearbox.shift_down_rpm = r.positive("gearbox.shift_down_rpm");
   p.gearbox.shift_time = r.number("gearbox.shift_time_s");
+  p.gearbox.kickdown = r.flag("gearbox.kickdown", true);
 
   p.brakes.max_torque_front = r.positive("brakes.max_torque_front_nm");
   p.brakes.max_torque_rear = r.positive("brakes.max_torque_rear_nm");

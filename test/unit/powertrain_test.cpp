@@ -62,3 +62,43 @@ TEST(Powertrain, EngineBrakingOpposesRotation) {
   EXPECT_LT(pt.update({0.0, false, true, 3}, omegaForRpm(p, 3, 5000), 0.005), 0.0);
   EXPECT_NEAR(pt.engineRpm(), 5000, 1e-6);
 }
+
+TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottleAndOffIt) {
+  const auto p = roar::test::sedan();
+  // 4000 rpm in sixth: above shift-down, so only kickdown leaves sixth; fourth turns 6430 rpm there, too
+  // close to the 6500 shift-up, so the strongest gear with room to pull is fifth.
+  const double omega = omegaForRpm(p, 6, 4000);
+  auto inSixth = [&](const VehicleParams& params) {
+    Powertrain pt(params);
+    pt.update({0.0, false, true, 6}, omega, 0.005);
+    for (int i = 0; i < 40; ++i) pt.update({0.5, false, false, 0}, omega, 0.005);
+    return pt;
+  };
+  {
+    Powertrain pt = inSixth(p);
+    EXPECT_EQ(pt.gear(), 6) << "a part-throttle cruise keeps its gear";
+    pt.update({1.0, false, false, 0}, omega, 0.005);
+    EXPECT_EQ(pt.gear(), 5);
+    EXPECT_EQ(pt.gear(), pt.strongestGear(omega * 60 / (2 * M_PI), 300.0));
+    for (int i = 0; i < 40; ++i) pt.update({1.0, false, false, 0}, omega, 0.005);
+    EXPECT_EQ(pt.gear(), 5) << "no hunting back up";
+    EXPECT_GT(pt.update({1.0, false, false, 0}, omega, 0.005), pt.fullThrottleWheelTorque(6, omega * 60 / (2 * M_PI)));
+  }
+  {
+    Powertrain pt = inSixth(p);
+    pt.update({0.0, false, false, 0}, omega, 0.005);
+    EXPECT_EQ(pt.gear(), 5) << "off the throttle into a corner";
+  }
+  {
+    auto no_kickdown = p;
+    no_kickdown.gearbox.kickdown = false;
+    Powertrain pt = inSixth(no_kickdown);
+    pt.update({1.0, false, false, 0}, omega, 0.005);
+    EXPECT_EQ(pt.gear(), 6);
+  }
+  // The planner's strongest gear: the most wheel torque among the gears below their ceiling.
+  Powertrain pt(p);
+  const double wheel_rpm = 4000.0 / (p.gearbox.ratios[5] * p.gearbox.final_drive);
+  EXPECT_EQ(pt.strongestGear(wheel_rpm), 4) << "6430 rpm in fourth is still below 6500";
+  EXPECT_EQ(pt.strongestGear(1e5), 0) << "faster than the top gear's redline";
+}

@@ -139,3 +139,42 @@ TEST(SpeedProfile, BadInputNamesTheEntry) {
             std::string::npos);
   EXPECT_THROW(planning::computeSpeedProfile({1.0}, {0.0}, limits, true), std::invalid_argument);
 }
+
+// Out of a corner the simulated car pulls in the gear the planner assumes: braking from 220 to 150 km/h
+// the automatic gearbox leaves sixth, and at full throttle the car accelerates as the profile says.
+TEST(SpeedProfile, MatchesTheSimulatedCarAcceleratingOutOfACorner) {
+  const auto car = test::sedan();
+  const auto limits = planning::vehicleLimits(car, 1.0, 1.0);
+  sim::World world(test::openGround(), {});
+  world.spawnVehicle("ego", car, {});
+  sim::VehicleControl control;
+  control.throttle = 1.0;
+  while (world.vehicleState("ego").forward_speed < 61.0) {
+    world.setControl("ego", control);
+    world.step();
+  }
+  EXPECT_EQ(world.vehicleState("ego").gear, 6);
+  control.throttle = 0.0;
+  control.brake = 0.6;
+  while (world.vehicleState("ego").forward_speed > 42.0) {
+    world.setControl("ego", control);
+    world.step();
+  }
+  const double v0 = world.vehicleState("ego").forward_speed;
+  EXPECT_EQ(world.vehicleState("ego").gear, limits.gearAt(v0)) << "at " << v0 << " m/s";
+  control.throttle = 1.0;
+  control.brake = 0.0;
+  const double t0 = world.time();
+  const Eigen::Vector3d start = world.vehicleState("ego").pose.position;
+  while (world.time() < t0 + 4.0) {
+    world.setControl("ego", control);
+    world.step();
+  }
+  const double travelled = (world.vehicleState("ego").pose.position - start).norm();
+  std::vector<double> step(static_cast<std::size_t>(travelled), 1.0), kappa(step.size(), 0.0);
+  planning::SpeedProfileOptions options;
+  options.start_speed = v0;
+  const auto p = planning::computeSpeedProfile(step, kappa, limits, false, options);
+  EXPECT_NEAR(world.vehicleState("ego").forward_speed, p.speed.back(), 0.02 * p.speed.back());
+  EXPECT_NEAR(4.0, p.time.back(), 0.04 * 4.0) << "the profile's time over the distance the car covered";
+}

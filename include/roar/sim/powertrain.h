@@ -1,6 +1,7 @@
 #pragma once
 // Engine with a full-throttle torque curve and engine braking, a gearbox with automatic shifting (with a
-// torque gap while shifting) or manual selection, and open differentials. The clutch is modelled only as
+// torque gap while shifting; kickdown to the strongest gear at full throttle and while off the throttle)
+// or manual selection, and open differentials. The clutch is modelled only as
 // slipping below idle, so the car can pull away from rest.
 #include "roar/sim/vehicle_params.h"
 
@@ -24,6 +25,13 @@ class Powertrain {
   int gear() const { return gear_; }
   double engineRpm() const { return rpm_; }
   double engineTorqueAt(double rpm) const;  // full throttle, N m
+  // The forward gear (1 = first) with the most wheel torque at full throttle for the driven wheels' speed
+  // (rpm), among those whose engine speed stays `headroom_rpm` below the shift-up rpm (the top gear: below
+  // the redline); 0 when none does. The gear the planner assumes and the one kickdown picks.
+  int strongestGear(double wheel_rpm, double headroom_rpm = 0.0) const;
+  // Wheel torque (N m, all driven wheels) at full throttle in a forward gear; below idle the clutch slips
+  // and the engine gives its idle torque.
+  double fullThrottleWheelTorque(int gear, double wheel_rpm) const;
   void reset();
 
  private:
