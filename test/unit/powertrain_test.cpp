@@ -63,7 +63,7 @@ TEST(Powertrain, EngineBrakingOpposesRotation) {
   EXPECT_NEAR(pt.engineRpm(), 5000, 1e-6);
 }
 
-TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottleAndOffIt) {
+TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottle) {
   const auto p = roar::test::sedan();
   // 4000 rpm in sixth: above shift-down, so only kickdown leaves sixth; fourth turns 6430 rpm there, too
   // close to the 6500 shift-up, so the strongest gear with room to pull is fifth.
@@ -87,7 +87,7 @@ TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottleAndOffIt) {
   {
     Powertrain pt = inSixth(p);
     pt.update({0.0, false, false, 0}, omega, 0.005);
-    EXPECT_EQ(pt.gear(), 5) << "off the throttle into a corner";
+    EXPECT_EQ(pt.gear(), 6) << "lifting keeps the gear until shift-down rpm";
   }
   {
     auto no_kickdown = p;

@@ -1,6 +1,6 @@
 #pragma once
 // Engine with a full-throttle torque curve and engine braking, a gearbox with automatic shifting (with a
-// torque gap while shifting; kickdown to the strongest gear at full throttle and while off the throttle)
+// torque gap while shifting; kickdown to the strongest gear at full throttle)
 // or manual selection, and open differentials. The clutch is modelled only as
 // slipping below idle, so the car can pull away from rest.
 #include "roar/sim/vehicle_params.h"

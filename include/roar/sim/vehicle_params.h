@@ -62,8 +62,8 @@ struct GearboxParams {
   double shift_up_rpm = 6500.0;
   double shift_down_rpm = 3000.0;
   double shift_time = 0.15;  // s without drive torque while shifting
-  // Automatic mode shifts down to the strongest gear at full throttle and while off the throttle, not
-  // only below shift_down_rpm.
+  // Automatic mode shifts down to the strongest gear at (nearly) full throttle, not only below
+  // shift_down_rpm.
   bool kickdown = true;
 };
 
