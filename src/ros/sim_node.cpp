@@ -209,17 +209,35 @@ bool SimNode::controlsArrived() const {
   return true;
 }
 
-bool SimNode::recordersReady() const {
-  if (options_.wait_for_recorders.empty()) return true;
+namespace {
+
+// The ROS graph as the master knows it: the nodes publishing and subscribing each topic.
+struct GraphState {
+  std::map<std::string, std::set<std::string>> publishers, subscribers;
+};
+
+bool queryGraph(GraphState* graph) {
   XmlRpc::XmlRpcValue request, response, payload;
   request[0] = ros::this_node::getName();
   if (!ros::master::execute("getSystemState", request, response, payload, false)) return false;
-  // payload[1]: the subscriptions, [topic, [node, ...]] each.
-  std::map<std::string, std::set<std::string>> subscribers;
-  for (int i = 0; i < payload[1].size(); ++i) {
-    auto& nodes = subscribers[static_cast<std::string>(payload[1][i][0])];
-    for (int k = 0; k < payload[1][i][1].size(); ++k) nodes.insert(static_cast<std::string>(payload[1][i][1][k]));
+  // payload[0]: the publications, payload[1]: the subscriptions, [topic, [node, ...]] each.
+  for (int kind = 0; kind < 2; ++kind) {
+    auto& table = kind == 0 ? graph->publishers : graph->subscribers;
+    for (int i = 0; i < payload[kind].size(); ++i) {
+      auto& nodes = table[static_cast<std::string>(payload[kind][i][0])];
+      for (int k = 0; k < payload[kind][i][1].size(); ++k) nodes.insert(static_cast<std::string>(payload[kind][i][1][k]));
+    }
   }
+  return true;
+}
+
+}  // namespace
+
+std::string SimNode::notReadyToStart() const {
+  if (options_.wait_for_recorders.empty() && !options_.wait_for_drivers) return "";
+  GraphState graph;
+  if (!queryGraph(&graph)) return "the ROS master";
+  auto& subscribers = graph.subscribers;
   std::vector<std::string> topics = {ros::names::resolve("/clock")};
   for (const auto& [name, io] : io_) {
     for (const char* topic : {"odom", "vehicle_status", "control"}) topics.push_back(nh_.resolveName(name + "/" + topic));
@@ -227,16 +245,35 @@ bool SimNode::recordersReady() const {
   for (const auto& recorder : options_.wait_for_recorders) {
     const std::string node = ros::names::resolve(recorder);
     for (const auto& topic : topics) {
-      if (!subscribers[topic].count(node)) return false;
+      if (!subscribers[topic].count(node)) return "the recorder " + node + " on " + topic;
+    }
+  }
+  if (options_.wait_for_drivers) {
+    for (const auto& car : options_.vehicles) {
+      const auto io = io_.find(car.name);
+      if (!car.driven || !car.agent.empty() || io == io_.end()) continue;
+      const std::string control = nh_.resolveName(car.name + "/control");
+      if (graph.publishers[control].empty()) return "a driver of '" + car.name + "' (a publisher on " + control + ")";
+      if (io->second.control.getNumPublishers() < graph.publishers[control].size()) return "the driver on " + control;
+      // A driver answers a tick it heard: it must listen to the car's odometry or status, or the clock.
+      for (const auto& driver : graph.publishers[control]) {
+        bool listens = false;
+        for (const std::string topic : {nh_.resolveName(car.name + "/odom"), nh_.resolveName(car.name + "/vehicle_status"),
+                                        ros::names::resolve("/clock")}) {
+          listens = listens || subscribers[topic].count(driver) > 0;
+        }
+        if (!listens) return "the driver " + driver + " of '" + car.name + "' to subscribe to its odom";
+      }
     }
   }
   // Registered is not yet connected: every subscriber the master knows must be connected to us.
-  if (clock_pub_.getNumSubscribers() < subscribers[ros::names::resolve("/clock")].size()) return false;
+  if (clock_pub_.getNumSubscribers() < subscribers[ros::names::resolve("/clock")].size()) return "the subscribers of /clock";
   for (const auto& [name, io] : io_) {
-    if (io.odom.getNumSubscribers() < subscribers[nh_.resolveName(name + "/odom")].size()) return false;
-    if (io.status.getNumSubscribers() < subscribers[nh_.resolveName(name + "/vehicle_status")].size()) return false;
+    const std::string odom = nh_.resolveName(name + "/odom"), status = nh_.resolveName(name + "/vehicle_status");
+    if (io.odom.getNumSubscribers() < subscribers[odom].size()) return "the subscribers of " + odom;
+    if (io.status.getNumSubscribers() < subscribers[status].size()) return "the subscribers of " + status;
   }
-  return true;
+  return "";
 }
 
 void SimNode::paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick) {
@@ -252,12 +289,11 @@ void SimNode::run() {
   // Give subscribers a moment to connect before the first state goes out (a recorder needs longer).
   const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(options_.start_wait);
   while (ros::ok() && ros::WallTime::now() < settle) queue->callAvailable(ros::WallDuration(0.05));
-  // A recorder must hear the first tick: wait until it subscribes to the clock and every car's topics.
+  // A recorder and the drivers must hear the first tick: wait until they subscribe and connect.
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
-  while (ros::ok() && !recordersReady()) {
+  for (std::string missing = notReadyToStart(); ros::ok() && !missing.empty(); missing = notReadyToStart()) {
     if (ros::WallTime::now() > give_up) {
-      ROS_WARN("roar_sim: the recorders %s did not subscribe within 60 s; starting without them",
-               options_.wait_for_recorders.front().c_str());
+      ROS_WARN("roar_sim: still no %s after 60 s; starting without", missing.c_str());
       break;
     }
     queue->callAvailable(ros::WallDuration(0.1));

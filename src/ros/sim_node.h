@@ -52,7 +52,8 @@ class SimNode {
                   const std::string& agent_env = "");
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
-  bool recordersReady() const;
+  // What the first tick still waits for (empty: nothing): ~wait_for_recorders and ~wait_for_drivers.
+  std::string notReadyToStart() const;
   // Async and lockstep: no faster than real_time_factor (0: as fast as possible).
   void paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick);
   // Moves the cars in the ray scene when a sensor or an agent's observation will cast rays this tick;

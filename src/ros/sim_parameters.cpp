@@ -88,6 +88,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
   o.start_wait = readDouble(nh, "start_wait", o.start_wait, 0.0, 600.0);
   o.wait_for_recorders = readStringList(nh, "wait_for_recorders", {});
+  o.wait_for_drivers = readBool(nh, "wait_for_drivers", o.wait_for_drivers);
   if (scenario) {
     // The scenario's cars (checked when it was read) instead of ~vehicles.
     for (const auto& car : scenario->cars) {
@@ -97,6 +98,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
       spawn.spawn_point = car.spawn_point;
       spawn.sensor_set = car.sensors.empty() ? o.default_sensor_set : car.sensors;
       spawn.colour = car.colour;
+      spawn.driven = car.driven;
       if (!car.agent.empty()) spawn.agent = stack::resolveAgentEnv(car.agent, o.rl_dir);
       o.vehicles.push_back(spawn);
     }

@@ -22,6 +22,7 @@ struct VehicleSpawn {
   std::string sensor_set;  // a set in sensors_dir or a YAML path; empty: no sensors
   Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB; negative: the n-th of a palette
   std::string agent;       // an RL environment file: an agent drives the car through the RL interface
+  bool driven = true;      // the racing stack (its controller, or a policy_driver in its place) drives it
 };
 
 struct SimNodeOptions {
@@ -40,6 +41,10 @@ struct SimNodeOptions {
   // Nodes (rosbag recorders) that must subscribe to /clock and every car's odom, vehicle_status and
   // control before the first tick, so a recording starts at tick 0.
   std::vector<std::string> wait_for_recorders;
+  // Lockstep: before the first tick, wait for a driver of every driven car (a publisher on its control
+  // topic) and for every subscriber of its odometry to connect, so a race starts alike every time: a
+  // driver that came late missed the first tick and its car stood still until lockstep_timeout.
+  bool wait_for_drivers = false;
   double lockstep_timeout = 5.0;  // wall seconds a tick waits for a connected driver before going on without it
   std::vector<VehicleSpawn> vehicles;
 };
