@@ -1,8 +1,7 @@
 #pragma once
 // Engine with a full-throttle torque curve and engine braking, a gearbox with automatic shifting (with a
-// torque gap while shifting; kickdown to the strongest gear at full throttle)
-// or manual selection, and open differentials. The clutch is modelled only as
-// slipping below idle, so the car can pull away from rest.
+// torque gap while shifting, and kickdown to the strongest gear at full throttle) or manual selection, and
+// open differentials. The clutch is modelled only as slipping below idle, so the car can pull away from rest.
 #include "roar/sim/vehicle_params.h"
 
 namespace roar::sim {
