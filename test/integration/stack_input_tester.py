@@ -20,22 +20,32 @@ class StackInputs(unittest.TestCase):
     def setUpClass(cls):
         cls.log = []
         cls.controls = []
+        cls.lines = []
         cls.lock = threading.Lock()
         rospy.Subscriber("/rosout_agg", Log, cls.on_log)
         rospy.Subscriber("/rosout", Log, cls.on_log)
         rospy.Subscriber("/ego/control", VehicleControl, cls.on_control)
+        # Subscribed before anything is planned: a subscription made just as the planner publishes can miss
+        # even a latched message.
+        racing_line = rospy.Subscriber("/racing_line", Trajectory, cls.on_line)
         cls.waypoints = rospy.Publisher("/waypoints", WaypointArray, queue_size=1, latch=True)
         cls.trajectory = rospy.Publisher("/ego/local_trajectory", Trajectory, queue_size=1, latch=True)
         cls.odom = rospy.Publisher("/ego/odom", Odometry, queue_size=10)
         deadline = time.time() + 30
         while time.time() < deadline and (cls.odom.get_num_connections() < 2 or cls.trajectory.get_num_connections() < 1
-                                          or cls.waypoints.get_num_connections() < 1):
+                                          or cls.waypoints.get_num_connections() < 1
+                                          or racing_line.get_num_connections() < 1):
             time.sleep(0.1)
 
     @classmethod
     def on_log(cls, msg):
         with cls.lock:
             cls.log.append(msg.msg)
+
+    @classmethod
+    def on_line(cls, msg):
+        with cls.lock:
+            cls.lines.append(msg)
 
     @classmethod
     def on_control(cls, msg):
@@ -86,7 +96,12 @@ class StackInputs(unittest.TestCase):
         self.assertTrue(self.wait_for_log("not a closed circuit"))
         # A good circuit after the bad ones is planned and latched.
         self.waypoints.publish(self.circle())
-        line = rospy.wait_for_message("/racing_line", Trajectory, timeout=20)
+        deadline = time.time() + 20
+        while time.time() < deadline and not self.lines:
+            time.sleep(0.05)
+        with self.lock:
+            self.assertEqual(len(self.lines), 1, "one racing line, for the good circuit only")
+            line = self.lines[0]
         self.assertTrue(line.closed)
         self.assertGreater(len(line.points), 100)
         for p in line.points:
