@@ -2,7 +2,10 @@
 // cars that the stack drives (less ~exclude), or ~vehicle. Answers every odometry message with a control stamped with the
 // odometry's time, which is what the simulator's lockstep mode waits for. Until a car's first trajectory
 // arrives it does not answer, so a lockstep simulator waits for the stack to be ready (an async one holds
-// the car with its control timeout). When a car's odometry stops for odom_timeout seconds of wall time it
+// the car with its control timeout). While the planner answers odometry too (its windows carry the
+// odometry's stamp), the controller answers tick t with the window of tick t, waiting up to ~window_wait
+// seconds of wall time for it: otherwise a planner that fell behind (a busy machine) would let a lockstep
+// race run on with an old window, past its end and into a wall. When a car's odometry stops for odom_timeout seconds of wall time it
 // brakes that car to a stop and says so. Gains and limits are dynamic_reconfigure parameters
 // (cfg/Controller.cfg), tunable while it drives.
 #include <dynamic_reconfigure/server.h>
@@ -36,6 +39,7 @@ struct DrivenCar {
 struct ControllerOptions {
   std::vector<DrivenCar> cars;
   double odom_timeout = 1.0;  // s of wall time; 0: never
+  double window_wait = 1.0;   // s of wall time a tick waits for its window; 0: answer with the latest at once
 };
 
 ControllerOptions readParameters(const ros::NodeHandle& nh) {
@@ -58,6 +62,7 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
                       sim::loadVehicleModel(readString(nh, "model", "sedan"), urdf_dir, config_dir), 0.0});
   }
   o.odom_timeout = readDouble(nh, "odom_timeout", o.odom_timeout, 0.0, 3600);
+  o.window_wait = readDouble(nh, "window_wait", o.window_wait, 0.0, 3600);
   return o;
 }
 
@@ -79,9 +84,10 @@ control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::Con
 // One car: its tracker, topics and odometry watchdog.
 class Driver {
  public:
-  Driver(ros::NodeHandle& nh, const DrivenCar& car, double odom_timeout)
+  Driver(ros::NodeHandle& nh, const DrivenCar& car, double odom_timeout, double window_wait)
       : car_(car),
         odom_timeout_(odom_timeout),
+        window_wait_(window_wait),
         // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
         tracker_(stack::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)) {
     control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", 10);
@@ -98,6 +104,12 @@ class Driver {
 
   // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
   void checkOdometry() {
+    if (held_odom_ && tracker_.hasTrajectory() && (ros::WallTime::now() - held_since_).toSec() >= window_wait_) {
+      ROS_WARN_THROTTLE(5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
+                        trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_,
+                        window_stamp_.toSec());
+      answer(*held_odom_);
+    }
     if (odom_timeout_ <= 0 || last_odom_.isZero() || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_) return;
     if (!stale_) {
       ROS_WARN("controller: no odometry on %s for %.1f s: braking '%s' to a stop", odom_sub_.getTopic().c_str(),
@@ -115,10 +127,16 @@ class Driver {
     try {
       const bool first = !tracker_.hasTrajectory();
       tracker_.setTrajectory(ros_bridge::fromMessage(msg));
-      if (first && waiting_odom_) {  // the simulator may be waiting for its answer
-        const nav_msgs::Odometry::ConstPtr held = waiting_odom_;
-        onOdometry(*held, held);
+      window_stamp_ = msg.header.stamp;
+      // Windows stamped with the odometry's time (not older than the newest: one lagging behind says
+      // nothing new): the planner answers odometry, so a tick can wait for its window. Unstamped windows
+      // on a running clock: it does not.
+      if (!odometry_seen_ || (msg.header.stamp.isZero() && !newest_odom_stamp_.isZero())) {
+        planner_answers_odometry_ = false;
+      } else if (msg.header.stamp >= newest_odom_stamp_) {
+        planner_answers_odometry_ = true;
       }
+      if (held_odom_ && (first || window_stamp_ >= held_odom_->header.stamp)) answer(*held_odom_);
     } catch (const std::exception& e) {
       ROS_ERROR_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
                          tracker_.hasTrajectory() ? "; keeping the previous one" : "");
@@ -130,12 +148,26 @@ class Driver {
       ROS_INFO("controller: odometry of '%s' is back", car_.name.c_str());
       stale_ = false;
     }
+    newest_odom_stamp_ = std::max(newest_odom_stamp_, odom.header.stamp);
+    odometry_seen_ = true;
     if (!tracker_.hasTrajectory()) {
       ROS_WARN_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
-      waiting_odom_ = keep;
+      hold(keep);
       return;
     }
-    waiting_odom_.reset();
+    if (window_wait_ > 0 && planner_answers_odometry_ && window_stamp_ < odom.header.stamp) {
+      hold(keep);  // a newer odometry supersedes one still held: the simulator went on without its answer
+      return;
+    }
+    answer(odom);
+  }
+
+  void hold(const nav_msgs::Odometry::ConstPtr& odom) {
+    held_odom_ = odom;
+    held_since_ = ros::WallTime::now();
+  }
+
+  void answer(const nav_msgs::Odometry& odom) {
     last_odom_ = ros::WallTime::now();
     control::TrackerInput in;
     in.position = Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y);
@@ -145,22 +177,26 @@ class Driver {
     roar_ros::VehicleControl msg = ros_bridge::toMessage(tracker_.update(in));
     msg.header.stamp = odom.header.stamp;
     control_pub_.publish(msg);
+    held_odom_.reset();  // last: `odom` may be the held message itself
   }
 
   DrivenCar car_;
-  double odom_timeout_;
+  double odom_timeout_, window_wait_;
   control::TrajectoryTracker tracker_;
   ros::Publisher control_pub_;
   ros::Subscriber trajectory_sub_, odom_sub_;
   ros::WallTime last_odom_;  // of the last odometry answered: the watchdog starts with driving
-  nav_msgs::Odometry::ConstPtr waiting_odom_;
+  nav_msgs::Odometry::ConstPtr held_odom_;  // odometry not answered yet: no trajectory, or its window is late
+  ros::WallTime held_since_;
+  ros::Time window_stamp_, newest_odom_stamp_;
+  bool odometry_seen_ = false, planner_answers_odometry_ = false;
   bool stale_ = false;
 };
 
 class ControllerNode {
  public:
   ControllerNode(ros::NodeHandle& nh, const ControllerOptions& options) {
-    for (const auto& car : options.cars) drivers_.emplace_back(nh, car, options.odom_timeout);
+    for (const auto& car : options.cars) drivers_.emplace_back(nh, car, options.odom_timeout, options.window_wait);
     reconfigure_.setCallback([this](const roar_ros::ControllerConfig& config, uint32_t) {
       if (config.lateral_control != "pure_pursuit" && config.lateral_control != "stanley") {
         ROS_ERROR("controller: lateral_control '%s' is neither pure_pursuit nor stanley; keeping the gains as they were",

@@ -31,10 +31,16 @@ class StackInputs(unittest.TestCase):
         cls.waypoints = rospy.Publisher("/waypoints", WaypointArray, queue_size=1, latch=True)
         cls.trajectory = rospy.Publisher("/ego/local_trajectory", Trajectory, queue_size=1, latch=True)
         cls.odom = rospy.Publisher("/ego/odom", Odometry, queue_size=10)
+        cls.solo_controls = []
+        rospy.Subscriber("/solo/control", VehicleControl, lambda m: cls.solo_controls.append(m))
+        cls.solo_odom = rospy.Publisher("/solo/odom", Odometry, queue_size=10)
+        cls.solo_window = rospy.Publisher("/solo/local_trajectory", Trajectory, queue_size=10)
         deadline = time.time() + 30
         while time.time() < deadline and (cls.odom.get_num_connections() < 2 or cls.trajectory.get_num_connections() < 1
                                           or cls.waypoints.get_num_connections() < 1
-                                          or racing_line.get_num_connections() < 1):
+                                          or racing_line.get_num_connections() < 1
+                                          or cls.solo_odom.get_num_connections() < 1
+                                          or cls.solo_window.get_num_connections() < 1):
             time.sleep(0.1)
 
     @classmethod
@@ -108,10 +114,7 @@ class StackInputs(unittest.TestCase):
             self.assertLess(abs(math.hypot(p.position.x, p.position.y) - 100.0), 6.0 - 0.925 - 0.5 + 0.05)
 
     def test_2_controller_keeps_its_trajectory_when_sent_nan_and_brakes_without_odometry(self):
-        good = Trajectory(closed=False, length=200.0)
-        for i in range(201):
-            good.points.append(TrajectoryPoint(s=float(i), speed=20.0))
-            good.points[-1].position.x = float(i)
+        good = self.straight()
         self.trajectory.publish(good)
         time.sleep(0.5)
         stamp = rospy.Time(1000, 0)
@@ -135,12 +138,45 @@ class StackInputs(unittest.TestCase):
         self.assertIsNotNone(stop, "the controller brakes when odometry stops")
         self.assertTrue(self.wait_for_log("no odometry on /ego/odom for 1.0 s: braking 'ego' to a stop"))
 
-    def test_3_gains_are_tuned_live(self):
-        good = Trajectory(closed=False, length=200.0)
+    def straight(self, stamp=None):
+        line = Trajectory(closed=False, length=200.0)
         for i in range(201):
-            good.points.append(TrajectoryPoint(s=float(i), speed=20.0))
-            good.points[-1].position.x = float(i)
-        self.trajectory.publish(good)
+            line.points.append(TrajectoryPoint(s=float(i), speed=20.0))
+            line.points[-1].position.x = float(i)
+        if stamp is not None:
+            line.header.stamp = stamp
+        return line
+
+    def test_3_controller_answers_a_tick_with_the_window_of_that_tick(self):
+        def answered(stamp, timeout):
+            deadline = time.time() + timeout
+            while time.time() < deadline:
+                if any(c.header.stamp == stamp for c in list(self.solo_controls)):
+                    return True
+                time.sleep(0.02)
+            return False
+
+        # The tester plays solo's planner, which answers odometry: its window carries the odometry's stamp.
+        t = [rospy.Time(1500, 0), rospy.Time(1500, 50000000), rospy.Time(1500, 100000000)]
+        self.solo_odom.publish(self.odometry(t[0]))
+        time.sleep(0.2)
+        self.solo_window.publish(self.straight(t[0]))
+        self.assertTrue(answered(t[0], 5.0), "the first window answers the odometry held for it")
+        # The next tick's window is late (a busy planner): the controller waits for it, so a lockstep
+        # simulator does not run on with the old window.
+        self.solo_odom.publish(self.odometry(t[1], x=1.0))
+        self.assertFalse(answered(t[1], 0.5), "no answer before the window of the tick")
+        self.solo_window.publish(self.straight(t[1]))
+        self.assertTrue(answered(t[1], 2.0), "answered once the window came")
+        # A window that never comes: after window_wait (1 s) the tick is answered with the latest, and said.
+        sent = time.time()
+        self.solo_odom.publish(self.odometry(t[2], x=2.0))
+        self.assertTrue(answered(t[2], 5.0))
+        self.assertGreater(time.time() - sent, 0.9)
+        self.assertTrue(self.wait_for_log("no window on /solo/local_trajectory for t = 1500.10 s after 1.0 s"))
+
+    def test_4_gains_are_tuned_live(self):
+        self.trajectory.publish(self.straight())
         client = dynamic_reconfigure.client.Client("/ego_controller", timeout=20)
         client.update_configuration({"max_speed": 5.0})
         self.assertTrue(self.wait_for_log("max 5.000000 m/s"))
