@@ -33,9 +33,10 @@ void validate(const EvolutionOptions& o) {
 
 Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed) {
   Rollout out;
-  Value observation = env.reset(seed).observation;
+  StepResult step;
+  step.observation = env.reset(seed).observation;
   for (;;) {
-    StepResult step = env.step(policy.act(env.actionSpace(), observation));
+    env.step(policy.act(env.actionSpace(), step.observation), &step);
     out.episode_return += step.reward;
     out.info = step.info;
     if (step.done()) {
@@ -43,7 +44,6 @@ Rollout rollout(RacingEnv& env, const MlpPolicy& policy, std::uint64_t seed) {
       out.truncated = step.truncated;
       return out;
     }
-    observation = std::move(step.observation);
   }
 }
 

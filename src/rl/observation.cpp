@@ -113,18 +113,25 @@ bool ObservationBuilder::needsScene() const { return options_.lidar.beams > 0 ||
 
 Value ObservationBuilder::observe(const sim::VehicleState& state, const track::Projection& where,
                                   const sensors::RayScene* scene, int own_vehicle) {
-  const auto& o = options_;
   Value obs;
-  if (o.speed) obs.at("speed") = Value::of({state.speed});
+  observeInto(state, where, scene, own_vehicle, &obs);
+  return obs;
+}
+
+void ObservationBuilder::observeInto(const sim::VehicleState& state, const track::Projection& where,
+                                     const sensors::RayScene* scene, int own_vehicle, Value* out) {
+  const auto& o = options_;
+  Value& obs = *out;
+  if (o.speed) obs.at("speed").numbers.assign({state.speed});
   const Eigen::Vector3d& v = state.body_linear_velocity;
   const Eigen::Vector3d& w = state.body_angular_velocity;
-  if (o.velocity) obs.at("velocity") = Value::of({v.x(), v.y(), v.z()});
-  if (o.angular_velocity) obs.at("angular_velocity") = Value::of({w.x(), w.y(), w.z()});
+  if (o.velocity) obs.at("velocity").numbers.assign({v.x(), v.y(), v.z()});
+  if (o.angular_velocity) obs.at("angular_velocity").numbers.assign({w.x(), w.y(), w.z()});
   if (o.imu) {
     const sensors::ImuSample imu = sensors::sampleImu(sensors::motionOf(state), sensors::Mount(), sensors::ImuSpec(), gravity_, nullptr);
     const Eigen::Vector3d& a = imu.linear_acceleration;
     const Eigen::Vector3d& g = imu.angular_velocity;
-    obs.at("imu") = Value::of({a.x(), a.y(), a.z(), g.x(), g.y(), g.z()});
+    obs.at("imu").numbers.assign({a.x(), a.y(), a.z(), g.x(), g.y(), g.z()});
   }
   if (!o.waypoint_distances.empty()) {
     const double yaw = sim::yawOf(state.pose.orientation);
@@ -134,8 +141,8 @@ Value ObservationBuilder::observe(const sim::VehicleState& state, const track::P
     for (double d : o.waypoint_distances) {
       const track::TrackPose p = track_->poseAt(where.s + d);
       const Eigen::Vector2d delta = p.position - at;
-      waypoints.at(waypointKey(d)) = Value::of({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
-                                                track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
+      waypoints.at(waypointKey(d)).numbers.assign({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
+                                                   track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
     }
   }
   if (needsScene()) {
@@ -149,6 +156,7 @@ Value ObservationBuilder::observe(const sim::VehicleState& state, const track::P
       const Eigen::Vector3d origin = base * Eigen::Vector3d(0.0, 0.0, o.lidar.height);
       scene->cast(origin, dirs.data(), dirs.size(), own_vehicle, static_cast<float>(o.lidar.max_range), false, hits.data());
       Value& ranges = obs.at("lidar");
+      ranges.numbers.clear();
       ranges.numbers.reserve(hits.size());
       for (const auto& h : hits) ranges.numbers.push_back(h.hit ? std::min<double>(h.distance, o.lidar.max_range) : o.lidar.max_range);
     }
@@ -161,12 +169,12 @@ Value ObservationBuilder::observe(const sim::VehicleState& state, const track::P
       if (o.camera.rgb) obs.at("camera_rgb").numbers.assign(frame.rgb.begin(), frame.rgb.end());
       if (o.camera.depth) {
         auto& depth = obs.at("camera_depth").numbers;
+        depth.clear();
         depth.reserve(frame.depth.size());
         for (float d : frame.depth) depth.push_back(std::isfinite(d) ? std::min<double>(d, o.camera.max_depth) : o.camera.max_depth);
       }
     }
   }
-  return obs;
 }
 
 }  // namespace roar::rl

@@ -49,8 +49,8 @@ sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, st
   return sim::poseOnTrack(at);
 }
 
-Value RacingEnv::observe() {
-  return observer_.observe(world_->vehicleState(kCar), episode_.where(), scene_.get(), -1);
+void RacingEnv::observeInto(Value* obs) {
+  observer_.observeInto(world_->vehicleState(kCar), episode_.where(), scene_.get(), -1, obs);
 }
 
 ResetResult RacingEnv::reset(std::uint64_t seed) {
@@ -67,24 +67,28 @@ ResetResult RacingEnv::reset() {
   started_ = true;
   ResetResult r;
   r.info = episode_.begin(world_->vehicleState(kCar), world_->time());
-  r.observation = observe();
+  observeInto(&r.observation);
   return r;
 }
 
 StepResult RacingEnv::step(const Value& action) {
+  StepResult r;
+  step(action, &r);
+  return r;
+}
+
+void RacingEnv::step(const Value& action, StepResult* out) {
   if (!started_) throw std::logic_error("RacingEnv::step before the first reset");
   const sim::VehicleControl control = toControl(action_space_, action);
   const int gears = static_cast<int>(vehicle_.gearbox.ratios.size());
   world_->setControl(kCar, sim::checkControl(control, gears).control);
   world_->step();
   const StepOutcome outcome = episode_.step(world_->vehicleState(kCar), world_->contacts(kCar), world_->time());
-  StepResult r;
-  r.reward = outcome.reward;
-  r.terminated = outcome.terminated;
-  r.truncated = outcome.truncated;
-  r.info = outcome.info;
-  r.observation = observe();
-  return r;
+  out->reward = outcome.reward;
+  out->terminated = outcome.terminated;
+  out->truncated = outcome.truncated;
+  out->info = outcome.info;
+  observeInto(&out->observation);
 }
 
 }  // namespace roar::rl

@@ -20,24 +20,24 @@ std::vector<ResetResult> VectorEnv::reset(std::uint64_t seed) {
   return out;
 }
 
-VectorStepResult VectorEnv::step(const std::vector<Value>& actions) {
+const VectorStepResult& VectorEnv::step(const std::vector<Value>& actions) {
   if (actions.size() != envs_.size()) {
     throw std::invalid_argument("VectorEnv::step: " + std::to_string(actions.size()) + " actions for " +
                                 std::to_string(envs_.size()) + " environments");
   }
   for (std::size_t i = 0; i < actions.size(); ++i) check(actionSpace(), actions[i], "actions[" + std::to_string(i) + "]");
-  VectorStepResult out;
-  out.steps.resize(envs_.size());
-  out.final_observations.resize(envs_.size());
+  last_.steps.resize(envs_.size());
+  last_.final_observations.resize(envs_.size());
   pool_.run(envs_.size(), [&](std::size_t i, int) {
-    StepResult& r = out.steps[i];
-    r = envs_[i]->step(actions[i]);
+    StepResult& r = last_.steps[i];
+    envs_[i]->step(actions[i], &r);
+    last_.final_observations[i].reset();
     if (r.done()) {
-      out.final_observations[i] = std::move(r.observation);
+      last_.final_observations[i] = std::move(r.observation);
       r.observation = envs_[i]->reset().observation;
     }
   });
-  return out;
+  return last_;
 }
 
 }  // namespace roar::rl

@@ -258,7 +258,7 @@ std::string SimNode::notReadyToStart() const {
       // A driver answers a tick it heard: it must listen to the car's odometry or status, or the clock.
       for (const auto& driver : graph.publishers[control]) {
         bool listens = false;
-        for (const std::string topic : {nh_.resolveName(car.name + "/odom"), nh_.resolveName(car.name + "/vehicle_status"),
+        for (const std::string& topic : {nh_.resolveName(car.name + "/odom"), nh_.resolveName(car.name + "/vehicle_status"),
                                         ros::names::resolve("/clock")}) {
           listens = listens || subscribers[topic].count(driver) > 0;
         }

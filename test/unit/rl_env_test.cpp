@@ -104,6 +104,28 @@ TEST(RlEnv, TheSameSeedGivesTheSameEpisodeBitForBit) {
       << "a used environment resets to what a new one does";
 }
 
+// step(action, &result) writes into the result it is given (VectorEnv and rl_train step that way): the
+// same episode as step(action), whatever the result held before, with LiDAR and camera too.
+TEST(RlEnv, SteppingIntoAnEarlierResultGivesTheSameEpisode) {
+  rl::EnvOptions options = stateOptions();
+  options.observation.lidar.beams = 16;
+  options.observation.camera.width = options.observation.camera.height = 16;
+  options.observation.camera.depth = true;
+  rl::RacingEnv by_value(sprint(), test::sedan(), options), in_place(sprint(), test::sedan(), options);
+  Value o = by_value.reset(5).observation;
+  rl::StepResult reused;
+  reused.observation = in_place.reset(5).observation;
+  for (int i = 0; i < 60; ++i) {
+    const Value a = chase(by_value.actionSpace(), o, 0.9);
+    const rl::StepResult r = by_value.step(a);
+    in_place.step(a, &reused);
+    EXPECT_EQ(trace(r), trace(reused)) << "step " << i;
+    EXPECT_EQ(rl::flatten(by_value.observationSpace(), r.observation),
+              rl::flatten(in_place.observationSpace(), reused.observation)) << "step " << i;
+    o = r.observation;
+  }
+}
+
 TEST(RlEnv, ResetPutsTheCarAtRestOnItsSpawnAndClearsTheEpisode) {
   rl::EnvOptions options = stateOptions();
   options.observation.lidar.beams = 16;

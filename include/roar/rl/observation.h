@@ -78,6 +78,10 @@ class ObservationBuilder {
   // which the car is `own_vehicle`, -1 when it is not in it) is used when needsScene().
   Value observe(const sim::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
                 int own_vehicle);
+  // The same into `obs`, reusing its memory when it holds an earlier observation of this builder: a step
+  // then allocates nothing.
+  void observeInto(const sim::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
+                   int own_vehicle, Value* obs);
 
  private:
   const track::Track* track_;

@@ -54,12 +54,14 @@ class RacingEnv {
   // Throws SpaceError naming the key for an action outside the action space (nothing is stepped then),
   // std::logic_error before the first reset.
   StepResult step(const Value& action);
+  // The same into `out`, reusing the memory of the observation it holds (from an earlier step or reset).
+  void step(const Value& action, StepResult* out);
 
   const sim::World& world() const;
   static constexpr const char* kCar = "agent";
 
  private:
-  Value observe();
+  void observeInto(Value* obs);
 
   track::Track track_;
   sim::VehicleParams vehicle_;

@@ -32,11 +32,15 @@ class VectorEnv {
   // Environment i is reset with seed + i.
   std::vector<ResetResult> reset(std::uint64_t seed);
   // Throws SpaceError (for the first bad one) when an action is outside the space; nothing is stepped then.
-  VectorStepResult step(const std::vector<Value>& actions);
+  // The result stays valid until the next step().
+  const VectorStepResult& step(const std::vector<Value>& actions);
 
  private:
   std::vector<std::unique_ptr<RacingEnv>> envs_;
   WorkerPool pool_;
+  // Each environment's last result, overwritten by the thread that steps it (shares are fixed), so memory
+  // is freed by the thread that allocated it.
+  VectorStepResult last_;
 };
 
 }  // namespace roar::rl
