@@ -5,8 +5,8 @@
 // the car with its control timeout). While the planner answers odometry too (its windows carry the
 // odometry's stamp), the controller answers tick t with the window of tick t, waiting up to ~window_wait
 // seconds of wall time for it: otherwise a planner that fell behind (a busy machine) would let a lockstep
-// race run on with an old window, past its end and into a wall. When a car's odometry stops for odom_timeout seconds of wall time it
-// brakes that car to a stop and says so. Gains and limits are dynamic_reconfigure parameters
+// race run on with an old window, past its end and into a wall. When a car's odometry stops for
+// odom_timeout seconds of wall time it brakes that car to a stop and says so. Gains and limits are dynamic_reconfigure parameters
 // (cfg/Controller.cfg), tunable while it drives.
 #include <dynamic_reconfigure/server.h>
 #include <nav_msgs/Odometry.h>
