@@ -159,6 +159,8 @@ struct NullSink : sensors::SensorSink {
   void imu(const sensors::SensorSpec&, double, const sensors::ImuSample&) override {}
   void gnss(const sensors::SensorSpec&, double, const sensors::GnssFix&) override {}
   void velocity(const sensors::SensorSpec&, double, const sensors::Velocity&) override {}
+  void vector(const sensors::SensorSpec&, double, const Eigen::Vector3d&) override {}
+  void occupancy(const sensors::SensorSpec&, double, const sensors::OccupancyFrame&) override {}
 };
 
 void SensorSuiteRealTimeFactor(benchmark::State& state) {

@@ -43,7 +43,7 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
   }
   VehicleLimits limits;
   limits.mass = params.chassis.mass;
-  limits.friction = road_friction * grip_use;
+  limits.friction = road_friction * params.tyre.grip * grip_use;
   limits.drag_coefficient = 0.5 * params.aero.air_density * params.aero.drag_area;
   limits.downforce_coefficient = 0.5 * params.aero.air_density * params.aero.downforce_area;
   limits.rolling_resistance = params.tyre.rolling_resistance;

@@ -1,75 +1,16 @@
 #include "roar/rl/env_options.h"
 
-#include <yaml-cpp/yaml.h>
+#include "roar/config/yaml_section.h"
 
 #include <cmath>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 namespace roar::rl {
 
 namespace {
 
-// One mapping of the file: reads the keys it knows, then refuses any other.
-class Section {
- public:
-  Section(const YAML::Node& node, std::string path, std::string source)
-      : node_(node), path_(std::move(path)), source_(std::move(source)) {
-    if (node_ && !node_.IsNull() && !node_.IsMap()) fail(path_.empty() ? "the file" : path_, "must be a mapping of keys");
-  }
-
-  template <class T>
-  void read(const std::string& key, T* out) {
-    known_.insert(key);
-    if (!node_ || !node_.IsMap() || !node_[key]) return;
-    try {
-      *out = node_[key].as<T>();
-    } catch (const YAML::Exception&) {
-      fail(where(key), "is not a " + typeName<T>());
-    }
-    if constexpr (std::is_same_v<T, double>) {
-      if (!std::isfinite(*out)) fail(where(key), "is not a finite number");
-    }
-  }
-
-  Section child(const std::string& key) {
-    known_.insert(key);
-    return Section(node_ && node_.IsMap() ? node_[key] : YAML::Node(), where(key), source_);
-  }
-
-  void finish() const {
-    if (!node_ || !node_.IsMap()) return;
-    for (const auto& entry : node_) {
-      const std::string key = entry.first.as<std::string>();
-      if (!known_.count(key)) {
-        std::string keys;
-        for (const auto& k : known_) keys += (keys.empty() ? "" : ", ") + k;
-        fail(where(key), "is not an option here (known: " + keys + ")");
-      }
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw EnvConfigError(source_ + ": " + field + ": " + what);
-  }
-  std::string where(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-
- private:
-  template <class T>
-  static std::string typeName() {
-    if constexpr (std::is_same_v<T, bool>) return "boolean";
-    if constexpr (std::is_same_v<T, int>) return "whole number";
-    if constexpr (std::is_same_v<T, double>) return "number";
-    if constexpr (std::is_same_v<T, std::string>) return "string";
-    return "list of numbers";
-  }
-
-  YAML::Node node_;
-  std::string path_;
-  std::string source_;
-  std::set<std::string> known_;
-};
+using Section = config::YamlSection<EnvConfigError>;
 
 void readObservation(Section s, ObservationOptions* o) {
   s.read("speed", &o->speed);

@@ -36,7 +36,7 @@ double TyreModel::peakForce(double load, double mu) const {
   if (load <= 0) return 0.0;
   const double dfz = (load - params_.nominal_load) / params_.nominal_load;
   const double scale = std::max(0.5, 1.0 - params_.load_sensitivity * dfz);
-  return mu * scale * load;
+  return mu * params_.grip * scale * load;
 }
 
 TyreForce TyreModel::force(double slip_ratio, double slip_angle, double load, double mu) const {

@@ -2,13 +2,15 @@
 
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
-#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "roar/config/yaml_section.h"
 
 namespace roar::sim {
 namespace fs = std::filesystem;
@@ -38,80 +40,33 @@ Eigen::Isometry3d linkInBase(const urdf::ModelInterface& model, const std::strin
   return t;
 }
 
-class YamlReader {
- public:
-  YamlReader(YAML::Node root, std::string source) : root_(std::move(root)), source_(std::move(source)) {}
+using Section = config::YamlSection<VehicleConfigError>;
 
-  YAML::Node node(const std::string& path) const {
-    // yaml-cpp's Node::operator= writes into the tree; reset() only rebinds the handle.
-    YAML::Node n;
-    n.reset(root_);
-    std::stringstream ss(path);
-    std::string part;
-    while (std::getline(ss, part, '.')) {
-      const YAML::Node& parent = n;
-      const YAML::Node child = parent.IsMap() ? parent[part] : YAML::Node();
-      if (!child || !child.IsDefined()) throw VehicleConfigError(source_ + ": missing field '" + path + "'");
-      n.reset(child);
-    }
-    return n;
-  }
+std::string show(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
 
-  double number(const std::string& path) const {
-    try {
-      const double v = node(path).as<double>();
-      if (!std::isfinite(v)) throw VehicleConfigError(source_ + ": field '" + path + "' is not finite");
-      return v;
-    } catch (const YAML::Exception&) {
-      throw VehicleConfigError(source_ + ": field '" + path + "' is not a number");
-    }
-  }
+// A required number within [lo, hi] (its physical range), named with its value and the range when outside.
+double inRange(Section& s, const std::string& key, double lo, double hi, const std::string& unit = "") {
+  const double v = s.require<double>(key);
+  if (!(v >= lo && v <= hi)) s.fail(s.where(key), show(v) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
+  return v;
+}
 
-  double positive(const std::string& path) const {
-    const double v = number(path);
-    if (v <= 0) throw VehicleConfigError(source_ + ": field '" + path + "' must be positive");
-    return v;
-  }
+// The same but above lo (lo itself refused).
+double above(Section& s, const std::string& key, double lo, double hi, const std::string& unit = "") {
+  const double v = inRange(s, key, lo, hi, unit);
+  if (v == lo) s.fail(s.where(key), "must be above " + show(lo) + unit);
+  return v;
+}
 
-  double fraction(const std::string& path) const {
-    const double v = number(path);
-    if (v < 0 || v > 1) throw VehicleConfigError(source_ + ": field '" + path + "' must be in [0, 1]");
-    return v;
-  }
-
-  bool flag(const std::string& path, bool fallback) const {
-    if (!root_.IsMap()) return fallback;
-    try {
-      return node(path).as<bool>();
-    } catch (const VehicleConfigError&) {
-      return fallback;
-    } catch (const YAML::Exception&) {
-      throw VehicleConfigError(source_ + ": field '" + path + "' is not true or false");
-    }
-  }
-
-  std::vector<double> numbers(const std::string& path) const {
-    const YAML::Node n = node(path);
-    if (!n.IsSequence() || n.size() == 0) {
-      throw VehicleConfigError(source_ + ": field '" + path + "' must be a non-empty list of numbers");
-    }
-    std::vector<double> out;
-    for (std::size_t i = 0; i < n.size(); ++i) {
-      try {
-        out.push_back(n[i].as<double>());
-      } catch (const YAML::Exception&) {
-        throw VehicleConfigError(source_ + ": field '" + path + "[" + std::to_string(i) + "]' is not a number");
-      }
-    }
-    return out;
-  }
-
-  const std::string& source() const { return source_; }
-
- private:
-  YAML::Node root_;
-  std::string source_;
-};
+bool flag(Section& s, const std::string& key, bool fallback) {
+  bool v = fallback;
+  s.read(key, &v);
+  return v;
+}
 
 }  // namespace
 
@@ -163,85 +118,124 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
     throw VehicleConfigError(yaml_path + ": " + e.what());
   }
   if (!root.IsMap()) throw VehicleConfigError(yaml_path + ": expected a mapping of vehicle sections");
-  const YamlReader r(root, yaml_path);
+  Section file(root, "", yaml_path);
   VehicleParams& p = *params;
-  p.front_drive_share = r.fraction("drivetrain.front_drive_share");
-  p.traction_control = r.flag("drivetrain.traction_control", true);
-  p.rear_grip_share = r.fraction("drivetrain.rear_grip_share");
+  file.read("blueprint", &p.blueprint);
+  file.read("description", &p.description);
+  Section drivetrain = file.child("drivetrain"), engine = file.child("engine"), gearbox = file.child("gearbox"),
+          brakes = file.child("brakes"), steering = file.child("steering"), suspension = file.child("suspension"),
+          tyre = file.child("tyre"), aero = file.child("aero");
+  file.finish();  // a misspelt section is named as such, not as the fields it lacks
 
-  p.engine.idle_rpm = r.positive("engine.idle_rpm");
-  p.engine.redline_rpm = r.positive("engine.redline_rpm");
-  p.engine.engine_brake_torque = r.number("engine.engine_brake_torque_nm");
-  const YAML::Node curve = r.node("engine.torque_curve_rpm_nm");
-  if (!curve.IsSequence() || curve.size() < 2) {
-    throw VehicleConfigError(yaml_path + ": field 'engine.torque_curve_rpm_nm' must list at least 2 [rpm, N m] pairs");
+
+  p.front_drive_share = inRange(drivetrain, "front_drive_share", 0, 1);
+  p.traction_control = flag(drivetrain, "traction_control", true);
+  p.rear_grip_share = inRange(drivetrain, "rear_grip_share", 0, 1);
+  drivetrain.finish();
+
+  p.engine.idle_rpm = above(engine, "idle_rpm", 0, 5000, " rpm");
+  p.engine.redline_rpm = above(engine, "redline_rpm", 0, 25000, " rpm");
+  p.engine.engine_brake_torque = inRange(engine, "engine_brake_torque_nm", 0, 2000, " N m");
+  const YAML::Node curve = engine.raw("torque_curve_rpm_nm");
+  engine.finish();
+  if (!curve || !curve.IsSequence() || curve.size() < 2) {
+    throw VehicleConfigError(yaml_path + ": engine.torque_curve_rpm_nm: must list at least 2 [rpm, N m] pairs");
   }
   p.engine.torque_curve.clear();
   for (std::size_t i = 0; i < curve.size(); ++i) {
     const std::string field = "engine.torque_curve_rpm_nm[" + std::to_string(i) + "]";
-    if (!curve[i].IsSequence() || curve[i].size() != 2) throw VehicleConfigError(yaml_path + ": field '" + field + "' must be [rpm, N m]");
+    if (!curve[i].IsSequence() || curve[i].size() != 2) throw VehicleConfigError(yaml_path + ": " + field + ": must be [rpm, N m]");
+    double rpm, torque;
     try {
-      p.engine.torque_curve.emplace_back(curve[i][0].as<double>(), curve[i][1].as<double>());
+      rpm = curve[i][0].as<double>();
+      torque = curve[i][1].as<double>();
     } catch (const YAML::Exception&) {
-      throw VehicleConfigError(yaml_path + ": field '" + field + "' is not a pair of numbers");
+      throw VehicleConfigError(yaml_path + ": " + field + ": is not a pair of numbers");
     }
-    if (i > 0 && p.engine.torque_curve[i].first <= p.engine.torque_curve[i - 1].first) {
-      throw VehicleConfigError(yaml_path + ": field '" + field + "': rpm must rise along the curve");
+    if (!(rpm >= 0 && rpm <= 25000) || !(torque >= 0 && torque <= 5000)) {
+      throw VehicleConfigError(yaml_path + ": " + field + ": [" + show(rpm) + ", " + show(torque) +
+                               "] is outside [0, 25000] rpm, [0, 5000] N m");
     }
+    if (i > 0 && rpm <= p.engine.torque_curve[i - 1].first) {
+      throw VehicleConfigError(yaml_path + ": " + field + ": rpm must rise along the curve");
+    }
+    p.engine.torque_curve.emplace_back(rpm, torque);
   }
 
-  p.gearbox.ratios = r.numbers("gearbox.ratios");
-  p.gearbox.reverse_ratio = r.positive("gearbox.reverse_ratio");
-  p.gearbox.final_drive = r.positive("gearbox.final_drive");
-  p.gearbox.efficiency = r.fraction("gearbox.efficiency");
-  p.gearbox.shift_up_rpm = r.positive("gearbox.shift_up_rpm");
-  p.gearbox.shift_down_rpm = r.positive("gearbox.shift_down_rpm");
-  p.gearbox.shift_time = r.number("gearbox.shift_time_s");
-  p.gearbox.kickdown = r.flag("gearbox.kickdown", true);
+  p.gearbox.ratios = gearbox.require<std::vector<double>>("ratios");
+  if (p.gearbox.ratios.empty() || p.gearbox.ratios.size() > 12) gearbox.fail("gearbox.ratios", "must list 1 to 12 gears");
+  for (double r : p.gearbox.ratios) {
+    if (!(r > 0 && r <= 20)) gearbox.fail("gearbox.ratios", show(r) + " is outside (0, 20]");
+  }
+  p.gearbox.reverse_ratio = above(gearbox, "reverse_ratio", 0, 20);
+  p.gearbox.final_drive = above(gearbox, "final_drive", 0, 20);
+  p.gearbox.efficiency = above(gearbox, "efficiency", 0, 1);
+  p.gearbox.shift_up_rpm = above(gearbox, "shift_up_rpm", 0, 25000, " rpm");
+  p.gearbox.shift_down_rpm = above(gearbox, "shift_down_rpm", 0, 25000, " rpm");
+  p.gearbox.shift_time = inRange(gearbox, "shift_time_s", 0, 2, " s");
+  p.gearbox.kickdown = flag(gearbox, "kickdown", true);
+  gearbox.finish();
 
-  p.brakes.max_torque_front = r.positive("brakes.max_torque_front_nm");
-  p.brakes.max_torque_rear = r.positive("brakes.max_torque_rear_nm");
-  p.brakes.hand_brake_torque = r.positive("brakes.hand_brake_torque_nm");
-  p.brakes.abs = r.flag("brakes.abs", true);
-  p.brakes.rear_grip_share = r.fraction("brakes.rear_grip_share");
+  p.brakes.max_torque_front = above(brakes, "max_torque_front_nm", 0, 20000, " N m");
+  p.brakes.max_torque_rear = above(brakes, "max_torque_rear_nm", 0, 20000, " N m");
+  p.brakes.hand_brake_torque = above(brakes, "hand_brake_torque_nm", 0, 20000, " N m");
+  p.brakes.abs = flag(brakes, "abs", true);
+  p.brakes.rear_grip_share = inRange(brakes, "rear_grip_share", 0, 1);
+  brakes.finish();
 
-  p.steering.max_angle = r.positive("steering.max_angle_rad");
-  p.steering.max_rate = r.positive("steering.max_rate_rad_per_s");
+  p.steering.max_angle = above(steering, "max_angle_rad", 0, 1.2, " rad");
+  p.steering.max_rate = above(steering, "max_rate_rad_per_s", 0, 20, " rad/s");
+  steering.finish();
 
-  p.suspension.stiffness = r.positive("suspension.stiffness_n_per_m");
-  p.suspension.damping = r.positive("suspension.damping_n_s_per_m");
-  p.suspension.travel = r.positive("suspension.travel_m");
-  p.suspension.droop = r.positive("suspension.droop_m");
-  p.suspension.anti_roll_front = r.number("suspension.anti_roll_front_n_per_m");
-  p.suspension.anti_roll_rear = r.number("suspension.anti_roll_rear_n_per_m");
+  p.suspension.stiffness = inRange(suspension, "stiffness_n_per_m", 1e3, 1e6, " N/m");
+  p.suspension.damping = inRange(suspension, "damping_n_s_per_m", 10, 1e5, " N s/m");
+  p.suspension.travel = above(suspension, "travel_m", 0, 0.5, " m");
+  p.suspension.droop = above(suspension, "droop_m", 0, 0.5, " m");
+  p.suspension.anti_roll_front = inRange(suspension, "anti_roll_front_n_per_m", 0, 1e6, " N/m");
+  p.suspension.anti_roll_rear = inRange(suspension, "anti_roll_rear_n_per_m", 0, 1e6, " N/m");
+  suspension.finish();
 
-  p.tyre.long_b = r.positive("tyre.longitudinal.b");
-  p.tyre.long_c = r.positive("tyre.longitudinal.c");
-  p.tyre.long_e = r.number("tyre.longitudinal.e");
-  p.tyre.lat_b = r.positive("tyre.lateral.b");
-  p.tyre.lat_c = r.positive("tyre.lateral.c");
-  p.tyre.lat_e = r.number("tyre.lateral.e");
-  p.tyre.nominal_load = r.positive("tyre.nominal_load_n");
-  p.tyre.load_sensitivity = r.fraction("tyre.load_sensitivity");
-  p.tyre.rolling_resistance = r.fraction("tyre.rolling_resistance");
-  p.tyre.wheel_inertia = r.positive("tyre.wheel_inertia_kg_m2");
+  for (const char* direction : {"longitudinal", "lateral"}) {
+    Section curve_params = tyre.child(direction);
+    const bool lon = direction[1] == 'o';
+    (lon ? p.tyre.long_b : p.tyre.lat_b) = above(curve_params, "b", 0, 100);
+    (lon ? p.tyre.long_c : p.tyre.lat_c) = above(curve_params, "c", 0, 5);
+    (lon ? p.tyre.long_e : p.tyre.lat_e) = inRange(curve_params, "e", -10, 1);
+    curve_params.finish();
+  }
+  p.tyre.nominal_load = above(tyre, "nominal_load_n", 0, 1e5, " N");
+  p.tyre.load_sensitivity = inRange(tyre, "load_sensitivity", 0, 1);
+  p.tyre.rolling_resistance = inRange(tyre, "rolling_resistance", 0, 0.1);
+  p.tyre.wheel_inertia = above(tyre, "wheel_inertia_kg_m2", 0, 50, " kg m^2");
+  if (tyre.has("grip")) p.tyre.grip = above(tyre, "grip", 0, 3);
+  tyre.finish();
 
-  p.aero.drag_area = r.number("aero.drag_area_m2");
-  p.aero.downforce_area = r.number("aero.downforce_area_m2");
-  p.aero.front_downforce_share = r.fraction("aero.front_downforce_share");
-  p.aero.air_density = r.positive("aero.air_density_kg_per_m3");
+  p.aero.drag_area = inRange(aero, "drag_area_m2", 0, 10, " m^2");
+  p.aero.downforce_area = inRange(aero, "downforce_area_m2", -10, 20, " m^2");
+  p.aero.front_downforce_share = inRange(aero, "front_downforce_share", 0, 1);
+  p.aero.air_density = above(aero, "air_density_kg_per_m3", 0, 2, " kg/m^3");
+  aero.finish();
 }
 
 void validate(const VehicleParams& p, const std::string& source) {
   auto fail = [&](const std::string& what) { throw VehicleConfigError(source + ": " + what); };
-  if (!(p.chassis.mass > 0)) fail("base_link mass must be positive");
-  if (!(p.chassis.inertia.minCoeff() > 0)) fail("base_link inertia (ixx, iyy, izz) must be positive");
-  if (!(p.chassis.box_size.minCoeff() > 0)) fail("body box size must be positive");
-  for (const auto& w : p.wheels) {
-    if (!(w.radius > 0) || !(w.width > 0)) fail("wheel '" + w.name + "' needs a positive radius and width");
+  auto range = [&](const std::string& what, double v, double lo, double hi, const std::string& unit) {
+    if (!(v >= lo && v <= hi)) fail(what + " " + show(v) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
+  };
+  range("base_link mass", p.chassis.mass, 50, 50000, " kg");
+  for (int i = 0; i < 3; ++i) {
+    range(std::string("base_link inertia ") + "xyz"[i] + "x yz"[i], p.chassis.inertia[i], 1, 1e6, " kg m^2");
+    range("body box size", p.chassis.box_size[i], 0.1, 30, " m");
+    range("body box centre", p.chassis.box_centre[i], -15, 15, " m");
+    range("centre of mass", p.chassis.centre_of_mass[i], -15, 15, " m");
   }
-  if (!(p.wheelbase() > 0)) fail("front wheels must be ahead of the rear wheels (wheelbase <= 0)");
-  if (!(p.track_width() > 0)) fail("left wheels must be on +y (track width <= 0)");
+  for (const auto& w : p.wheels) {
+    range("wheel '" + w.name + "' radius", w.radius, 0.05, 2, " m");
+    range("wheel '" + w.name + "' width", w.width, 0.02, 1, " m");
+    for (int i = 0; i < 3; ++i) range("wheel '" + w.name + "' position", w.position[i], -15, 15, " m");
+  }
+  if (!(p.wheelbase() > 0.5)) fail("front wheels must be at least 0.5 m ahead of the rear wheels (wheelbase " + show(p.wheelbase()) + " m)");
+  if (!(p.track_width() > 0.3)) fail("left wheels must be on +y, at least 0.3 m from the right ones (track width " + show(p.track_width()) + " m)");
   if (p.gearbox.ratios.empty()) fail("gearbox.ratios is empty");
   for (std::size_t i = 0; i < p.gearbox.ratios.size(); ++i) {
     if (!(p.gearbox.ratios[i] > 0)) fail("gearbox.ratios[" + std::to_string(i) + "] must be positive");
@@ -254,20 +248,43 @@ void validate(const VehicleParams& p, const std::string& source) {
   if (p.steering.max_angle >= M_PI / 2) fail("steering.max_angle_rad must be below pi/2");
 }
 
-VehicleParams loadVehicleModel(const std::string& model, const std::string& urdf_dir, const std::string& config_dir) {
+std::vector<VehicleModelInfo> listVehicleModels(const std::string& urdf_dir, const std::string& config_dir) {
+  std::vector<VehicleModelInfo> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(config_dir, ec)) {
+    if (e.path().extension() != ".yaml" || !fs::exists(fs::path(urdf_dir) / (e.path().stem().string() + ".urdf"))) continue;
+    VehicleModelInfo info;
+    info.model = e.path().stem().string();
+    try {
+      const YAML::Node root = YAML::LoadFile(e.path().string());
+      if (root.IsMap() && root["blueprint"]) info.blueprint = root["blueprint"].as<std::string>();
+      if (root.IsMap() && root["description"]) info.description = root["description"].as<std::string>();
+    } catch (const YAML::Exception&) {
+      // A broken file is still a model: loading it names the problem.
+    }
+    out.push_back(info);
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.model < b.model; });
+  return out;
+}
+
+std::string resolveVehicleModel(const std::string& model_or_blueprint, const std::string& urdf_dir,
+                                const std::string& config_dir) {
+  const auto models = listVehicleModels(urdf_dir, config_dir);
+  std::string known;
+  for (const auto& m : models) {
+    if (!model_or_blueprint.empty() && (m.model == model_or_blueprint || m.blueprint == model_or_blueprint)) return m.model;
+    known += (known.empty() ? "" : ", ") + m.model + (m.blueprint.empty() ? "" : " (" + m.blueprint + ")");
+  }
+  throw VehicleConfigError("unknown vehicle model or blueprint '" + model_or_blueprint + "': " + config_dir +
+                           " has no such model (known models and blueprints: " + (known.empty() ? "none" : known) + ")");
+}
+
+VehicleParams loadVehicleModel(const std::string& model_or_blueprint, const std::string& urdf_dir,
+                               const std::string& config_dir) {
+  const std::string model = resolveVehicleModel(model_or_blueprint, urdf_dir, config_dir);
   const fs::path urdf = fs::path(urdf_dir) / (model + ".urdf");
   const fs::path yaml = fs::path(config_dir) / (model + ".yaml");
-  if (model.empty() || !fs::exists(urdf) || !fs::exists(yaml)) {
-    std::string known;
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(config_dir, ec)) {
-      if (e.path().extension() == ".yaml" && fs::exists(fs::path(urdf_dir) / (e.path().stem().string() + ".urdf"))) {
-        known += (known.empty() ? "" : ", ") + e.path().stem().string();
-      }
-    }
-    throw VehicleConfigError("unknown vehicle model '" + model + "': needs " + urdf.string() + " and " + yaml.string() +
-                             " (known models: " + (known.empty() ? "none" : known) + ")");
-  }
   VehicleParams params;
   params.model = model;
   readVehicleUrdf(urdf.string(), &params);

@@ -142,6 +142,18 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   last_acceleration_ = btVector3(0, 0, 0);
 }
 
+void VehicleDynamics::setVelocity(const btVector3& linear, const btVector3& angular) {
+  const btTransform base = baseLinkPose();
+  const btVector3 com_offset = body_->getCenterOfMassPosition() - base.getOrigin();
+  body_->setLinearVelocity(linear + angular.cross(com_offset));
+  body_->setAngularVelocity(angular);
+  body_->activate(true);
+  const btVector3 forward = base.getBasis().getColumn(0);
+  for (std::size_t i = 0; i < wheels_.size(); ++i) wheels_[i].omega = linear.dot(forward) / params_.wheels[i].radius;
+  substep_start_velocity_ = body_->getLinearVelocity();
+  last_acceleration_ = btVector3(0, 0, 0);
+}
+
 std::array<double, 4> VehicleDynamics::wheelSteerAngles() const {
   // Ackermann: both front wheels point at one turning centre on the rear axle line.
   std::array<double, 4> angles{0.0, 0.0, 0.0, 0.0};

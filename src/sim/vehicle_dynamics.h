@@ -36,6 +36,8 @@ class VehicleDynamics {
   void beginSubstep();  // remembers the velocity for the substep's acceleration
   void endSubstep(double dt);
   void reset(const btTransform& base_link_pose);
+  // base_link's velocities (map frame) set as they are; the wheels roll with the road.
+  void setVelocity(const btVector3& linear, const btVector3& angular);
   btTransform baseLinkPose() const;
   VehicleState state() const;
 

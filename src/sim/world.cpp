@@ -181,6 +181,9 @@ struct World::Impl {
   WorldOptions options;
   int substeps = 1;
   std::uint64_t tick = 0;
+  // The clock since the last change of control_dt: time = base_time + (tick - base_tick) * control_dt.
+  std::uint64_t base_tick = 0;
+  double base_time = 0.0;
   SurfaceFriction friction;
   std::unique_ptr<btDefaultCollisionConfiguration> config;
   std::unique_ptr<btCollisionDispatcher> dispatcher;
@@ -192,18 +195,32 @@ struct World::Impl {
   int next_vehicle_index = kVehicleBase;
 };
 
-World::World(const track::Track& track, const WorldOptions& options) : impl_(std::make_unique<Impl>(track, options)) {
-  auto& w = *impl_;
-  if (!(options.physics_dt > 0) || !(options.control_dt >= options.physics_dt)) {
+namespace {
+
+// Physics substeps per control tick; throws std::invalid_argument for steps that do not fit.
+int substepsOf(double control_dt, double physics_dt) {
+  if (!(physics_dt > 0) || !(control_dt >= physics_dt) || !std::isfinite(control_dt)) {
     throw std::invalid_argument("physics_dt must be positive and no larger than control_dt");
   }
-  const double ratio = options.control_dt / options.physics_dt;
-  w.substeps = static_cast<int>(std::lround(ratio));
-  if (std::abs(ratio - w.substeps) > 1e-9 * ratio) {
-    throw std::invalid_argument("control_dt (" + std::to_string(options.control_dt) +
-                                ") must be a whole multiple of physics_dt (" + std::to_string(options.physics_dt) + ")");
+  const double ratio = control_dt / physics_dt;
+  const long substeps = std::lround(ratio);
+  if (std::abs(ratio - static_cast<double>(substeps)) > 1e-9 * ratio || substeps > 100000) {
+    throw std::invalid_argument("control_dt (" + std::to_string(control_dt) + ") must be a whole multiple of physics_dt (" +
+                                std::to_string(physics_dt) + ")");
   }
+  return static_cast<int>(substeps);
+}
+
+}  // namespace
+
+World::World(const track::Track& track, const WorldOptions& options, const WorldClock& start)
+    : impl_(std::make_unique<Impl>(track, options)) {
+  auto& w = *impl_;
+  w.substeps = substepsOf(options.control_dt, options.physics_dt);
   if (options.control_timeout < 0) throw std::invalid_argument("control_timeout must not be negative");
+  if (!std::isfinite(start.time) || start.time < 0) throw std::invalid_argument("the start time must be finite and >= 0");
+  w.tick = w.base_tick = start.tick;
+  w.base_time = start.time;
   w.friction.road = track.info().friction;
   w.friction.ground = track.info().ground_friction;
 
@@ -259,6 +276,17 @@ void World::resetVehicle(const std::string& name, const Pose& pose) {
   slot.contacts.clear();
 }
 
+void World::setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  Impl::Slot& slot = impl_->slot(name);
+  if (!linear.allFinite() || linear.norm() > 150.0) {
+    throw std::invalid_argument("linear velocity must be finite and at most 150 m/s");
+  }
+  if (!angular.allFinite() || angular.norm() > 20.0) {
+    throw std::invalid_argument("angular velocity must be finite and at most 20 rad/s");
+  }
+  slot.dynamics->setVelocity(btVector3(linear.x(), linear.y(), linear.z()), btVector3(angular.x(), angular.y(), angular.z()));
+}
+
 bool World::hasVehicle(const std::string& name) const { return impl_->vehicles.count(name) > 0; }
 
 std::vector<std::string> World::vehicleNames() const {
@@ -302,7 +330,19 @@ void World::step(const std::function<void(double)>& after_substep) {
 }
 
 std::uint64_t World::tick() const { return impl_->tick; }
-double World::time() const { return static_cast<double>(impl_->tick) * impl_->options.control_dt; }
+double World::time() const {
+  return impl_->base_time + static_cast<double>(impl_->tick - impl_->base_tick) * impl_->options.control_dt;
+}
+
+void World::setTiming(double control_dt, double physics_dt) {
+  auto& w = *impl_;
+  const int substeps = substepsOf(control_dt, physics_dt);
+  w.base_time = time();
+  w.base_tick = w.tick;
+  w.substeps = substeps;
+  w.options.control_dt = control_dt;
+  w.options.physics_dt = physics_dt;
+}
 
 VehicleState World::vehicleState(const std::string& name) const { return impl_->slot(name).dynamics->state(); }
 

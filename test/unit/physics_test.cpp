@@ -2,6 +2,8 @@
 // parking, gears, reverse, determinism.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "roar/sim/world.h"
 #include "test_support.h"
 
@@ -12,8 +14,8 @@ namespace {
 constexpr double kG = 9.81;
 
 struct Drive {
-  Drive(double mu = 1.0) : track(test::openGround(mu)), world(track, options()) {
-    world.spawnVehicle("ego", test::sedan(), sim::Pose());
+  explicit Drive(double mu = 1.0, const std::string& model = "sedan") : track(test::openGround(mu)), world(track, options()) {
+    world.spawnVehicle("ego", test::vehicle(model), sim::Pose());
     for (int i = 0; i < 20; ++i) world.step();  // settle on the springs
   }
   static sim::WorldOptions options() {
@@ -74,6 +76,88 @@ TEST(Physics, SkidpadLateralLimitNearMuG) {
       best = std::max(best, smoothed);
     }
     EXPECT_NEAR(best, mu * kG, 0.15 * mu * kG);
+  }
+}
+
+// Published figures of each blueprint's class (README, Cars): 0-100 km/h, top speed, steady skid-pad g.
+struct ClassFigures {
+  const char* model;
+  double zero_to_100_lo, zero_to_100_hi;  // s
+  double top_lo, top_hi;                  // km/h
+  double skidpad_lo, skidpad_hi;          // g held on a 40 m circle at road friction 1
+};
+constexpr ClassFigures kClasses[] = {
+    {"sedan", 3.8, 5.5, 250, 300, 0.85, 1.1},      // Tesla Model 3 Performance: 3.3-4.4 s, 261 km/h, 1 g
+    {"hatchback", 10.5, 13.5, 165, 185, 0.72, 0.9},  // Audi A2 1.4: 12.0 s, 173 km/h, 0.8 g
+    {"racecar", 2.6, 4.0, 240, 270, 1.35, 1.9},    // Formula 3: 3.1 s, ~255 km/h, ~1.6 g at 100 km/h
+};
+
+// A steady skid pad: the car drives a 40 m circle (pure pursuit on it) at a speed held for 5 s, the speed
+// rising 0.25 m/s a level; the grip is v^2 / R of the fastest level it held (within 1.5 m of the circle and
+// 0.5 m/s of the speed over the level's last 3 s).
+double skidpadG(const std::string& model) {
+  constexpr double kRadius = 40.0;
+  Drive d(1.0, model);
+  const auto& p = d.world.vehicleParams("ego");
+  const Eigen::Vector2d centre(0.0, kRadius);  // the car starts at the origin heading +x: a left-hand circle
+  double best = 0.0, integral = 0.0;
+  int misses = 0;
+  for (double target = 8.0; misses < 2 && target < 60.0; target += 0.25) {
+    bool held = true;
+    for (int tick = 0; tick < 100; ++tick) {
+      const auto s = d.state();
+      const Eigen::Vector2d pos = s.pose.position.head<2>();
+      const double yaw = sim::yawOf(s.pose.orientation);
+      const double lookahead = std::max(6.0, 0.6 * s.forward_speed);
+      const double angle_now = std::atan2(pos.y() - centre.y(), pos.x() - centre.x());
+      const Eigen::Vector2d aim = centre + kRadius * Eigen::Vector2d(std::cos(angle_now + lookahead / kRadius),
+                                                                      std::sin(angle_now + lookahead / kRadius));
+      const double alpha = std::atan2(aim.y() - pos.y(), aim.x() - pos.x()) - yaw;
+      const double wheel_angle = std::atan2(2.0 * p.wheelbase() * std::sin(alpha), lookahead);
+      sim::VehicleControl c;
+      c.steer = std::clamp(wheel_angle / p.steering.max_angle, -1.0, 1.0);
+      const double error = target - s.forward_speed;
+      integral = std::clamp(integral + error * 0.05, -5.0, 5.0);
+      const double command = 0.3 * error + 0.1 * integral;
+      c.throttle = std::clamp(command, 0.0, 1.0);
+      c.brake = std::clamp(-command, 0.0, 1.0);
+      d.run(c);
+      if (tick >= 40) {
+        const auto after = d.state();
+        held = held && std::abs((after.pose.position.head<2>() - centre).norm() - kRadius) < 1.5 &&
+               std::abs(after.forward_speed - target) < 0.5;
+      }
+    }
+    if (held) {
+      best = std::max(best, target * target / kRadius);
+      misses = 0;
+    } else {
+      ++misses;
+    }
+  }
+  return best / kG;
+}
+
+TEST(Physics, EveryBlueprintMeetsItsClassFigures) {
+  for (const auto& car : kClasses) {
+    SCOPED_TRACE(car.model);
+    Drive d(1.0, car.model);
+    int ticks = 0;
+    while (d.state().speed < 100 / 3.6 && ticks < 600) d.run(throttle(1.0)), ++ticks;
+    const double zero_to_100 = ticks * 0.05;
+    EXPECT_GE(zero_to_100, car.zero_to_100_lo);
+    EXPECT_LE(zero_to_100, car.zero_to_100_hi);
+    d.run(throttle(1.0), 2400);  // two more minutes flat out
+    const double top = d.state().speed * 3.6;
+    EXPECT_GE(top, car.top_lo);
+    EXPECT_LE(top, car.top_hi);
+    const double skidpad = skidpadG(car.model);
+    EXPECT_GE(skidpad, car.skidpad_lo);
+    EXPECT_LE(skidpad, car.skidpad_hi);
+    RecordProperty(std::string(car.model) + "_zero_to_100_s", std::to_string(zero_to_100));
+    RecordProperty(std::string(car.model) + "_top_speed_kmh", std::to_string(top));
+    RecordProperty(std::string(car.model) + "_skidpad_g", std::to_string(skidpad));
+    std::printf("%s: 0-100 km/h %.2f s, top speed %.1f km/h, skid pad %.3f g\n", car.model, zero_to_100, top, skidpad);
   }
 }
 

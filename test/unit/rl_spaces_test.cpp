@@ -137,7 +137,7 @@ TEST(RlEnvOptions, EveryShippedFileLoadsAndBadOnesNameTheKey) {
 
   auto error = [](const std::string& yaml) { return test::errorOf([&] { rl::parseEnvOptions(yaml, "bad.yaml"); }); };
   EXPECT_EQ(error("{}"), "");
-  EXPECT_NE(error("observation: {camera: {widht: 84}}").find("bad.yaml: observation.camera.widht: is not an option here"),
+  EXPECT_NE(error("observation: {camera: {widht: 84}}").find("bad.yaml: observation.camera.widht: is not a known key (did you mean 'width'?)"),
             std::string::npos);
   EXPECT_NE(error("reward: {progress_weight: fast}").find("bad.yaml: reward.progress_weight: is not a number"),
             std::string::npos);

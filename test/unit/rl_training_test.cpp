@@ -70,7 +70,7 @@ TEST(RlPolicy, BrokenFilesAreNamed) {
   EXPECT_NE(e.find("short.yaml: params: 3 numbers, the network needs"), std::string::npos) << e;
   std::string bad_obs = text;
   bad_obs.replace(bad_obs.find("speed: true"), 11, "sped: true");
-  EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load(write("obs.yaml", bad_obs)); }).find("observation.sped: is not an option"),
+  EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load(write("obs.yaml", bad_obs)); }).find("observation.sped: is not a known key (did you mean 'speed'?)"),
             std::string::npos);
   EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load("/nonexistent/policy.yaml"); }).find("/nonexistent/policy.yaml"),
             std::string::npos);

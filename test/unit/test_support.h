@@ -40,8 +40,10 @@ inline track::Track circleTrack(double radius, double width = 12.0, Eigen::Vecto
 // Open ground for physics tests: a small circuit far away, so the area near the origin is free plane.
 inline track::Track openGround(double friction = 1.0) { return circleTrack(60.0, 12.0, {5000.0, 5000.0}, friction); }
 
-inline sim::VehicleParams sedan() {
-  return sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+inline sim::VehicleParams vehicle(const std::string& model) {
+  return sim::loadVehicleModel(model, sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
 }
+
+inline sim::VehicleParams sedan() { return vehicle("sedan"); }
 
 }  // namespace roar::test

@@ -132,3 +132,27 @@ TEST(TimeTrial, EveryShippedCircuitIsRacedCleanCloseToThePromisedLap) {
     }
   }
 }
+
+// Every blueprint round every shipped circuit: the stack plans with the car's own limits (hatchback's
+// economy tyres, the race car's slicks and downforce) and drives a clean flying lap close to its promise.
+TEST(TimeTrial, EveryBlueprintRacesEveryShippedCircuitClean) {
+  const auto maps = track::listMaps(test::sourceDir() + "/maps");
+  for (const std::string model : {"hatchback", "racecar"}) {
+    const auto car = test::vehicle(model);
+    for (const auto& name : maps) {
+      SCOPED_TRACE(model + " on " + name);
+      const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
+      stack::TimeTrialOptions options;
+      options.laps = 1;
+      const auto r = stack::runTimeTrial(track, car, options);
+      ASSERT_TRUE(r.finished);
+      EXPECT_EQ(r.barrier_contacts, 0);
+      EXPECT_LT(r.worst_offroad, 0.0) << "base_link stays on the road";
+      EXPECT_LT(r.lap_times[0], 1.04 * r.promised_lap);
+      EXPECT_GT(r.lap_times[0], 0.99 * r.promised_lap);
+      std::printf("%s on %s: lap %.2f s, promised %.2f s, max error %.2f m, worst off-road %.2f m\n", model.c_str(),
+                  name.c_str(), r.lap_times[0], r.promised_lap, r.max_lateral_error, r.worst_offroad);
+      RecordProperty(model + "_" + name + "_lap_s", std::to_string(r.lap_times[0]));
+    }
+  }
+}

@@ -29,8 +29,25 @@ TEST(VehicleConfig, UnknownModelListsTheKnownOnes) {
   const auto msg = errorOf([] {
     sim::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles");
   });
-  EXPECT_NE(msg.find("unknown vehicle model 'bus'"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("sedan"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("hatchback (vehicle.audi.a2), racecar (vehicle.roar.racecar), sedan (vehicle.tesla.model3)"), std::string::npos) << msg;
+}
+
+TEST(VehicleConfig, BlueprintIdsNameTheirModels) {
+  const std::string urdf = test::sourceDir() + "/urdf", config = test::sourceDir() + "/config/vehicles";
+  EXPECT_EQ(sim::resolveVehicleModel("vehicle.tesla.model3", urdf, config), "sedan");
+  EXPECT_EQ(sim::resolveVehicleModel("vehicle.audi.a2", urdf, config), "hatchback");
+  EXPECT_EQ(sim::resolveVehicleModel("vehicle.roar.racecar", urdf, config), "racecar");
+  EXPECT_EQ(sim::resolveVehicleModel("sedan", urdf, config), "sedan");
+  const auto a2 = sim::loadVehicleModel("vehicle.audi.a2", urdf, config);
+  EXPECT_EQ(a2.model, "hatchback");
+  EXPECT_EQ(a2.blueprint, "vehicle.audi.a2");
+  EXPECT_EQ(a2.front_drive_share, 1.0) << "front-wheel drive";
+  const auto racecar = sim::loadVehicleModel("racecar", urdf, config);
+  EXPECT_EQ(racecar.front_drive_share, 0.0) << "rear-wheel drive";
+  EXPECT_GT(racecar.aero.downforce_area, 2.0);
+  EXPECT_LT(racecar.chassis.mass, 800.0);
+  EXPECT_EQ(sim::listVehicleModels(urdf, config).size(), 3u);
 }
 
 TEST(VehicleConfig, BrokenUrdfIsAClearError) {
@@ -55,10 +72,42 @@ TEST(VehicleConfig, MissingYamlFieldIsNamed) {
   std::ofstream(path) << text;
   sim::VehicleParams p;
   const auto msg = errorOf([&] { sim::readVehicleYaml(path, &p); });
-  EXPECT_NE(msg.find(path + ": missing field 'gearbox.final_drive'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(path + ": gearbox.final_drive: is missing"), std::string::npos) << msg;
   std::ofstream(path) << "engine: {idle_rpm: fast}\n";
   const auto msg2 = errorOf([&] { sim::readVehicleYaml(path, &p); });
-  EXPECT_NE(msg2.find("missing field 'drivetrain.front_drive_share'"), std::string::npos) << msg2;
+  EXPECT_NE(msg2.find("drivetrain.front_drive_share: is missing"), std::string::npos) << msg2;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(VehicleConfig, MisspeltKeysAndValuesOutsidePhysicalRangesAreRefused) {
+  const auto dir = std::filesystem::temp_directory_path() / ("roar_vc_range_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ifstream in(test::sourceDir() + "/config/vehicles/sedan.yaml");
+  const std::string sedan((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto errorWith = [&](const std::string& from, const std::string& to) {
+    std::string text = sedan;
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    text.replace(pos, from.size(), to);
+    const auto path = (dir / "car.yaml").string();
+    std::ofstream(path) << text;
+    sim::VehicleParams p;
+    return errorOf([&] { sim::readVehicleYaml(path, &p); });
+  };
+  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 4500000").find("suspension.stiffness_n_per_m: 4.5e+06 is outside [1000, 1e+06] N/m"),
+            std::string::npos) << "a 100x typo";
+  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 1e300").find("stiffness_n_per_m: 1e+300 is outside"),
+            std::string::npos);
+  EXPECT_NE(errorWith("drag_area_m2: 0.62", "drag_area_m2: 1e30").find("aero.drag_area_m2: 1e+30 is outside [0, 10]"),
+            std::string::npos);
+  EXPECT_NE(errorWith("downforce_area_m2: 0.25", "downforce_area_m2: 1e30").find("aero.downforce_area_m2"), std::string::npos);
+  EXPECT_NE(errorWith("drag_area_m2: 0.62", "drag_area_m2: .nan").find("aero.drag_area_m2: is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(errorWith("  abs: true", "  abss: true").find("brakes.abss: is not a known key (did you mean 'abs'?)"),
+            std::string::npos);
+  EXPECT_NE(errorWith("aero:", "areo:").find("areo: is not a known key (did you mean 'aero'?)"), std::string::npos);
+  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stifness_n_per_m: 45000").find("suspension.stiffness_n_per_m: is missing (is 'stifness_n_per_m' a misspelling of it?)"),
+            std::string::npos);
   std::filesystem::remove_all(dir);
 }
 
@@ -68,5 +117,8 @@ TEST(VehicleConfig, ValidateRejectsImplausibleValues) {
   EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("must fall"), std::string::npos);
   p = test::sedan();
   p.chassis.mass = -1;
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("mass"), std::string::npos);
+  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("base_link mass -1 is outside [50, 50000] kg"), std::string::npos);
+  p = test::sedan();
+  p.wheels[0].radius = 1e300;
+  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"), std::string::npos);
 }

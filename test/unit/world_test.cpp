@@ -38,6 +38,26 @@ TEST(World, TimeAdvancesByExactControlTicks) {
   EXPECT_DOUBLE_EQ(world.time(), 7 * 0.05);
 }
 
+TEST(World, TimingChangesAtRunTimeKeepTheClockGoingForward) {
+  const auto track = test::openGround();
+  World world(track, {}, {100, 5.0});  // a world that replaces one at tick 100, t = 5 s
+  world.spawnVehicle("ego", test::sedan(), at(0, 0));
+  world.step();
+  EXPECT_EQ(world.tick(), 101u);
+  EXPECT_DOUBLE_EQ(world.time(), 5.05);
+  world.setTiming(0.02, 0.01);
+  for (int i = 0; i < 5; ++i) world.step();
+  EXPECT_EQ(world.tick(), 106u);
+  EXPECT_NEAR(world.time(), 5.15, 1e-12);
+  EXPECT_DOUBLE_EQ(world.options().control_dt, 0.02);
+  EXPECT_NE(errorOf([&] { world.setTiming(0.05, 0.003); }).find("whole multiple"), std::string::npos);
+  EXPECT_DOUBLE_EQ(world.options().control_dt, 0.02) << "a refused change changes nothing";
+  EXPECT_THROW(world.setTiming(0.01, 0.02), std::invalid_argument);
+  world.step();
+  EXPECT_NEAR(world.time(), 5.17, 1e-12);
+  EXPECT_LT(world.vehicleState("ego").speed, 0.05) << "the parked car stays parked across the change";
+}
+
 TEST(World, SpawnRestsOnTheGroundAtTheRideHeight) {
   const auto track = test::openGround();
   World world(track, {});
@@ -89,6 +109,26 @@ TEST(World, ResetPutsTheCarBackAtRest) {
   EXPECT_LT(s.speed, 0.2);
   EXPECT_EQ(s.gear, 1);
   for (const auto& w : s.wheels) EXPECT_LT(std::abs(w.angular_velocity), 0.5);
+}
+
+TEST(World, VelocitiesSetAtRunTimeCarryTheCarOn) {
+  const auto track = test::openGround();
+  sim::WorldOptions o;
+  o.control_timeout = 0.0;
+  World world(track, o);
+  world.spawnVehicle("ego", test::sedan(), at(0, 0, M_PI / 2));  // heading north
+  for (int i = 0; i < 20; ++i) world.step();
+  sim::VehicleControl coast;
+  world.setControl("ego", coast);
+  world.setVehicleVelocity("ego", {0, 20, 0}, {0, 0, 0});
+  world.step();
+  const auto s = world.vehicleState("ego");
+  EXPECT_NEAR(s.forward_speed, 20.0, 0.3) << "moving north at 20 m/s, the wheels rolling with it";
+  EXPECT_NEAR(s.pose.position.y(), 1.0, 0.05);
+  EXPECT_LT(std::abs(s.wheels[0].slip_ratio), 0.05);
+  EXPECT_THROW(world.setVehicleVelocity("ego", {1e6, 0, 0}, {0, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(world.setVehicleVelocity("ego", {0, 0, 0}, {0, 0, NAN}), std::invalid_argument);
+  EXPECT_THROW(world.setVehicleVelocity("nobody", {0, 0, 0}, {0, 0, 0}), sim::SpawnError);
 }
 
 TEST(World, StaleControlBrakesTheCar) {

@@ -13,7 +13,7 @@ struct VehicleLimits {
   double rotating_mass = 40.0;      // kg: the wheels' inertia as mass at the road (sum I / r^2)
   double shift_time = 0.15;         // s without drive while the gearbox shifts
   double gravity = 9.81;            // m/s^2
-  double friction = 1.0;            // tyre-road friction the plan uses (road friction x grip_use)
+  double friction = 1.0;            // tyre-road friction the plan uses (road friction x tyre grip x grip_use)
   double drag_coefficient = 0.35;   // N per (m/s)^2: 0.5 rho CdA
   double downforce_coefficient = 0.15;  // N per (m/s)^2: 0.5 rho ClA
   double rolling_resistance = 0.012;    // share of the weight

@@ -22,7 +22,7 @@ class TyreModel {
   TyreForce force(double slip_ratio, double slip_angle, double load, double mu) const;
   // force(...).longitudinal, bit for bit, at half the cost.
   double longitudinalForce(double slip_ratio, double slip_angle, double load, double mu) const;
-  // Friction force available at this load and road: the magic formula's D.
+  // Friction force available at this load and road (with the tyre's own grip): the magic formula's D.
   double peakForce(double load, double mu) const;
   double peakSlipRatio() const { return peak_slip_ratio_; }
   double peakSlipAngle() const { return peak_slip_angle_; }

@@ -45,6 +45,9 @@ struct TyreParams {
   double load_sensitivity = 0.08;   // friction drop per unit of (Fz - Fz0) / Fz0
   double rolling_resistance = 0.012;
   double wheel_inertia = 1.2;       // kg m^2, wheel and tyre about the axle
+  // The tyre's friction relative to the road's rating: 1 for performance road tyres, below for economy
+  // tyres, above for racing slicks. The friction a wheel has is road friction x grip (before load sensitivity).
+  double grip = 1.0;
 };
 
 struct EngineParams {
@@ -91,6 +94,8 @@ struct AeroParams {
 
 struct VehicleParams {
   std::string model;
+  std::string blueprint;    // the CARLA-style id ROAR_PY programs spawn it by, e.g. vehicle.tesla.model3
+  std::string description;
   ChassisParams chassis;
   std::array<WheelParams, 4> wheels;  // front left, front right, rear left, rear right
   SuspensionParams suspension;

@@ -70,10 +70,17 @@ class SpawnError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Where a world's clock starts: a world built to replace another (a map loaded at run time) goes on from
+// the old one's tick and time, so simulated time never runs backwards.
+struct WorldClock {
+  std::uint64_t tick = 0;
+  double time = 0.0;  // s
+};
+
 class World {
  public:
   // Throws std::invalid_argument for inconsistent options.
-  World(const track::Track& track, const WorldOptions& options);
+  World(const track::Track& track, const WorldOptions& options, const WorldClock& start = {});
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -86,6 +93,9 @@ class World {
   void spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose);
   void destroyVehicle(const std::string& name);  // throws SpawnError for an unknown name
   void resetVehicle(const std::string& name, const Pose& pose);
+  // Sets base_link's velocities (m/s and rad/s, map frame), the wheels rolling with the road; throws
+  // std::invalid_argument for velocities that are not finite or beyond 150 m/s and 20 rad/s.
+  void setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
   bool hasVehicle(const std::string& name) const;
   std::vector<std::string> vehicleNames() const;
   const VehicleParams& vehicleParams(const std::string& name) const;
@@ -97,7 +107,11 @@ class World {
   // time at its end (vehicle states are current then): motion sensors sample at the physics rate.
   void step(const std::function<void(double)>& after_substep = {});
   std::uint64_t tick() const;
-  double time() const;  // s, tick * control_dt
+  // s: the start time plus the ticks since, each of the control_dt it was stepped with.
+  double time() const;
+  // New control and physics steps from the next tick on; throws std::invalid_argument, changing nothing,
+  // when control_dt is not a whole multiple of physics_dt.
+  void setTiming(double control_dt, double physics_dt);
 
   VehicleState vehicleState(const std::string& name) const;
   const std::vector<Contact>& contacts(const std::string& name) const;  // during the last tick
