@@ -139,4 +139,51 @@ geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::
   return t;
 }
 
+geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp, const std::string& frame) {
+  geometry_msgs::Vector3Stamped msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame;
+  fill(msg.vector, v);
+  return msg;
+}
+
+Eigen::Vector3d fromMessage(const geometry_msgs::Vector3Stamped& msg) { return {msg.vector.x, msg.vector.y, msg.vector.z}; }
+
+geometry_msgs::PointStamped toPointStamped(const Eigen::Vector3d& p, const ros::Time& stamp, const std::string& frame) {
+  geometry_msgs::PointStamped msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = frame;
+  msg.point.x = p.x();
+  msg.point.y = p.y();
+  msg.point.z = p.z();
+  return msg;
+}
+
+Eigen::Vector3d fromMessage(const geometry_msgs::PointStamped& msg) { return {msg.point.x, msg.point.y, msg.point.z}; }
+
+sensor_msgs::Image toImage(const sensors::OccupancyFrame& frame, const ros::Time& stamp, const std::string& frame_id) {
+  sensor_msgs::Image img;
+  img.header.stamp = stamp;
+  img.header.frame_id = frame_id;
+  img.width = static_cast<unsigned>(frame.width);
+  img.height = static_cast<unsigned>(frame.height);
+  img.encoding = sensor_msgs::image_encodings::MONO8;
+  img.is_bigendian = 0;
+  img.step = img.width;
+  img.data = frame.pixels;
+  return img;
+}
+
+sensors::OccupancyFrame occupancyFromImage(const sensor_msgs::Image& image) {
+  if (image.encoding != sensor_msgs::image_encodings::MONO8 || image.step != image.width ||
+      image.data.size() != static_cast<std::size_t>(image.width) * image.height) {
+    throw std::invalid_argument("an occupancy map is a mono8 image without row padding, got " + image.encoding);
+  }
+  sensors::OccupancyFrame frame;
+  frame.width = static_cast<int>(image.width);
+  frame.height = static_cast<int>(image.height);
+  frame.pixels = image.data;
+  return frame;
+}
+
 }  // namespace roar::ros_bridge

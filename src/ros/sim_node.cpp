@@ -3,8 +3,11 @@
 #include <ros/callback_queue.h>
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
+#include <roar_ros/MapInfo.h>
 
+#include <filesystem>
 #include <map>
+#include <regex>
 #include <set>
 
 #include "roar/ros/msg_conversion.h"
@@ -26,33 +29,90 @@ Eigen::Vector3f paint(std::size_t n) {
                                              {0.85f, 0.85f, 0.85f}, {0.1f, 0.1f, 0.1f}};
   return kPalette[n % (sizeof(kPalette) / sizeof(kPalette[0]))];
 }
+
+// A car's name is its namespace and its tf prefix: a plain ROS name.
+void checkVehicleName(const std::string& name) {
+  static const std::regex valid("[A-Za-z][A-Za-z0-9_]{0,63}");
+  if (!std::regex_match(name, valid)) {
+    throw std::invalid_argument("name '" + name +
+                                "' must start with a letter and hold only letters, digits and underscores (at most 64)");
+  }
+}
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options)
-    : nh_(nh), private_nh_(private_nh), options_(options), track_(track::loadMapFolder(options.map_folder)) {
-  world_ = std::make_unique<sim::World>(track_, options_.world);
-  scene_ = std::make_unique<sensors::RayScene>(track_);
+    : nh_(nh), private_nh_(private_nh), options_(options) {
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  map_pub_ = private_nh_.advertise<roar_ros::MapInfo>("map", 1, true);
+  debug_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("debug_markers", 1, true);
+  loadMap(options_.map_folder, "start");
   for (const auto& v : options_.vehicles) {
     if (v.spawn_point >= kGridSlots) {
       throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
                        std::to_string(kGridSlots - 1) + ")");
     }
-    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent);
+    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent, v.spawn_point);
   }
-  services_.push_back(private_nh_.advertiseService("spawn_vehicle", &SimNode::onSpawn, this));
-  services_.push_back(private_nh_.advertiseService("destroy_vehicle", &SimNode::onDestroy, this));
-  services_.push_back(private_nh_.advertiseService("reset_vehicle", &SimNode::onReset, this));
-  services_.push_back(private_nh_.advertiseService("step", &SimNode::onStep, this));
-  services_.push_back(private_nh_.advertiseService("reset_episode", &SimNode::onResetEpisode, this));
-  services_.push_back(private_nh_.advertiseService("attach_sensor", &SimNode::onAttachSensor, this));
-  services_.push_back(private_nh_.advertiseService("detach_sensor", &SimNode::onDetachSensor, this));
-  ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s", track_.info().name.c_str(),
-           track_.length(), options_.vehicles.size(), options_.world.control_dt, options_.world.physics_dt);
+  auto serve = [this](const char* name, auto handler) {
+    services_.push_back(private_nh_.advertiseService(name, handler, this));
+  };
+  serve("spawn_vehicle", &SimNode::onSpawn);
+  serve("destroy_vehicle", &SimNode::onDestroy);
+  serve("reset_vehicle", &SimNode::onReset);
+  serve("set_vehicle_velocity", &SimNode::onSetVelocity);
+  serve("step", &SimNode::onStep);
+  serve("reset_episode", &SimNode::onResetEpisode);
+  serve("attach_sensor", &SimNode::onAttachSensor);
+  serve("detach_sensor", &SimNode::onDetachSensor);
+  serve("load_map", &SimNode::onLoadMap);
+  serve("list_maps", &SimNode::onListMaps);
+  serve("set_stepping", &SimNode::onSetStepping);
+  serve("get_world_info", &SimNode::onGetWorldInfo);
+  serve("get_geolocation", &SimNode::onGetGeolocation);
+  serve("draw_debug", &SimNode::onDrawDebug);
+  ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s, mode %s",
+           track_->info().name.c_str(), track_->length(), io_.size(), options_.world.control_dt,
+           options_.world.physics_dt, modeName().c_str());
 }
 
+std::string SimNode::modeName() const {
+  return options_.mode == SteppingMode::kStep ? "step" : options_.mode == SteppingMode::kLockstep ? "lockstep" : "async";
+}
+
+void SimNode::loadMap(const std::string& folder, const std::string& reason) {
+  // Everything is built before anything is replaced: a broken map leaves the running world as it was.
+  auto track = std::make_unique<track::Track>(track::loadMapFolder(folder));
+  sim::WorldClock clock;
+  if (world_) clock = {world_->tick(), world_->time()};
+  auto world = std::make_unique<sim::World>(*track, options_.world, clock);
+  auto scene = std::make_unique<sensors::RayScene>(*track);
+  io_.clear();  // the cars go (their agents refer to the old track)
+  world_ = std::move(world);
+  scene_ = std::move(scene);
+  track_ = std::move(track);
+  map_folder_ = folder;
+  if (reason != "start") ++map_generation_;
+  debug_.clear();
+  publishDebugMarkers();
+  publishMapInfo(reason);
+  restartPacing();
+}
+
+void SimNode::publishMapInfo(const std::string& reason) {
+  roar_ros::MapInfo info;
+  info.header.stamp = toRosTime(world_->time());
+  info.header.frame_id = options_.map_frame;
+  info.name = track_->info().name;
+  info.folder = map_folder_;
+  info.generation = map_generation_;
+  info.reason = reason;
+  map_pub_.publish(info);
+}
+
+void SimNode::publishDebugMarkers() { debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world_->time()))); }
+
 sim::Pose SimNode::spawnPose(int spawn_point) const {
-  return sim::poseOnTrack(track_.gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
+  return sim::poseOnTrack(track_->gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
 }
 
 sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const {
@@ -60,7 +120,20 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
     throw std::invalid_argument("spawn_point " + std::to_string(spawn_point) + " does not exist (-1 for pose, 0.." +
                                 std::to_string(kGridSlots - 1) + ")");
   }
-  return spawn_point >= 0 ? spawnPose(spawn_point) : fromMessage(pose);
+  if (spawn_point >= 0) return spawnPose(spawn_point);
+  const sim::Pose p = fromMessage(pose);
+  if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) {
+    throw std::invalid_argument("pose must be finite");
+  }
+  const track::Projection where = track_->project(p.position.head<2>());
+  const double barrier = track_->info().barrier_offset;
+  if (where.beyondEdge() > barrier) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "pose (%.1f, %.1f) is off the track: %.1f m beyond the road's edge, past the barriers %.1f m from it",
+                  p.position.x(), p.position.y(), where.beyondEdge(), barrier);
+    throw std::invalid_argument(buf);
+  }
+  return p;
 }
 
 std::string SimNode::sensorSetPath(const std::string& set) const {
@@ -70,12 +143,16 @@ std::string SimNode::sensorSetPath(const std::string& set) const {
 }
 
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                         const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env) {
+                         const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env,
+                         int spawn_point) {
+  checkVehicleName(name);
+  if (io_.count(name)) throw sim::SpawnError("a vehicle named '" + name + "' already exists");
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
-  // Sensors are read and checked before the car exists, so a bad set leaves nothing half made.
+  // Sensors and agent are read and checked before the car exists, so a bad set leaves nothing half made
+  // (their publishers go with them).
   auto vehicle_sensors = std::make_unique<VehicleSensors>(
       nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
-      track_.info().origin, options_.map_frame);
+      track_->info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
     for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set))) vehicle_sensors->attach(spec, world_->time());
   }
@@ -89,13 +166,14 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
                        " s, roar_sim " + std::to_string(options_.world.control_dt) + " / " +
                        std::to_string(options_.world.physics_dt) + " s (parameters ~control_dt, ~physics_dt)");
     }
-    agent = std::make_unique<AgentInterface>(nh_, name, track_, env, static_cast<int>(params.gearbox.ratios.size()));
+    agent = std::make_unique<AgentInterface>(nh_, name, *track_, env, static_cast<int>(params.gearbox.ratios.size()));
   }
-  if (!looks_.count(model)) looks_[model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + model + ".urdf");
-  world_->spawnVehicle(name, params, pose);
+  if (!looks_.count(params.model)) looks_[params.model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + params.model + ".urdf");
+  world_->spawnVehicle(name, params, pose);  // the last step that can refuse: overlap, no ground
   VehicleIo io;
+  io.spawned = {params.model, sensor_set, (colour.array() < 0).any() ? paint(spawned_count_) : colour, agent_env, spawn_point};
   io.agent = std::move(agent);
-  io.scene_id = scene_->addVehicle(looks_[model], (colour.array() < 0).any() ? paint(io_.size()) : colour);
+  io.scene_id = scene_->addVehicle(looks_[params.model], io.spawned.colour);
   io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
   io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);
@@ -105,9 +183,18 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   io_[name] = std::move(io);
+  ++spawned_count_;
   publishStaticTransforms();
-  ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), model.c_str(), pose.position.x(),
+  ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), params.model.c_str(), pose.position.x(),
            pose.position.y());
+}
+
+void SimNode::removeVehicle(const std::string& name) {
+  auto it = io_.find(name);
+  if (it == io_.end()) throw sim::SpawnError("no vehicle named '" + name + "'");
+  world_->destroyVehicle(name);
+  scene_->removeVehicle(it->second.scene_id);
+  io_.erase(it);
 }
 
 bool SimNode::applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why) {
@@ -154,6 +241,7 @@ void SimNode::tick() {
     }
   });
   sampleRaySensors(updateRayScene());
+  if (debug_.expire(world_->time())) publishDebugMarkers();
   publishState();
 }
 
@@ -196,7 +284,22 @@ void SimNode::publishState() {
     for (const auto& contact : world_->contacts(name)) io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
     if (io.agent) io.agent->afterTick(state, world_->contacts(name), world_->time(), scene_.get(), io.scene_id);
   }
-  tf_.sendTransform(transforms);
+  if (!transforms.empty()) tf_.sendTransform(transforms);
+}
+
+roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
+  const VehicleIo& io = io_.at(name);
+  const ros::Time stamp = toRosTime(world_->time());
+  const sim::VehicleState state = world_->vehicleState(name);
+  roar_ros::VehicleSnapshot out;
+  out.name = name;
+  out.odometry = toOdometry(state, stamp, options_.map_frame, name + "/base_link");
+  out.status = toStatus(state, stamp, name + "/base_link");
+  for (const auto& [sensor, at] : io.sensors->lastStamps()) {
+    out.sensor_names.push_back(sensor);
+    out.sensor_stamps.push_back(toRosTime(at));
+  }
+  return out;
 }
 
 bool SimNode::controlsArrived() const {
@@ -276,11 +379,16 @@ std::string SimNode::notReadyToStart() const {
   return "";
 }
 
-void SimNode::paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick) {
+void SimNode::restartPacing() {
+  pace_wall_start_ = ros::WallTime::now();
+  pace_sim_start_ = world_ ? world_->time() : 0.0;
+}
+
+void SimNode::paceToRealTime() {
   if (options_.real_time_factor <= 0) return;
   ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
-  const double sim_elapsed = static_cast<double>(world_->tick() - start_tick) * options_.world.control_dt;
-  const ros::WallTime due = start + ros::WallDuration(sim_elapsed / options_.real_time_factor);
+  const double sim_elapsed = world_->time() - pace_sim_start_;
+  const ros::WallTime due = pace_wall_start_ + ros::WallDuration(sim_elapsed / options_.real_time_factor);
   while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
 }
 
@@ -310,13 +418,13 @@ void SimNode::run() {
     if (io.agent) io.agent->begin(world_->vehicleState(name), world_->time(), scene_.get(), io.scene_id);
   }
 
-  const ros::WallTime start = ros::WallTime::now();
-  const std::uint64_t start_tick = world_->tick();
+  restartPacing();
   ros::WallTime waiting_since = ros::WallTime::now();
   while (ros::ok()) {
     switch (options_.mode) {
       case SteppingMode::kStep:
         queue->callAvailable(ros::WallDuration(0.01));
+        waiting_since = ros::WallTime::now();
         break;
       case SteppingMode::kLockstep: {
         queue->callAvailable(ros::WallDuration(0.001));
@@ -328,145 +436,19 @@ void SimNode::run() {
           }
           tick();
           waiting_since = ros::WallTime::now();
-          paceToRealTime(start, start_tick);
+          paceToRealTime();
         }
         break;
       }
       case SteppingMode::kAsync: {
         queue->callAvailable(ros::WallDuration(0));
         tick();
-        paceToRealTime(start, start_tick);
+        paceToRealTime();
+        waiting_since = ros::WallTime::now();
         break;
       }
     }
   }
-}
-
-bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res) {
-  try {
-    if (req.name.empty() || req.name.find_first_of(" /") != std::string::npos) {
-      throw std::invalid_argument("name '" + req.name + "' must be non-empty, without spaces or '/'");
-    }
-    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose),
-               req.sensor_set);
-    res.success = true;
-    res.message = "spawned " + req.name;
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-    ROS_WARN("roar_sim: spawn_vehicle refused: %s", e.what());
-  }
-  return true;
-}
-
-bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res) {
-  try {
-    world_->destroyVehicle(req.name);
-    scene_->removeVehicle(io_.at(req.name).scene_id);
-    io_.erase(req.name);
-    res.success = true;
-    res.message = "destroyed " + req.name;
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-  }
-  return true;
-}
-
-bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
-  try {
-    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose));
-    res.success = true;
-    res.message = "reset " + req.name;
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-  }
-  return true;
-}
-
-bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res) {
-  res.tick = world_->tick();
-  res.stamp = toRosTime(world_->time());
-  auto fail = [&](const std::string& why) {
-    res.success = false;
-    res.message = why;
-    return true;
-  };
-  if (options_.mode != SteppingMode::kStep) return fail("step is only served in mode 'step' (parameter ~mode)");
-  if (req.ticks < 1 || req.ticks > 1000000) return fail("ticks must be in [1, 1000000]");
-  if (req.vehicle_names.size() != req.controls.size()) {
-    return fail("vehicle_names and controls must have the same length");
-  }
-  for (const auto& name : req.vehicle_names) {
-    if (!world_->hasVehicle(name)) return fail("no vehicle named '" + name + "'");
-  }
-  std::string warnings;
-  for (std::size_t i = 0; i < req.controls.size(); ++i) {
-    std::string why;
-    if (!applyControl(req.vehicle_names[i], req.controls[i], &why)) return fail(why);
-    if (!why.empty()) warnings += why + "; ";
-  }
-  for (std::uint32_t k = 0; k < req.ticks; ++k) tick();
-  res.success = true;
-  res.message = warnings;
-  res.tick = world_->tick();
-  res.stamp = toRosTime(world_->time());
-  return true;
-}
-
-bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::ResetEpisode::Response& res) {
-  auto it = io_.find(req.vehicle);
-  if (it == io_.end() || !it->second.agent) {
-    res.success = false;
-    res.message = "no agent's car named '" + req.vehicle + "' (a car whose scenario entry names an agent environment)";
-    return true;
-  }
-  AgentInterface& agent = *it->second.agent;
-  try {
-    world_->resetVehicle(req.vehicle, agent.nextSpawn(req.seed));
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-    return true;
-  }
-  // The car settles, held by its brakes, before the episode's first observation.
-  agent.pause();
-  for (int i = 0; i < rl::settleTicks(agent.options()); ++i) {
-    world_->setControl(req.vehicle, sim::parkedControl());
-    tick();
-  }
-  updateRayScene();
-  res.observation = agent.begin(world_->vehicleState(req.vehicle), world_->time(), scene_.get(), it->second.scene_id);
-  res.stamp = res.observation.header.stamp;
-  res.success = true;
-  res.message = "episode of '" + req.vehicle + "' begins at t = " + std::to_string(world_->time()) + " s";
-  return true;
-}
-
-bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res) {
-  try {
-    auto it = io_.find(req.vehicle);
-    if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + req.vehicle + "'");
-    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor");
-    if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
-    it->second.sensors->attach(specs.front(), world_->time());
-    publishStaticTransforms();
-    res.success = true;
-    res.message = "attached " + specs.front().name + " to " + req.vehicle;
-  } catch (const std::exception& e) {
-    res.success = false;
-    res.message = e.what();
-  }
-  return true;
-}
-
-bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res) {
-  auto it = io_.find(req.vehicle);
-  res.success = it != io_.end() && it->second.sensors->detach(req.sensor);
-  res.message = res.success ? "detached " + req.sensor
-                            : "no sensor '" + req.sensor + "' on a vehicle named '" + req.vehicle + "'";
-  return true;
 }
 
 }  // namespace roar::ros_bridge

@@ -1,6 +1,7 @@
 #pragma once
 // The roar_sim node: owns the World, wires vehicles' topics and the simulator's services to it, and runs
-// the stepping loop. Parameters come from sim_parameters.h, messages from msg_conversion.h.
+// the stepping loop. Parameters come from sim_parameters.h, messages from msg_conversion.h; the service
+// handlers live in sim_services.cpp.
 //
 // The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
 // /clock) cannot drive it. Everything it publishes is stamped with simulated time.
@@ -12,17 +13,26 @@
 #include <map>
 #include <memory>
 
+#include "agent_interface.h"
+#include "debug_drawing.h"
 #include "roar/sensors/ray_scene.h"
 #include "roar/sim/world.h"
-#include "agent_interface.h"
-#include "roar_ros/AttachSensor.h"
-#include "roar_ros/DetachSensor.h"
 #include "roar/track/track.h"
+#include "roar_ros/AttachSensor.h"
 #include "roar_ros/DestroyVehicle.h"
+#include "roar_ros/DetachSensor.h"
+#include "roar_ros/DrawDebug.h"
+#include "roar_ros/GetGeolocation.h"
+#include "roar_ros/GetWorldInfo.h"
+#include "roar_ros/ListMaps.h"
+#include "roar_ros/LoadMap.h"
 #include "roar_ros/ResetEpisode.h"
 #include "roar_ros/ResetVehicle.h"
+#include "roar_ros/SetStepping.h"
+#include "roar_ros/SetVehicleVelocity.h"
 #include "roar_ros/SpawnVehicle.h"
 #include "roar_ros/Step.h"
+#include "roar_ros/VehicleSnapshot.h"
 #include "sim_parameters.h"
 #include "vehicle_sensors.h"
 
@@ -35,6 +45,15 @@ class SimNode {
   void run();
 
  private:
+  // What a car was spawned with, to spawn it again on another map.
+  struct SpawnRecord {
+    std::string model;
+    std::string sensor_set;
+    Eigen::Vector3f colour;
+    std::string agent;
+    int spawn_point;  // -1: spawned at a pose
+  };
+
   struct VehicleIo {
     ros::Publisher odom, status, collision, joints;
     std::array<double, 4> wheel_angles{};  // rad, integrated for the URDF's wheel joints
@@ -44,50 +63,76 @@ class SimNode {
     int scene_id = -1;
     std::unique_ptr<VehicleSensors> sensors;
     std::unique_ptr<AgentInterface> agent;  // when an RL agent drives the car
+    SpawnRecord spawned;
   };
 
-  // A negative colour: the next of the palette.
-  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
-                  const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
-                  const std::string& agent_env = "");
+  // Spawns a car with its topics, sensors and agent, all or nothing: on any error nothing is left behind
+  // (no car in the physics world, no topic) and the error says why. A negative colour: the next of the palette.
+  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose, const std::string& sensor_set,
+                  const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1), const std::string& agent_env = "",
+                  int spawn_point = -1);
+  void removeVehicle(const std::string& name);
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
+  // Builds the world of a map folder (every car gone), from the current tick and time on, and tells
+  // every node on /roar_sim/map.
+  void loadMap(const std::string& folder, const std::string& reason);
+  void publishMapInfo(const std::string& reason);
   // What the first tick still waits for (empty: nothing): ~wait_for_recorders and ~wait_for_drivers.
   std::string notReadyToStart() const;
-  // Async and lockstep: no faster than real_time_factor (0: as fast as possible).
-  void paceToRealTime(const ros::WallTime& start, std::uint64_t start_tick);
+  // Async and lockstep: no faster than real_time_factor (0: as fast as possible), measured from the last
+  // change of pace (start, map load, stepping change).
+  void paceToRealTime();
+  void restartPacing();
   // Moves the cars in the ray scene when a sensor or an agent's observation will cast rays this tick;
   // returns their poses (none when nothing casts).
   std::map<std::string, Eigen::Isometry3d> updateRayScene();
   void sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses);
   sim::Pose spawnPose(int spawn_point) const;
-  // A service's spawn point (>= 0) or, for -1, its pose; throws for a spawn point that does not exist.
+  // A service's spawn point (>= 0) or, for -1, its pose, which must lie on the track or its run-off;
+  // throws std::invalid_argument saying why not.
   sim::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
   void onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg);
   bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
   void tick();
   void publishState();
+  void publishDebugMarkers();
   bool controlsArrived() const;
+  roar_ros::VehicleSnapshot snapshot(const std::string& name) const;
+  std::string modeName() const;
 
   bool onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res);
   bool onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res);
   bool onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res);
+  bool onSetVelocity(roar_ros::SetVehicleVelocity::Request& req, roar_ros::SetVehicleVelocity::Response& res);
   bool onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res);
   bool onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::ResetEpisode::Response& res);
   bool onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res);
   bool onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res);
+  bool onLoadMap(roar_ros::LoadMap::Request& req, roar_ros::LoadMap::Response& res);
+  bool onListMaps(roar_ros::ListMaps::Request& req, roar_ros::ListMaps::Response& res);
+  bool onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetStepping::Response& res);
+  bool onGetWorldInfo(roar_ros::GetWorldInfo::Request& req, roar_ros::GetWorldInfo::Response& res);
+  bool onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros::GetGeolocation::Response& res);
+  bool onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res);
 
   ros::NodeHandle nh_, private_nh_;
   SimNodeOptions options_;
-  track::Track track_;
+  std::string map_folder_;
+  std::unique_ptr<track::Track> track_;
   std::unique_ptr<sim::World> world_;
   std::unique_ptr<sensors::RayScene> scene_;
   std::map<std::string, sensors::VisualMesh> looks_;  // by vehicle model
   std::map<std::string, VehicleIo> io_;
-  ros::Publisher clock_pub_;
+  std::size_t spawned_count_ = 0;                     // for the palette
+  std::uint32_t map_generation_ = 0;
+  DebugDrawing debug_;
+  ros::Publisher clock_pub_, map_pub_, debug_pub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::vector<ros::ServiceServer> services_;
+  ros::WallTime pace_wall_start_;
+  double pace_sim_start_ = 0.0;
 };
 
 }  // namespace roar::ros_bridge

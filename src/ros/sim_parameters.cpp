@@ -72,6 +72,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   const std::string pkg = packagePath();
   const auto scenario = readScenario(nh);
   o.map_folder = readMapFolder(nh, scenario);
+  o.maps_dir = readString(nh, "maps_dir", pkg + "/maps");
   o.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
   o.default_model = readString(nh, "default_model", o.default_model);

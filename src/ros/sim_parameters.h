@@ -27,6 +27,7 @@ struct VehicleSpawn {
 
 struct SimNodeOptions {
   std::string map_folder;
+  std::string maps_dir;            // where /roar_sim/load_map and list_maps look maps up by name
   std::string urdf_dir;
   std::string vehicle_config_dir;
   std::string default_model = "sedan";

@@ -44,16 +44,29 @@ void VehicleSensors::attach(const sensors::SensorSpec& spec, double now) {
       p.main = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist", 50);
       p.second = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist_map", 50);
       break;
+    case sensors::SensorType::kAccelerometer:
+    case sensors::SensorType::kGyroscope:
+    case sensors::SensorType::kRollPitchYaw:
+      p.main = nh_.advertise<geometry_msgs::Vector3Stamped>(base + spec.name, 200);
+      break;
+    case sensors::SensorType::kLocation:
+      p.main = nh_.advertise<geometry_msgs::PointStamped>(base + spec.name, 200);
+      break;
+    case sensors::SensorType::kOccupancyMap:
+      p.image = it_.advertise(base + "occupancy_map/" + spec.name + "/image", 10);
+      break;
     default:
       p.camera = it_.advertiseCamera(base + "camera/" + spec.name + "/image", 10);
       break;
   }
   publishers_[spec.name] = p;
+  last_stamps_[spec.name] = 0.0;
 }
 
 bool VehicleSensors::detach(const std::string& name) {
   if (!rig_.remove(name)) return false;
   publishers_.erase(name);
+  last_stamps_.erase(name);
   return true;
 }
 
@@ -73,6 +86,7 @@ std::vector<geometry_msgs::TransformStamped> VehicleSensors::staticTransforms() 
 void VehicleSensors::camera(const sensors::SensorSpec& spec, double stamp, const sensors::CameraFrame& frame,
                             const sensors::CameraIntrinsics& k) {
   auto& pub = publishers_.at(spec.name).camera;
+  last_stamps_[spec.name] = stamp;
   if (pub.getNumSubscribers() == 0) return;  // converting 800x600 frames nobody reads is wasted time
   const ros::Time t = toRosTime(stamp);
   const std::string optical = frameOf(spec) + "_optical";
@@ -80,22 +94,45 @@ void VehicleSensors::camera(const sensors::SensorSpec& spec, double stamp, const
 }
 
 void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp, const std::vector<sensors::LidarPoint>& points) {
+  last_stamps_[spec.name] = stamp;
   publishers_.at(spec.name).main.publish(toPointCloud2(points, toRosTime(stamp), frameOf(spec)));
 }
 
 void VehicleSensors::imu(const sensors::SensorSpec& spec, double stamp, const sensors::ImuSample& sample) {
+  last_stamps_[spec.name] = stamp;
   publishers_.at(spec.name).main.publish(toImu(sample, spec.imu, toRosTime(stamp), frameOf(spec)));
 }
 
 void VehicleSensors::gnss(const sensors::SensorSpec& spec, double stamp, const sensors::GnssFix& fix) {
+  last_stamps_[spec.name] = stamp;
   publishers_.at(spec.name).main.publish(toNavSatFix(fix, spec.gnss, toRosTime(stamp), frameOf(spec)));
 }
 
 void VehicleSensors::velocity(const sensors::SensorSpec& spec, double stamp, const sensors::Velocity& v) {
   const ros::Time t = toRosTime(stamp);
+  last_stamps_[spec.name] = stamp;
   auto& p = publishers_.at(spec.name);
   p.main.publish(toTwist(v.linear_body, v.angular_body, t, frameOf(spec)));
   p.second.publish(toTwist(v.linear_world, v.angular_world, t, map_frame_));
+}
+
+void VehicleSensors::vector(const sensors::SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) {
+  const ros::Time t = toRosTime(stamp);
+  last_stamps_[spec.name] = stamp;
+  auto& pub = publishers_.at(spec.name).main;
+  if (spec.type == sensors::SensorType::kLocation) {
+    pub.publish(toPointStamped(reading, t, map_frame_));
+  } else {
+    const bool in_map = spec.type == sensors::SensorType::kRollPitchYaw || spec.vector.map_frame;
+    pub.publish(toVector3Stamped(reading, t, in_map ? map_frame_ : frameOf(spec)));
+  }
+}
+
+void VehicleSensors::occupancy(const sensors::SensorSpec& spec, double stamp, const sensors::OccupancyFrame& frame) {
+  last_stamps_[spec.name] = stamp;
+  auto& pub = publishers_.at(spec.name).image;
+  if (pub.getNumSubscribers() == 0) return;
+  pub.publish(toImage(frame, toRosTime(stamp), frameOf(spec)));
 }
 
 }  // namespace roar::ros_bridge

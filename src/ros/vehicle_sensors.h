@@ -4,6 +4,11 @@
 //   lidar     <vehicle>/lidar/<name>/points, frame <vehicle>/<name>
 //   imu, gnss <vehicle>/<name>, frame <vehicle>/<name>
 //   velocimeter <vehicle>/<name>/twist (sensor frame) and <vehicle>/<name>/twist_map (map frame)
+//   accelerometer, gyroscope  <vehicle>/<name> (geometry_msgs/Vector3Stamped, sensor frame or map)
+//   roll_pitch_yaw            <vehicle>/<name> (geometry_msgs/Vector3Stamped: roll, pitch, yaw in rad, of the
+//                             sensor frame in map)
+//   location                  <vehicle>/<name> (geometry_msgs/PointStamped, map frame)
+//   occupancy_map             <vehicle>/occupancy_map/<name>/image (mono8), frame <vehicle>/<name>
 #include <geometry_msgs/TransformStamped.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
@@ -35,10 +40,15 @@ class VehicleSensors : public sensors::SensorSink {
   void imu(const sensors::SensorSpec& spec, double stamp, const sensors::ImuSample& sample) override;
   void gnss(const sensors::SensorSpec& spec, double stamp, const sensors::GnssFix& fix) override;
   void velocity(const sensors::SensorSpec& spec, double stamp, const sensors::Velocity& v) override;
+  void vector(const sensors::SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) override;
+  void occupancy(const sensors::SensorSpec& spec, double stamp, const sensors::OccupancyFrame& frame) override;
+  // The stamp of each sensor's newest reading (0 before its first), by sensor name.
+  const std::map<std::string, double>& lastStamps() const { return last_stamps_; }
 
  private:
   struct Publishers {
     image_transport::CameraPublisher camera;
+    image_transport::Publisher image;
     ros::Publisher main, second;
   };
   std::string frameOf(const sensors::SensorSpec& spec) const { return vehicle_ + "/" + spec.name; }
@@ -49,6 +59,7 @@ class VehicleSensors : public sensors::SensorSink {
   std::string map_frame_;
   sensors::SensorRig rig_;
   std::map<std::string, Publishers> publishers_;
+  std::map<std::string, double> last_stamps_;
 };
 
 }  // namespace roar::ros_bridge

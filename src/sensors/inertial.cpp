@@ -2,6 +2,9 @@
 
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include <algorithm>
+#include <stdexcept>
+
 namespace roar::sensors {
 
 namespace {
@@ -53,11 +56,51 @@ GnssFix sampleGnss(const BodyMotion& m, const Mount& mount, const GnssSpec& spec
     p.y() += n(*rng);
   }
   if (spec.vertical_noise_std > 0) p.z() += std::normal_distribution<double>(0.0, spec.vertical_noise_std)(*rng);
+  return toGeodetic(p, origin);
+}
+
+GnssFix toGeodetic(const Eigen::Vector3d& p, const track::GeoOrigin& origin) {
   // The map frame is east-north-up at the origin, as GeographicLib's local cartesian frame.
   const GeographicLib::LocalCartesian local(origin.latitude, origin.longitude, origin.altitude);
   GnssFix fix;
   local.Reverse(p.x(), p.y(), p.z(), fix.latitude, fix.longitude, fix.altitude);
   return fix;
+}
+
+Eigen::Vector3d rollPitchYaw(const Eigen::Matrix3d& r) {
+  return {std::atan2(r(2, 1), r(2, 2)), std::asin(std::clamp(-r(2, 0), -1.0, 1.0)), std::atan2(r(1, 0), r(0, 0))};
+}
+
+Eigen::Vector3d sampleVector(const SensorSpec& spec, const BodyMotion& m, double gravity, std::mt19937* rng) {
+  const Eigen::Isometry3d sensor = m.pose * mountTransform(spec.mount);
+  const Eigen::Matrix3d to_sensor = sensor.linear().transpose();
+  const VectorSpec& v = spec.vector;
+  Eigen::Vector3d reading;
+  switch (spec.type) {
+    case SensorType::kAccelerometer: {
+      const Eigen::Vector3d offset = sensor.translation() - m.pose.translation();
+      Eigen::Vector3d a = m.linear_acceleration + m.angular_velocity.cross(m.angular_velocity.cross(offset));
+      if (v.gravity) a.z() += gravity;
+      reading = v.map_frame ? a : Eigen::Vector3d(to_sensor * a);
+      break;
+    }
+    case SensorType::kGyroscope:
+      reading = v.map_frame ? m.angular_velocity : Eigen::Vector3d(to_sensor * m.angular_velocity);
+      break;
+    case SensorType::kRollPitchYaw:
+      reading = rollPitchYaw(sensor.linear());
+      break;
+    case SensorType::kLocation:
+      reading = sensor.translation();
+      break;
+    default:
+      throw std::invalid_argument(std::string("sampleVector: '") + typeName(spec.type) + "' is not a one-vector sensor");
+  }
+  reading += v.bias + gaussian(v.noise_std, rng);
+  if (spec.type == SensorType::kRollPitchYaw) {
+    for (int i = 0; i < 3; ++i) reading[i] = track::wrapAngle(reading[i]);
+  }
+  return reading;
 }
 
 Velocity sampleVelocity(const BodyMotion& m, const Mount& mount) {

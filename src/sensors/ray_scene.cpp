@@ -130,6 +130,18 @@ struct RayScene::Impl {
     *lateral = d.x() * rel.y() - d.y() * rel.x();
   }
 
+  // What a ray from `origin` along the unit `dir` met at `tfar` (geom RTC_INVALID_GEOMETRY_ID: nothing).
+  void finishHit(const Eigen::Vector3d& origin, const Eigen::Vector3f& dir, float tfar, unsigned geom, unsigned prim,
+                 unsigned inst, const Eigen::Vector3f& geometric_normal, RayHit* out) const {
+    *out = RayHit();
+    if (geom == RTC_INVALID_GEOMETRY_ID) return;
+    out->hit = true;
+    out->distance = tfar;
+    out->normal = geometric_normal.normalized();
+    shade(geom, prim, inst, origin + static_cast<double>(tfar) * dir.cast<double>(), out);
+    if (out->normal.dot(dir) > 0) out->normal = -out->normal;
+  }
+
   void shade(unsigned geom, unsigned prim, unsigned inst, const Eigen::Vector3d& p, RayHit* out) const {
     if (inst != static_instance) {
       const Vehicle& v = vehicles.at(instance_to_vehicle.at(inst));
@@ -242,66 +254,55 @@ void RayScene::setVehiclePose(int id, const Eigen::Isometry3d& pose) {
 
 void RayScene::commit() { rtcCommitScene(impl_->scene); }
 
-void RayScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* dirs, std::size_t count, int own_vehicle,
-                    float max_distance, bool coherent, RayHit* hits) const {
-  const auto& w = *impl_;
-  const unsigned mask = own_vehicle >= 0 ? ~vehicleMask(own_vehicle) : 0xFFFFFFFFu;
-  const Eigen::Vector3f org = origin.cast<float>();
+namespace {
+
+// Casts `count` rays, ray k from originOf(k) along dirOf(k) (unit), in packets of 16: even spread rays
+// share the first levels of the tree. `coherent` tells Embree how alike they are.
+template <class OriginOf, class DirOf, class Finish>
+void castRays(RTCScene scene, std::size_t count, unsigned mask, float max_distance, bool coherent,
+              const OriginOf& originOf, const DirOf& dirOf, const Finish& finish) {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-
-  auto finish = [&](std::size_t k, float tfar, unsigned geom, unsigned prim, unsigned inst, float nx, float ny, float nz) {
-    RayHit& out = hits[k];
-    out = RayHit();
-    if (geom == RTC_INVALID_GEOMETRY_ID) return;
-    out.hit = true;
-    out.distance = tfar;
-    out.normal = Eigen::Vector3f(nx, ny, nz).normalized();
-    const Eigen::Vector3d p = origin + static_cast<double>(tfar) * dirs[k].cast<double>();
-    w.shade(geom, prim, inst, p, &out);
-    if (out.normal.dot(dirs[k]) > 0) out.normal = -out.normal;
-  };
-
-  // Rays from one origin go in packets of 16 either way: even a LiDAR's spread rays share the first
-  // levels of the tree. The context flag tells Embree how alike they are.
   std::size_t k = 0;
-  {
-    for (; k + 16 <= count; k += 16) {
-      alignas(64) RTCRayHit16 rh;
-      alignas(64) int valid[16];
-      for (int j = 0; j < 16; ++j) {
-        valid[j] = -1;
-        rh.ray.org_x[j] = org.x();
-        rh.ray.org_y[j] = org.y();
-        rh.ray.org_z[j] = org.z();
-        rh.ray.dir_x[j] = dirs[k + j].x();
-        rh.ray.dir_y[j] = dirs[k + j].y();
-        rh.ray.dir_z[j] = dirs[k + j].z();
-        rh.ray.tnear[j] = 0.0f;
-        rh.ray.tfar[j] = max_distance;
-        rh.ray.mask[j] = mask;
-        rh.ray.time[j] = 0.0f;
-        rh.ray.flags[j] = 0;
-        rh.ray.id[j] = static_cast<unsigned>(j);
-        rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
-      }
-      rtcIntersect16(valid, w.scene, &context, &rh);
-      for (int j = 0; j < 16; ++j) {
-        finish(k + j, rh.ray.tfar[j], rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.hit.Ng_x[j],
-               rh.hit.Ng_y[j], rh.hit.Ng_z[j]);
-      }
+  for (; k + 16 <= count; k += 16) {
+    alignas(64) RTCRayHit16 rh;
+    alignas(64) int valid[16];
+    for (int j = 0; j < 16; ++j) {
+      const Eigen::Vector3f org = originOf(k + j);
+      const Eigen::Vector3f& dir = dirOf(k + j);
+      valid[j] = -1;
+      rh.ray.org_x[j] = org.x();
+      rh.ray.org_y[j] = org.y();
+      rh.ray.org_z[j] = org.z();
+      rh.ray.dir_x[j] = dir.x();
+      rh.ray.dir_y[j] = dir.y();
+      rh.ray.dir_z[j] = dir.z();
+      rh.ray.tnear[j] = 0.0f;
+      rh.ray.tfar[j] = max_distance;
+      rh.ray.mask[j] = mask;
+      rh.ray.time[j] = 0.0f;
+      rh.ray.flags[j] = 0;
+      rh.ray.id[j] = static_cast<unsigned>(j);
+      rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][j] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, scene, &context, &rh);
+    for (int j = 0; j < 16; ++j) {
+      finish(k + j, rh.ray.tfar[j], rh.hit.geomID[j], rh.hit.primID[j], rh.hit.instID[0][j], rh.hit.Ng_x[j],
+             rh.hit.Ng_y[j], rh.hit.Ng_z[j]);
     }
   }
   for (; k < count; ++k) {
+    const Eigen::Vector3f org = originOf(k);
+    const Eigen::Vector3f& dir = dirOf(k);
     RTCRayHit rh;
     rh.ray.org_x = org.x();
     rh.ray.org_y = org.y();
     rh.ray.org_z = org.z();
-    rh.ray.dir_x = dirs[k].x();
-    rh.ray.dir_y = dirs[k].y();
-    rh.ray.dir_z = dirs[k].z();
+    rh.ray.dir_x = dir.x();
+    rh.ray.dir_y = dir.y();
+    rh.ray.dir_z = dir.z();
     rh.ray.tnear = 0.0f;
     rh.ray.tfar = max_distance;
     rh.ray.mask = mask;
@@ -310,9 +311,37 @@ void RayScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* dirs, 
     rh.ray.id = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(w.scene, &context, &rh);
+    rtcIntersect1(scene, &context, &rh);
     finish(k, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0], rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   }
+}
+
+unsigned maskOf(int own_vehicle) { return own_vehicle >= 0 ? ~vehicleMask(own_vehicle) : 0xFFFFFFFFu; }
+
+}  // namespace
+
+void RayScene::cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* dirs, std::size_t count, int own_vehicle,
+                    float max_distance, bool coherent, RayHit* hits) const {
+  const auto& w = *impl_;
+  const Eigen::Vector3f org = origin.cast<float>();
+  castRays(
+      w.scene, count, maskOf(own_vehicle), max_distance, coherent, [&](std::size_t) { return org; },
+      [&](std::size_t k) -> const Eigen::Vector3f& { return dirs[k]; },
+      [&](std::size_t k, float tfar, unsigned geom, unsigned prim, unsigned inst, float nx, float ny, float nz) {
+        w.finishHit(origin, dirs[k], tfar, geom, prim, inst, Eigen::Vector3f(nx, ny, nz), &hits[k]);
+      });
+}
+
+void RayScene::castParallel(const Eigen::Vector3d* origins, const Eigen::Vector3f& direction, std::size_t count,
+                            int own_vehicle, float max_distance, RayHit* hits) const {
+  const auto& w = *impl_;
+  castRays(
+      w.scene, count, maskOf(own_vehicle), max_distance, true,
+      [&](std::size_t k) -> Eigen::Vector3f { return origins[k].cast<float>(); },
+      [&](std::size_t) -> const Eigen::Vector3f& { return direction; },
+      [&](std::size_t k, float tfar, unsigned geom, unsigned prim, unsigned inst, float nx, float ny, float nz) {
+        w.finishHit(origins[k], direction, tfar, geom, prim, inst, Eigen::Vector3f(nx, ny, nz), &hits[k]);
+      });
 }
 
 }  // namespace roar::sensors

@@ -17,6 +17,7 @@ bool sameMount(const Mount& a, const Mount& b) {
 struct SensorRig::Sensor {
   Sensor(const SensorSpec& s, double now) : spec(s), rng(s.seed) {
     if (s.type == SensorType::kLidar) lidar = std::make_unique<SpinningLidar>(s.lidar, s.seed);
+    if (s.type == SensorType::kOccupancyMap) occupancy = std::make_unique<OccupancyMapRenderer>(s.occupancy);
     markDone(now);
   }
   // Due at multiples of the period: k / rate, so the schedule never drifts.
@@ -34,6 +35,8 @@ struct SensorRig::Sensor {
   double last_time = 0.0;
   std::unique_ptr<SpinningLidar> lidar;
   std::vector<LidarPoint> points;
+  std::unique_ptr<OccupancyMapRenderer> occupancy;
+  OccupancyFrame occupancy_frame;
 };
 
 struct SensorRig::CameraGroup {
@@ -56,15 +59,25 @@ void SensorRig::add(const SensorSpec& spec, double now) {
   for (const auto& s : sensors_) {
     if (s->spec.name == spec.name) throw SensorSpecError("sensor '" + spec.name + "': the car already has a sensor of that name");
   }
-  const bool ray_sensor = isCamera(spec.type) || spec.type == SensorType::kLidar;
-  const double limit = 1.0 / (ray_sensor ? timing_.control_dt : timing_.physics_dt);
+  checkRate(spec, timing_.control_dt, timing_.physics_dt);
+  sensors_.push_back(std::make_unique<Sensor>(spec, now));
+  rebuildCameraGroups();
+}
+
+void SensorRig::checkRate(const SensorSpec& spec, double control_dt, double physics_dt) {
+  const bool ray_sensor = castsRays(spec.type);
+  const double limit = 1.0 / (ray_sensor ? control_dt : physics_dt);
   if (spec.rate > limit * (1 + 1e-9)) {
-    throw SensorSpecError("sensor '" + spec.name + "': field 'rate' " + std::to_string(spec.rate) + " Hz is faster than " +
+    throw SensorSpecError("sensor '" + spec.name + "': rate: " + std::to_string(spec.rate) + " Hz is faster than " +
                           (ray_sensor ? "the control rate " : "the physics rate ") + std::to_string(limit) +
                           " Hz; lower the rate or " + (ray_sensor ? "control_dt" : "physics_dt"));
   }
-  sensors_.push_back(std::make_unique<Sensor>(spec, now));
-  rebuildCameraGroups();
+}
+
+void SensorRig::setTiming(double control_dt, double physics_dt) {
+  for (const auto& s : sensors_) checkRate(s->spec, control_dt, physics_dt);
+  timing_.control_dt = control_dt;
+  timing_.physics_dt = physics_dt;
 }
 
 bool SensorRig::remove(const std::string& name) {
@@ -114,14 +127,16 @@ void SensorRig::rebuildCameraGroups() {
 void SensorRig::sampleMotion(double time, const BodyMotion& motion, SensorSink& sink) {
   for (auto& s : sensors_) {
     const SensorType type = s->spec.type;
-    if (isCamera(type) || type == SensorType::kLidar || !s->due(time)) continue;
+    if (castsRays(type) || !s->due(time)) continue;
     s->markDone(time);
     if (type == SensorType::kImu) {
       sink.imu(s->spec, time, sampleImu(motion, s->spec.mount, s->spec.imu, timing_.gravity, &s->rng));
     } else if (type == SensorType::kGnss) {
       sink.gnss(s->spec, time, sampleGnss(motion, s->spec.mount, s->spec.gnss, origin_, &s->rng));
-    } else {
+    } else if (type == SensorType::kVelocimeter) {
       sink.velocity(s->spec, time, sampleVelocity(motion, s->spec.mount));
+    } else {
+      sink.vector(s->spec, time, sampleVector(s->spec, motion, timing_.gravity, &s->rng));
     }
   }
 }
@@ -136,10 +151,17 @@ void SensorRig::sampleRays(double time, const RayScene& scene, const Eigen::Isom
     for (Sensor* m : g->members) sink.camera(m->spec, time, g->frame, g->renderer->intrinsics());
   }
   for (auto& s : sensors_) {
-    if (s->spec.type != SensorType::kLidar || !s->due(time)) continue;
+    const SensorType type = s->spec.type;
+    if ((type != SensorType::kLidar && type != SensorType::kOccupancyMap) || !s->due(time)) continue;
     const double last = s->markDone(time);
-    s->lidar->scan(scene, base_in_map * mountTransform(s->spec.mount), own_vehicle, time - last, &s->points);
-    sink.lidar(s->spec, time, s->points);
+    const Eigen::Isometry3d sensor_in_map = base_in_map * mountTransform(s->spec.mount);
+    if (type == SensorType::kLidar) {
+      s->lidar->scan(scene, sensor_in_map, own_vehicle, time - last, &s->points);
+      sink.lidar(s->spec, time, s->points);
+    } else {
+      s->occupancy->render(scene, sensor_in_map, own_vehicle, &s->occupancy_frame);
+      sink.occupancy(s->spec, time, s->occupancy_frame);
+    }
   }
 }
 

@@ -1,9 +1,10 @@
 #include "roar/sensors/sensor_spec.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <set>
+#include <sstream>
+
+#include "roar/config/yaml_section.h"
 
 namespace roar::sensors {
 
@@ -14,52 +15,38 @@ struct TypeEntry {
   SensorType type;
 };
 constexpr TypeEntry kTypes[] = {
-    {"camera_rgb", SensorType::kCameraRgb},     {"camera_grey", SensorType::kCameraGrey},
-    {"camera_depth", SensorType::kCameraDepth}, {"camera_semantic", SensorType::kCameraSemantic},
-    {"lidar", SensorType::kLidar},              {"imu", SensorType::kImu},
-    {"gnss", SensorType::kGnss},                {"velocimeter", SensorType::kVelocimeter},
+    {"camera_rgb", SensorType::kCameraRgb},         {"camera_grey", SensorType::kCameraGrey},
+    {"camera_depth", SensorType::kCameraDepth},     {"camera_semantic", SensorType::kCameraSemantic},
+    {"lidar", SensorType::kLidar},                  {"imu", SensorType::kImu},
+    {"gnss", SensorType::kGnss},                    {"velocimeter", SensorType::kVelocimeter},
+    {"accelerometer", SensorType::kAccelerometer},  {"gyroscope", SensorType::kGyroscope},
+    {"roll_pitch_yaw", SensorType::kRollPitchYaw},  {"location", SensorType::kLocation},
+    {"occupancy_map", SensorType::kOccupancyMap},
 };
 
-class Fields {
- public:
-  Fields(const YAML::Node& node, std::string where) : node_(node), where_(std::move(where)) {}
-
-  double number(const char* key, double fallback) const {
-    const YAML::Node v = node_[key];
-    if (!v) return fallback;
-    double out;
-    try {
-      out = v.as<double>();
-    } catch (const YAML::Exception&) {
-      throw SensorSpecError(where_ + ": field '" + key + "' is not a number");
-    }
-    if (!std::isfinite(out)) throw SensorSpecError(where_ + ": field '" + key + "' is not finite");
-    return out;
-  }
-
-  int integer(const char* key, int fallback) const {
-    const double v = number(key, fallback);
-    if (v != std::floor(v) || std::abs(v) > 1e9) throw SensorSpecError(where_ + ": field '" + key + "' must be a whole number");
-    return static_cast<int>(v);
-  }
-
-  Eigen::Vector3d vector3(const char* key) const {
-    const YAML::Node v = node_[key];
-    if (!v) return Eigen::Vector3d::Zero();
-    if (!v.IsSequence() || v.size() != 3) throw SensorSpecError(where_ + ": field '" + key + "' must be [x, y, z]");
-    try {
-      return {v[0].as<double>(), v[1].as<double>(), v[2].as<double>()};
-    } catch (const YAML::Exception&) {
-      throw SensorSpecError(where_ + ": field '" + key + "' must be three numbers");
-    }
-  }
-
- private:
-  const YAML::Node& node_;
-  std::string where_;
-};
+using Section = config::YamlSection<SensorSpecError>;
 
 constexpr double kDeg = M_PI / 180.0;
+
+// How far from base_link a sensor may sit: on the car or on a pole above it, not across the map.
+constexpr double kMaxMountOffset = 20.0;  // m
+constexpr int kMaxImageSide = 4096;
+constexpr long kMaxImagePixels = 4096L * 2048L;  // 8.4 million rays a frame
+constexpr double kMaxLidarPointsPerSecond = 1e7;
+constexpr int kMaxOccupancySide = 2048;
+
+Eigen::Vector3d readVector3(Section& s, const char* key) {
+  std::vector<double> v = {0.0, 0.0, 0.0};
+  s.read(key, &v);
+  if (v.size() != 3) s.fail(key, "must be [x, y, z]");
+  return {v[0], v[1], v[2]};
+}
+
+std::string show(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
 
 }  // namespace
 
@@ -75,57 +62,102 @@ bool isCamera(SensorType type) {
          type == SensorType::kCameraSemantic;
 }
 
+bool castsRays(SensorType type) {
+  return isCamera(type) || type == SensorType::kLidar || type == SensorType::kOccupancyMap;
+}
+
 SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
   if (!node.IsMap()) throw SensorSpecError(source + ": a sensor must be a mapping with name and type");
   SensorSpec spec;
-  try {
-    spec.name = node["name"] ? node["name"].as<std::string>() : "";
-  } catch (const YAML::Exception&) {
-    throw SensorSpecError(source + ": field 'name' must be a string");
-  }
+  Section top(node, "", source);
+  top.read("name", &spec.name);
   if (spec.name.empty() || spec.name.find_first_of(" /") != std::string::npos) {
     throw SensorSpecError(source + ": every sensor needs a 'name' without spaces or '/'");
   }
-  const std::string where = source + ": sensor '" + spec.name + "'";
+  Section s(node, "", source + ": sensor '" + spec.name + "'");
+  s.read("name", &spec.name);
   std::string type;
-  try {
-    type = node["type"] ? node["type"].as<std::string>() : "";
-  } catch (const YAML::Exception&) {
-    throw SensorSpecError(where + ": field 'type' must be a string");
-  }
+  s.read("type", &type);
   bool known = false;
   std::string listed;
   for (const auto& t : kTypes) {
     listed += (listed.empty() ? "" : ", ") + std::string(t.name);
     if (type == t.name) spec.type = t.type, known = true;
   }
-  if (!known) throw SensorSpecError(where + ": unknown type '" + type + "' (known: " + listed + ")");
+  if (!known) s.fail("type", "unknown type '" + type + "' (known: " + listed + ")");
 
-  const Fields f(node, where);
-  spec.mount.position = Eigen::Vector3d(f.number("x", 0.0), f.number("y", 0.0), f.number("z", 0.0));
-  spec.mount.roll = f.number("roll", 0.0) * kDeg;
-  spec.mount.pitch = f.number("pitch", 0.0) * kDeg;
-  spec.mount.yaw = f.number("yaw", 0.0) * kDeg;
-  spec.rate = f.number("rate", spec.rate);
-  spec.seed = static_cast<unsigned>(f.integer("seed", 0));
-  spec.camera.fov_deg = f.number("fov", spec.camera.fov_deg);
-  spec.camera.width = f.integer("image_width", spec.camera.width);
-  spec.camera.height = f.integer("image_height", spec.camera.height);
-  auto& l = spec.lidar;
-  l.num_lasers = f.integer("num_lasers", l.num_lasers);
-  l.max_distance = f.number("max_distance", l.max_distance);
-  l.points_per_second = f.number("points_per_second", l.points_per_second);
-  l.rotation_frequency = f.number("rotation_frequency", l.rotation_frequency);
-  l.upper_fov = f.number("upper_fov", l.upper_fov);
-  l.lower_fov = f.number("lower_fov", l.lower_fov);
-  l.horizontal_fov = f.number("horizontal_fov", l.horizontal_fov);
-  l.noise_std = f.number("noise_std", l.noise_std);
-  spec.imu.accel_noise_std = f.number("accel_noise_std", 0.0);
-  spec.imu.gyro_noise_std = f.number("gyro_noise_std", 0.0);
-  spec.imu.accel_bias = f.vector3("accel_bias");
-  spec.imu.gyro_bias = f.vector3("gyro_bias");
-  spec.gnss.horizontal_noise_std = f.number("horizontal_noise_std", 0.0);
-  spec.gnss.vertical_noise_std = f.number("vertical_noise_std", 0.0);
+  Eigen::Vector3d& p = spec.mount.position;
+  s.read("x", &p.x());
+  s.read("y", &p.y());
+  s.read("z", &p.z());
+  for (const char* angle : {"roll", "pitch", "yaw"}) {
+    double degrees = 0.0;
+    s.read(angle, &degrees);
+    if (std::abs(degrees) > 360.0) s.fail(angle, show(degrees) + " is outside [-360, 360] degrees");
+    (angle[0] == 'r' ? spec.mount.roll : angle[0] == 'p' ? spec.mount.pitch : spec.mount.yaw) = degrees * kDeg;
+  }
+  s.read("rate", &spec.rate);
+  int seed = 0;
+  s.read("seed", &seed);
+  spec.seed = static_cast<unsigned>(seed);
+
+  switch (spec.type) {
+    case SensorType::kCameraRgb:
+    case SensorType::kCameraGrey:
+    case SensorType::kCameraDepth:
+    case SensorType::kCameraSemantic:
+      s.read("fov", &spec.camera.fov_deg);
+      s.read("image_width", &spec.camera.width);
+      s.read("image_height", &spec.camera.height);
+      break;
+    case SensorType::kLidar: {
+      auto& l = spec.lidar;
+      s.read("num_lasers", &l.num_lasers);
+      s.read("max_distance", &l.max_distance);
+      s.read("points_per_second", &l.points_per_second);
+      s.read("rotation_frequency", &l.rotation_frequency);
+      s.read("upper_fov", &l.upper_fov);
+      s.read("lower_fov", &l.lower_fov);
+      s.read("horizontal_fov", &l.horizontal_fov);
+      s.read("noise_std", &l.noise_std);
+      break;
+    }
+    case SensorType::kImu:
+      s.read("accel_noise_std", &spec.imu.accel_noise_std);
+      s.read("gyro_noise_std", &spec.imu.gyro_noise_std);
+      spec.imu.accel_bias = readVector3(s, "accel_bias");
+      spec.imu.gyro_bias = readVector3(s, "gyro_bias");
+      break;
+    case SensorType::kGnss:
+      s.read("horizontal_noise_std", &spec.gnss.horizontal_noise_std);
+      s.read("vertical_noise_std", &spec.gnss.vertical_noise_std);
+      break;
+    case SensorType::kVelocimeter:
+      break;
+    case SensorType::kAccelerometer:
+    case SensorType::kGyroscope:
+    case SensorType::kRollPitchYaw:
+    case SensorType::kLocation: {
+      auto& v = spec.vector;
+      s.read("noise_std", &v.noise_std);
+      v.bias = readVector3(s, "bias");
+      if (spec.type == SensorType::kAccelerometer || spec.type == SensorType::kGyroscope) {
+        std::string frame = "sensor";
+        s.read("frame", &frame);
+        if (frame != "sensor" && frame != "map") s.fail("frame", "must be 'sensor' or 'map', not '" + frame + "'");
+        v.map_frame = frame == "map";
+      }
+      if (spec.type == SensorType::kAccelerometer) s.read("gravity", &v.gravity);
+      break;
+    }
+    case SensorType::kOccupancyMap:
+      s.read("image_width", &spec.occupancy.width);
+      s.read("image_height", &spec.occupancy.height);
+      s.read("width_m", &spec.occupancy.width_m);
+      s.read("height_m", &spec.occupancy.height_m);
+      break;
+  }
+  s.finish();
   validate(spec, source);
   return spec;
 }
@@ -133,32 +165,72 @@ SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
 void validate(const SensorSpec& spec, const std::string& source) {
   const std::string where = source + ": sensor '" + spec.name + "'";
   auto fail = [&](const std::string& field, const std::string& rule) {
-    throw SensorSpecError(where + ": field '" + field + "' " + rule);
+    throw SensorSpecError(where + ": " + field + ": " + rule);
   };
-  if (!(spec.rate > 0) || spec.rate > 10000) fail("rate", "must be in (0, 10000] Hz");
+  // value outside [lo, hi] (NaN too), with the value and the range in the message.
+  auto range = [&](const std::string& field, double value, double lo, double hi, const std::string& unit) {
+    if (!(value >= lo && value <= hi)) fail(field, show(value) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    range(std::string(1, "xyz"[axis]), spec.mount.position[axis], -kMaxMountOffset, kMaxMountOffset, " m of base_link");
+  }
+  for (const double angle : {spec.mount.roll, spec.mount.pitch, spec.mount.yaw}) {
+    if (!std::isfinite(angle)) fail("roll, pitch, yaw", "must be finite");
+  }
+  if (!(spec.rate > 0) || spec.rate > 10000) fail("rate", show(spec.rate) + " is outside (0, 10000] Hz");
   if (isCamera(spec.type)) {
-    if (!(spec.camera.fov_deg > 0 && spec.camera.fov_deg < 180)) fail("fov", "must be in (0, 180) degrees");
-    if (spec.camera.width <= 0 || spec.camera.width > 8192) fail("image_width", "must be in [1, 8192]");
-    if (spec.camera.height <= 0 || spec.camera.height > 8192) fail("image_height", "must be in [1, 8192]");
+    if (!(spec.camera.fov_deg > 0 && spec.camera.fov_deg < 180)) fail("fov", show(spec.camera.fov_deg) + " must be in (0, 180) degrees");
+    range("image_width", spec.camera.width, 1, kMaxImageSide, " pixels");
+    range("image_height", spec.camera.height, 1, kMaxImageSide, " pixels");
+    if (static_cast<long>(spec.camera.width) * spec.camera.height > kMaxImagePixels) {
+      fail("image_width", std::to_string(spec.camera.width) + " x " + std::to_string(spec.camera.height) +
+                              " is more than " + std::to_string(kMaxImagePixels) + " pixels a frame");
+    }
   }
   if (spec.type == SensorType::kLidar) {
     const auto& l = spec.lidar;
-    if (l.num_lasers < 1 || l.num_lasers > 256) fail("num_lasers", "must be in [1, 256]");
-    if (!(l.max_distance > 0) || l.max_distance > 1000) fail("max_distance", "must be in (0, 1000] m");
-    if (!(l.points_per_second >= l.num_lasers) || l.points_per_second > 1e8) {
-      fail("points_per_second", "must be at least num_lasers and at most 1e8");
+    range("num_lasers", l.num_lasers, 1, 256, "");
+    if (!(l.max_distance > 0) || l.max_distance > 1000) fail("max_distance", show(l.max_distance) + " is outside (0, 1000] m");
+    if (!(l.points_per_second >= l.num_lasers) || l.points_per_second > kMaxLidarPointsPerSecond) {
+      fail("points_per_second", show(l.points_per_second) + " must be at least num_lasers and at most " +
+                                    show(kMaxLidarPointsPerSecond));
     }
-    if (!(l.rotation_frequency > 0) || l.rotation_frequency > 1000) fail("rotation_frequency", "must be in (0, 1000] Hz");
-    if (l.upper_fov > 90 || l.lower_fov < -90 || !(l.upper_fov > l.lower_fov)) {
+    if (!(l.rotation_frequency > 0) || l.rotation_frequency > 1000) {
+      fail("rotation_frequency", show(l.rotation_frequency) + " is outside (0, 1000] Hz");
+    }
+    if (!(l.upper_fov <= 90 && l.lower_fov >= -90 && l.upper_fov > l.lower_fov)) {
       fail("upper_fov", "must be above lower_fov, both within [-90, 90] degrees");
     }
-    if (!(l.horizontal_fov > 0 && l.horizontal_fov <= 360)) fail("horizontal_fov", "must be in (0, 360] degrees");
-    if (l.noise_std < 0) fail("noise_std", "must not be negative");
+    if (!(l.horizontal_fov > 0 && l.horizontal_fov <= 360)) fail("horizontal_fov", show(l.horizontal_fov) + " is outside (0, 360] degrees");
+    range("noise_std", l.noise_std, 0, 10, " m");
   }
-  if (spec.imu.accel_noise_std < 0) fail("accel_noise_std", "must not be negative");
-  if (spec.imu.gyro_noise_std < 0) fail("gyro_noise_std", "must not be negative");
-  if (spec.gnss.horizontal_noise_std < 0) fail("horizontal_noise_std", "must not be negative");
-  if (spec.gnss.vertical_noise_std < 0) fail("vertical_noise_std", "must not be negative");
+  if (spec.type == SensorType::kImu) {
+    range("accel_noise_std", spec.imu.accel_noise_std, 0, 100, " m/s^2");
+    range("gyro_noise_std", spec.imu.gyro_noise_std, 0, 10, " rad/s");
+    for (int axis = 0; axis < 3; ++axis) {
+      range("accel_bias", spec.imu.accel_bias[axis], -100, 100, " m/s^2");
+      range("gyro_bias", spec.imu.gyro_bias[axis], -10, 10, " rad/s");
+    }
+  }
+  if (spec.type == SensorType::kGnss) {
+    range("horizontal_noise_std", spec.gnss.horizontal_noise_std, 0, 1000, " m");
+    range("vertical_noise_std", spec.gnss.vertical_noise_std, 0, 1000, " m");
+  }
+  if (spec.type == SensorType::kAccelerometer || spec.type == SensorType::kGyroscope ||
+      spec.type == SensorType::kRollPitchYaw || spec.type == SensorType::kLocation) {
+    const double limit = spec.type == SensorType::kAccelerometer ? 100 : spec.type == SensorType::kGyroscope ? 10
+                         : spec.type == SensorType::kRollPitchYaw ? M_PI : 1000;
+    const char* unit = spec.type == SensorType::kAccelerometer ? " m/s^2" : spec.type == SensorType::kGyroscope ? " rad/s"
+                       : spec.type == SensorType::kRollPitchYaw ? " rad" : " m";
+    range("noise_std", spec.vector.noise_std, 0, limit, unit);
+    for (int axis = 0; axis < 3; ++axis) range("bias", spec.vector.bias[axis], -limit, limit, unit);
+  }
+  if (spec.type == SensorType::kOccupancyMap) {
+    range("image_width", spec.occupancy.width, 1, kMaxOccupancySide, " pixels");
+    range("image_height", spec.occupancy.height, 1, kMaxOccupancySide, " pixels");
+    if (!(spec.occupancy.width_m > 0 && spec.occupancy.width_m <= 1000)) fail("width_m", show(spec.occupancy.width_m) + " is outside (0, 1000] m");
+    if (!(spec.occupancy.height_m > 0 && spec.occupancy.height_m <= 1000)) fail("height_m", show(spec.occupancy.height_m) + " is outside (0, 1000] m");
+  }
 }
 
 std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source) {
@@ -168,7 +240,12 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
   } catch (const YAML::Exception& e) {
     throw SensorSpecError(source + ": " + e.what());
   }
-  const YAML::Node list = root.IsMap() ? root["sensors"] : root;
+  YAML::Node list = root;
+  if (root.IsMap()) {
+    Section file(root, "", source);
+    list.reset(file.raw("sensors"));  // reset: assigning a YAML::Node would overwrite the root it refers to
+    file.finish();  // before the list is looked at: a misspelt `sensors:` is named as such
+  }
   if (!list || !list.IsSequence()) throw SensorSpecError(source + ": expected 'sensors:' with a list of sensors");
   std::vector<SensorSpec> out;
   std::set<std::string> names;

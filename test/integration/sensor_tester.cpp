@@ -131,7 +131,7 @@ TEST(Sensors, AttachAndDetachAtRunTime) {
   bad.request.sensor_yaml = "{name: rear_grey, type: camera_grey, fov: 200}";
   ASSERT_TRUE(ros::service::call("/roar_sim/attach_sensor", bad));
   EXPECT_FALSE(bad.response.success);
-  EXPECT_NE(bad.response.message.find("sensor 'rear_grey': field 'fov'"), std::string::npos) << bad.response.message;
+  EXPECT_NE(bad.response.message.find("sensor 'rear_grey': fov: 200"), std::string::npos) << bad.response.message;
 
   roar_ros::AttachSensor attach;
   attach.request.vehicle = "ego";

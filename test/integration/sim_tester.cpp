@@ -140,7 +140,8 @@ TEST(SimNode, SpawnDestroyAndResetServices) {
   unknown.request.spawn_point = 5;
   ASSERT_TRUE(ros::service::call("/roar_sim/spawn_vehicle", unknown));
   EXPECT_FALSE(unknown.response.success);
-  EXPECT_NE(unknown.response.message.find("unknown vehicle model 'bus'"), std::string::npos) << unknown.response.message;
+  EXPECT_NE(unknown.response.message.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << unknown.response.message;
+  EXPECT_NE(unknown.response.message.find("sedan (vehicle.tesla.model3)"), std::string::npos) << unknown.response.message;
 
   ros::NodeHandle nh;
   nav_msgs::Odometry rival_odom;

@@ -26,6 +26,16 @@ struct Counter : sensors::SensorSink {
   }
   void gnss(const sensors::SensorSpec& s, double, const sensors::GnssFix&) override { ++count[s.name]; }
   void velocity(const sensors::SensorSpec& s, double, const sensors::Velocity&) override { ++count[s.name]; }
+  void vector(const sensors::SensorSpec& s, double, const Eigen::Vector3d& v) override {
+    ++count[s.name];
+    vectors[s.name] = v;
+  }
+  void occupancy(const sensors::SensorSpec& s, double, const sensors::OccupancyFrame& f) override {
+    ++count[s.name];
+    occupancy_frame = f;
+  }
+  std::map<std::string, Eigen::Vector3d> vectors;
+  sensors::OccupancyFrame occupancy_frame;
 };
 
 }  // namespace
@@ -72,7 +82,7 @@ TEST(SensorRig, RatesAKindCannotKeepAreRefused) {
   cam.type = sensors::SensorType::kCameraRgb;
   cam.rate = 40;  // control rate is 20 Hz
   auto msg = errorOf([&] { sensors::SensorRig({cam}, {}, {}); });
-  EXPECT_NE(msg.find("sensor 'fast_cam': field 'rate'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("sensor 'fast_cam': rate: 40"), std::string::npos) << msg;
   sensors::SensorSpec imu;
   imu.name = "imu";
   imu.type = sensors::SensorType::kImu;
@@ -98,4 +108,71 @@ TEST(SensorRig, SensorsAttachAndDetachAtRunTime) {
   EXPECT_FALSE(rig.remove("imu"));
   rig.sampleMotion(6.0, {}, sink);
   EXPECT_EQ(sink.count["imu"], 1);
+}
+
+TEST(SensorRig, TimingChangesAreRefusedWhenASensorCannotKeepItsRate) {
+  sensors::SensorSpec cam;
+  cam.name = "cam";
+  cam.type = sensors::SensorType::kCameraRgb;
+  cam.rate = 20;
+  sensors::SensorSpec gyro;
+  gyro.name = "gyro";
+  gyro.type = sensors::SensorType::kGyroscope;
+  gyro.rate = 100;
+  sensors::SensorRig rig({cam, gyro}, {}, {});
+  const std::string msg = errorOf([&] { rig.setTiming(0.1, 0.005); });
+  EXPECT_NE(msg.find("sensor 'cam': rate: 20"), std::string::npos) << msg;
+  EXPECT_NE(errorOf([&] { rig.setTiming(0.05, 0.025); }).find("sensor 'gyro'"), std::string::npos);
+  rig.setTiming(0.025, 0.005);  // faster steps keep every rate
+  EXPECT_NE(errorOf([&] { rig.add(cam, 0.0); }).find("already"), std::string::npos);
+}
+
+TEST(SensorRig, OneVectorSensorsAndTheOccupancyMapReport) {
+  const auto track = test::stadiumTrack();
+  sim::World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
+  world.spawnVehicle("rival", test::sedan(), sim::poseOnTrack(track.poseAt(110)));
+  sensors::RayScene scene(track);
+  const int ego = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
+  const int rival = scene.addVehicle(test::sedanLooks(), {0, 0, 1});
+  const auto specs = sensors::parseSensorSetYaml(R"(sensors:
+  - {name: accel, type: accelerometer, rate: 50}
+  - {name: gyro, type: gyroscope, rate: 50, frame: map}
+  - {name: rpy, type: roll_pitch_yaw, rate: 20}
+  - {name: where, type: location, rate: 20, z: 1.0}
+  - {name: occupancy, type: occupancy_map, rate: 10, image_width: 80, image_height: 80, width_m: 40, height_m: 40})",
+                                                 "set.yaml");
+  sensors::SensorRig rig(specs, {}, track.info().origin);
+  Counter sink;
+  for (int tick = 0; tick < 20; ++tick) {
+    world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
+    scene.setVehiclePose(ego, sensors::poseOf(world.vehicleState("ego")));
+    scene.setVehiclePose(rival, sensors::poseOf(world.vehicleState("rival")));
+    scene.commit();
+    rig.sampleRays(world.time(), scene, sensors::poseOf(world.vehicleState("ego")), ego, sink);
+  }
+  EXPECT_EQ(sink.count["accel"], 50);
+  EXPECT_EQ(sink.count["gyro"], 50);
+  EXPECT_EQ(sink.count["rpy"], 20);
+  EXPECT_EQ(sink.count["where"], 20);
+  EXPECT_EQ(sink.count["occupancy"], 10);
+  EXPECT_NEAR(sink.vectors["accel"].z(), 9.81, 0.05) << "parked: gravity up";
+  EXPECT_LT(sink.vectors["gyro"].norm(), 1e-3);
+  EXPECT_NEAR(sink.vectors["rpy"].z(), 0.0, 1e-3) << "heading east";
+  EXPECT_NEAR(sink.vectors["where"].x(), 100.0, 0.01);
+  EXPECT_NEAR(sink.vectors["where"].z(), 1.0, 0.05);
+
+  const auto& map = sink.occupancy_frame;
+  ASSERT_EQ(map.width, 80);
+  ASSERT_EQ(map.height, 80);
+  auto pixel = [&](double forward, double left) {
+    const int row = static_cast<int>(std::floor(40 - forward / 0.5)), col = static_cast<int>(std::floor(40 - left / 0.5));
+    return map.pixels[static_cast<std::size_t>(row) * 80 + static_cast<std::size_t>(col)];
+  };
+  EXPECT_EQ(pixel(0.2, 0.2), sensors::kOccupancyRoad) << "the car's own body is left out";
+  EXPECT_EQ(pixel(10.2, 0.2), sensors::kOccupancyVehicle) << "the rival 10 m ahead";
+  EXPECT_EQ(pixel(-10.2, 0.2), sensors::kOccupancyRoad);
+  EXPECT_EQ(pixel(0.2, 5.2), sensors::kOccupancyRoad) << "the road is 12 m wide";
+  EXPECT_EQ(pixel(0.2, 8.2), sensors::kOccupancyElsewhere) << "grass beyond the left edge";
+  EXPECT_EQ(pixel(0.2, -8.2), sensors::kOccupancyElsewhere) << "and the right one";
 }

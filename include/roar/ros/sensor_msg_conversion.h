@@ -1,6 +1,8 @@
 #pragma once
 // Sensor readings (ROS-free core types) -> standard ROS messages.
+#include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TwistStamped.h>
+#include <geometry_msgs/Vector3Stamped.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
@@ -10,6 +12,7 @@
 #include "roar/sensors/camera.h"
 #include "roar/sensors/inertial.h"
 #include "roar/sensors/lidar.h"
+#include "roar/sensors/occupancy_map.h"
 
 namespace roar::ros_bridge {
 
@@ -27,5 +30,13 @@ sensor_msgs::NavSatFix toNavSatFix(const sensors::GnssFix& fix, const sensors::G
                                    const std::string& frame);
 geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const ros::Time& stamp,
                                     const std::string& frame);
+// Accelerometer, gyroscope and roll-pitch-yaw readings; a location is a point.
+geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp, const std::string& frame);
+Eigen::Vector3d fromMessage(const geometry_msgs::Vector3Stamped& msg);
+geometry_msgs::PointStamped toPointStamped(const Eigen::Vector3d& p, const ros::Time& stamp, const std::string& frame);
+Eigen::Vector3d fromMessage(const geometry_msgs::PointStamped& msg);
+// The occupancy map as a mono8 image, row 0 the farthest ahead.
+sensor_msgs::Image toImage(const sensors::OccupancyFrame& frame, const ros::Time& stamp, const std::string& frame_id);
+sensors::OccupancyFrame occupancyFromImage(const sensor_msgs::Image& image);  // throws for another encoding
 
 }  // namespace roar::ros_bridge

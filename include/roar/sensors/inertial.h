@@ -30,7 +30,11 @@ ImuSample sampleImu(const BodyMotion& motion, const Mount& mount, const ImuSpec&
 struct GnssFix {
   double latitude, longitude, altitude;  // degrees, degrees, metres
 };
-// The antenna's map position (ENU from the map's geodetic origin) converted with GeographicLib.
+// A map position (east-north-up from the map's geodetic origin) as latitude, longitude and altitude
+// (GeographicLib's local cartesian conversion): what GNSS reads and /roar_sim/get_geolocation answers.
+GnssFix toGeodetic(const Eigen::Vector3d& map_position, const track::GeoOrigin& origin);
+
+// The antenna's map position converted with toGeodetic.
 GnssFix sampleGnss(const BodyMotion& motion, const Mount& mount, const GnssSpec& spec, const track::GeoOrigin& origin,
                    std::mt19937* rng);
 
@@ -39,5 +43,17 @@ struct Velocity {
   Eigen::Vector3d linear_world, angular_world;  // map frame
 };
 Velocity sampleVelocity(const BodyMotion& motion, const Mount& mount);
+
+// The reading of a one-vector sensor (spec.type kAccelerometer, kGyroscope, kRollPitchYaw or kLocation)
+// mounted at spec.mount, with its bias and noise:
+//   accelerometer  m/s^2: specific force (or, without gravity, the acceleration) of the mount point,
+//                  in the sensor frame (or the map frame)
+//   gyroscope      rad/s: angular velocity, in the sensor frame (or the map frame)
+//   roll_pitch_yaw rad: the sensor frame's orientation in the map frame, each in [-pi, pi)
+//   location       m: the sensor's position in the map frame
+Eigen::Vector3d sampleVector(const SensorSpec& spec, const BodyMotion& motion, double gravity, std::mt19937* rng);
+
+// Roll, pitch and yaw (rad, applied as yaw * pitch * roll) of a rotation.
+Eigen::Vector3d rollPitchYaw(const Eigen::Matrix3d& rotation);
 
 }  // namespace roar::sensors

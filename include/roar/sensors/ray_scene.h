@@ -45,6 +45,9 @@ class RayScene {
   // (camera pixels in order) go in packets of 16.
   void cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* directions, std::size_t count, int own_vehicle,
             float max_distance, bool coherent, RayHit* hits) const;
+  // Parallel rays from `count` origins along one unit direction (an orthographic view from above).
+  void castParallel(const Eigen::Vector3d* origins, const Eigen::Vector3f& direction, std::size_t count, int own_vehicle,
+                    float max_distance, RayHit* hits) const;
 
  private:
   struct Impl;

@@ -1,7 +1,7 @@
 #pragma once
-// The sensors of one car. Motion sensors (IMU, GNSS, velocimeter) are sampled after physics substeps, so
-// they may run up to the physics rate; cameras and LiDAR are cast once per control tick when due, so their
-// rate may not exceed the control rate. Cameras on one mount with the same intrinsics and rate share one
+// The sensors of one car. Motion sensors (IMU, GNSS, velocimeter, accelerometer, gyroscope, roll-pitch-yaw,
+// location) are sampled after physics substeps, so they may run up to the physics rate; cameras, LiDAR and
+// occupancy maps are cast once per control tick when due, so their rate may not exceed the control rate. Cameras on one mount with the same intrinsics and rate share one
 // cast. Readings go to a SensorSink (the ROS node publishes them; tests collect them).
 #include <Eigen/Geometry>
 #include <memory>
@@ -12,6 +12,7 @@
 #include "roar/sensors/camera.h"
 #include "roar/sensors/inertial.h"
 #include "roar/sensors/lidar.h"
+#include "roar/sensors/occupancy_map.h"
 #include "roar/sensors/sensor_spec.h"
 
 namespace roar::sensors {
@@ -24,6 +25,9 @@ class SensorSink {
   virtual void imu(const SensorSpec& spec, double stamp, const ImuSample& sample) = 0;
   virtual void gnss(const SensorSpec& spec, double stamp, const GnssFix& fix) = 0;
   virtual void velocity(const SensorSpec& spec, double stamp, const Velocity& velocity) = 0;
+  // Accelerometer, gyroscope, roll_pitch_yaw and location (see sampleVector).
+  virtual void vector(const SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) = 0;
+  virtual void occupancy(const SensorSpec& spec, double stamp, const OccupancyFrame& frame) = 0;
 };
 
 struct RigTiming {
@@ -43,6 +47,11 @@ class SensorRig {
   void add(const SensorSpec& spec, double now);
   bool remove(const std::string& name);
   std::vector<SensorSpec> specs() const;
+  // New control and physics steps: throws SensorSpecError naming the first sensor whose rate they cannot
+  // keep, changing nothing.
+  void setTiming(double control_dt, double physics_dt);
+  // Throws SensorSpecError when `spec`'s rate is faster than its kind can run at these steps.
+  static void checkRate(const SensorSpec& spec, double control_dt, double physics_dt);
 
   // After every physics substep, at simulated time `time`.
   void sampleMotion(double time, const BodyMotion& motion, SensorSink& sink);

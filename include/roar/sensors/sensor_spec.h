@@ -12,10 +12,16 @@ class Node;
 
 namespace roar::sensors {
 
-enum class SensorType { kCameraRgb, kCameraGrey, kCameraDepth, kCameraSemantic, kLidar, kImu, kGnss, kVelocimeter };
+enum class SensorType {
+  kCameraRgb, kCameraGrey, kCameraDepth, kCameraSemantic, kLidar, kImu, kGnss, kVelocimeter,
+  kAccelerometer, kGyroscope, kRollPitchYaw, kLocation, kOccupancyMap
+};
 
 const char* typeName(SensorType type);
 bool isCamera(SensorType type);
+// Cameras, LiDAR and the occupancy map cast rays once per control tick; the others sample the car's
+// motion after physics substeps.
+bool castsRays(SensorType type);
 
 struct Mount {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, in base_link
@@ -52,6 +58,25 @@ struct GnssSpec {
   double vertical_noise_std = 0.0;    // m
 };
 
+// The sensors that read one vector: accelerometer (m/s^2), gyroscope (rad/s), roll_pitch_yaw (rad) and
+// location (m, map frame).
+struct VectorSpec {
+  double noise_std = 0.0;                          // Gaussian, per axis, in the reading's unit
+  Eigen::Vector3d bias = Eigen::Vector3d::Zero();  // added to every reading
+  // Accelerometer and gyroscope: in the map frame instead of the sensor's (ROAR_PY's readings are).
+  bool map_frame = false;
+  // Accelerometer: specific force, as a real one reads it (+g upwards at rest); false: the acceleration.
+  bool gravity = true;
+};
+
+// A bird's-eye image centred on the sensor and turned with the car's heading: forward is up, left is left.
+struct OccupancyMapSpec {
+  int width = 84;          // pixels across the car
+  int height = 84;         // pixels along the car
+  double width_m = 40.0;   // metres of the world the image spans across the car
+  double height_m = 40.0;  // metres along the car
+};
+
 struct SensorSpec {
   std::string name;
   SensorType type = SensorType::kImu;
@@ -61,6 +86,8 @@ struct SensorSpec {
   LidarSpec lidar;
   ImuSpec imu;
   GnssSpec gnss;
+  VectorSpec vector;
+  OccupancyMapSpec occupancy;
   unsigned seed = 0;  // noise generator seed: the same seed gives the same noise
 };
 
@@ -69,13 +96,14 @@ class SensorSpecError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One sensor from a YAML mapping: name, type, x, y, z, roll, pitch, yaw (degrees), rate and the
-// type's own fields. `source` prefixes every error.
+// One sensor from a YAML mapping: name, type, x, y, z, roll, pitch, yaw (degrees), rate, seed and the
+// type's own fields; a key the type does not take is refused. `source` prefixes every error.
 SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source);
 // A sensor set file: `sensors: [ ... ]`; names must be unique.
 std::vector<SensorSpec> readSensorSet(const std::string& path);
 std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source);
-// Range checks of one spec; throws SensorSpecError naming the sensor and field.
+// Range checks of one spec (physical ranges, and what one core can render); throws SensorSpecError naming
+// the sensor, the field, the value and the range.
 void validate(const SensorSpec& spec, const std::string& source);
 
 }  // namespace roar::sensors

@@ -1,0 +1,356 @@
+// roar_sim's services: every request is checked before anything changes, and a refused one says why in
+// its reply (success false, message) and leaves the simulation as it was.
+#include <filesystem>
+
+#include "roar/ros/msg_conversion.h"
+#include "roar/sensors/inertial.h"
+#include "roar/sim/vehicle_config.h"
+#include "roar/track/map_folder.h"
+#include "sim_node.h"
+
+#ifndef ROAR_ROS_VERSION
+#define ROAR_ROS_VERSION "unknown"
+#endif
+
+namespace roar::ros_bridge {
+
+namespace {
+
+template <class Response>
+bool refuse(Response& res, const std::string& service, const std::string& why) {
+  res.success = false;
+  res.message = why;
+  ROS_WARN("roar_sim: %s refused: %s", service.c_str(), why.c_str());
+  return true;
+}
+
+Eigen::Vector3d vectorOf(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace
+
+bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res) {
+  try {
+    const auto& c = req.colour;
+    for (const float channel : {c.r, c.g, c.b, c.a}) {
+      if (!(channel >= 0.0f && channel <= 1.0f)) throw std::invalid_argument("colour channels must be in [0, 1]");
+    }
+    const Eigen::Vector3f colour = c.a > 0 ? Eigen::Vector3f(c.r, c.g, c.b) : Eigen::Vector3f(-1, -1, -1);
+    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose),
+               req.sensor_set, colour, "", req.spawn_point);
+    res.success = true;
+    res.message = "spawned " + req.name;
+  } catch (const std::exception& e) {
+    return refuse(res, "spawn_vehicle", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res) {
+  try {
+    removeVehicle(req.name);
+    res.success = true;
+    res.message = "destroyed " + req.name;
+  } catch (const std::exception& e) {
+    return refuse(res, "destroy_vehicle", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
+  try {
+    if (!io_.count(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
+    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose));
+    res.success = true;
+    res.message = "reset " + req.name;
+  } catch (const std::exception& e) {
+    return refuse(res, "reset_vehicle", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onSetVelocity(roar_ros::SetVehicleVelocity::Request& req, roar_ros::SetVehicleVelocity::Response& res) {
+  try {
+    if (!io_.count(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
+    world_->setVehicleVelocity(req.name, vectorOf(req.linear), vectorOf(req.angular));
+    res.success = true;
+    res.message = "set the velocities of " + req.name;
+  } catch (const std::exception& e) {
+    return refuse(res, "set_vehicle_velocity", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res) {
+  res.tick = world_->tick();
+  res.stamp = toRosTime(world_->time());
+  if (options_.mode != SteppingMode::kStep) return refuse(res, "step", "step is only served in mode 'step' (now " + modeName() + "; /roar_sim/set_stepping)");
+  if (req.ticks < 1 || req.ticks > 1000000) return refuse(res, "step", "ticks must be in [1, 1000000]");
+  if (req.vehicle_names.size() != req.controls.size()) {
+    return refuse(res, "step", "vehicle_names and controls must have the same length");
+  }
+  std::vector<std::string> observed;
+  for (const auto* names : {&req.vehicle_names, &req.observe}) {
+    for (const auto& name : *names) {
+      if (!io_.count(name)) return refuse(res, "step", "no vehicle named '" + name + "'");
+      if (std::find(observed.begin(), observed.end(), name) == observed.end()) observed.push_back(name);
+    }
+  }
+  // Every control is checked before the first tick: a refused one moves nothing.
+  std::string warnings;
+  for (std::size_t i = 0; i < req.controls.size(); ++i) {
+    const sim::CheckedControl checked = sim::checkControl(
+        fromMessage(req.controls[i]), static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
+    if (checked.rejected) {
+      std::string problems;
+      for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
+      return refuse(res, "step", "control for '" + req.vehicle_names[i] + "' rejected: " + problems);
+    }
+  }
+  std::map<std::string, std::vector<roar_ros::CollisionEvent>> collisions;
+  for (std::uint32_t k = 0; k < req.ticks; ++k) {
+    // The request's controls hold for each of its ticks (a long step is no dead driver).
+    for (std::size_t i = 0; i < req.controls.size(); ++i) {
+      std::string why;
+      applyControl(req.vehicle_names[i], req.controls[i], &why);
+      if (k == 0 && !why.empty()) warnings += why + "; ";
+    }
+    tick();
+    for (const auto& name : observed) {
+      for (const auto& contact : world_->contacts(name)) {
+        collisions[name].push_back(toCollisionEvent(contact, toRosTime(world_->time()), options_.map_frame));
+      }
+    }
+  }
+  res.success = true;
+  res.message = warnings;
+  res.tick = world_->tick();
+  res.stamp = toRosTime(world_->time());
+  for (const auto& name : observed) {
+    res.vehicles.push_back(snapshot(name));
+    res.vehicles.back().collisions = collisions[name];
+  }
+  return true;
+}
+
+bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::ResetEpisode::Response& res) {
+  auto it = io_.find(req.vehicle);
+  if (it == io_.end() || !it->second.agent) {
+    return refuse(res, "reset_episode",
+                  "no agent's car named '" + req.vehicle + "' (a car whose scenario entry names an agent environment)");
+  }
+  AgentInterface& agent = *it->second.agent;
+  try {
+    world_->resetVehicle(req.vehicle, agent.nextSpawn(req.seed));
+  } catch (const std::exception& e) {
+    return refuse(res, "reset_episode", e.what());
+  }
+  // The car settles, held by its brakes, before the episode's first observation.
+  agent.pause();
+  for (int i = 0; i < rl::settleTicks(agent.options()); ++i) {
+    world_->setControl(req.vehicle, sim::parkedControl());
+    tick();
+  }
+  updateRayScene();
+  res.observation = agent.begin(world_->vehicleState(req.vehicle), world_->time(), scene_.get(), it->second.scene_id);
+  res.stamp = res.observation.header.stamp;
+  res.success = true;
+  res.message = "episode of '" + req.vehicle + "' begins at t = " + std::to_string(world_->time()) + " s";
+  return true;
+}
+
+bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res) {
+  try {
+    auto it = io_.find(req.vehicle);
+    if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + req.vehicle + "'");
+    if (req.sensor_yaml.size() > 100000) throw std::invalid_argument("sensor_yaml is longer than 100000 characters");
+    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor");
+    if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
+    it->second.sensors->attach(specs.front(), world_->time());
+    publishStaticTransforms();
+    res.success = true;
+    res.message = "attached " + specs.front().name + " to " + req.vehicle;
+  } catch (const std::exception& e) {
+    return refuse(res, "attach_sensor", e.what());
+  }
+  return true;
+}
+
+bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res) {
+  auto it = io_.find(req.vehicle);
+  res.success = it != io_.end() && it->second.sensors->detach(req.sensor);
+  res.message = res.success ? "detached " + req.sensor
+                            : "no sensor '" + req.sensor + "' on a vehicle named '" + req.vehicle + "'";
+  return true;
+}
+
+bool SimNode::onLoadMap(roar_ros::LoadMap::Request& req, roar_ros::LoadMap::Response& res) {
+  std::string folder;
+  try {
+    folder = req.map.empty() ? map_folder_ : track::resolveMapFolder(req.map, options_.maps_dir);
+  } catch (const std::exception& e) {
+    return refuse(res, "load_map", e.what());
+  }
+  std::vector<std::pair<std::string, SpawnRecord>> respawn;
+  if (req.respawn_vehicles) {
+    for (const auto& [name, io] : io_) respawn.emplace_back(name, io.spawned);
+  }
+  try {
+    loadMap(folder, req.map.empty() ? "reload" : "load");
+  } catch (const std::exception& e) {
+    return refuse(res, "load_map", std::string(e.what()) + " (the map in use stays)");
+  }
+  std::string missing;
+  for (const auto& [name, was] : respawn) {
+    try {
+      if (was.spawn_point < 0) throw std::invalid_argument("it was spawned at a pose of the old map");
+      addVehicle(name, was.model, spawnPose(was.spawn_point), was.sensor_set, was.colour, was.agent, was.spawn_point);
+    } catch (const std::exception& e) {
+      missing += (missing.empty() ? "" : "; ") + name + ": " + e.what();
+    }
+  }
+  res.success = true;
+  res.name = track_->info().name;
+  res.folder = map_folder_;
+  res.message = "loaded " + res.name + " (" + folder + ")" + (missing.empty() ? "" : "; not respawned: " + missing);
+  ROS_INFO("roar_sim: %s", res.message.c_str());
+  return true;
+}
+
+bool SimNode::onListMaps(roar_ros::ListMaps::Request&, roar_ros::ListMaps::Response& res) {
+  res.maps = track::listMaps(options_.maps_dir);
+  res.current = std::filesystem::path(map_folder_).filename().string();
+  return true;
+}
+
+bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetStepping::Response& res) {
+  auto answer = [&] {
+    res.mode = modeName();
+    res.control_dt = options_.world.control_dt;
+    res.physics_dt = options_.world.physics_dt;
+    res.real_time_factor = options_.real_time_factor;
+  };
+  answer();
+  SteppingMode mode = options_.mode;
+  if (req.mode == "async") {
+    mode = SteppingMode::kAsync;
+  } else if (req.mode == "step") {
+    mode = SteppingMode::kStep;
+  } else if (req.mode == "lockstep") {
+    mode = SteppingMode::kLockstep;
+  } else if (!req.mode.empty()) {
+    return refuse(res, "set_stepping", "mode '" + req.mode + "' is not async, step or lockstep");
+  }
+  const double control_dt = req.control_dt > 0 ? req.control_dt : options_.world.control_dt;
+  const double physics_dt = req.physics_dt > 0 ? req.physics_dt : options_.world.physics_dt;
+  const double rtf = req.real_time_factor >= 0 ? req.real_time_factor : options_.real_time_factor;
+  if (!(control_dt >= 1e-4 && control_dt <= 1.0)) return refuse(res, "set_stepping", "control_dt must be in [0.0001, 1] s");
+  if (!(physics_dt >= 1e-4 && physics_dt <= 0.05)) return refuse(res, "set_stepping", "physics_dt must be in [0.0001, 0.05] s");
+  if (!(rtf <= 1e6) || std::isnan(req.real_time_factor)) return refuse(res, "set_stepping", "real_time_factor must be at most 1e6");
+  if (control_dt != options_.world.control_dt || physics_dt != options_.world.physics_dt) {
+    // Every check before any change: the world's steps, every sensor's rate, every agent's environment.
+    try {
+      for (const auto& [name, io] : io_) {
+        if (io.agent) {
+          throw std::invalid_argument("vehicle '" + name + "' is driven by an RL agent whose environment steps control_dt " +
+                                      std::to_string(io.agent->options().world.control_dt) + " s");
+        }
+        for (const auto& spec : io.sensors->rig().specs()) {
+          try {
+            sensors::SensorRig::checkRate(spec, control_dt, physics_dt);
+          } catch (const std::exception& e) {
+            throw std::invalid_argument("vehicle '" + name + "': " + e.what());
+          }
+        }
+      }
+      world_->setTiming(control_dt, physics_dt);
+    } catch (const std::exception& e) {
+      return refuse(res, "set_stepping", e.what());
+    }
+    for (auto& [name, io] : io_) io.sensors->rig().setTiming(control_dt, physics_dt);
+    options_.world.control_dt = control_dt;
+    options_.world.physics_dt = physics_dt;
+  }
+  options_.mode = mode;
+  options_.real_time_factor = rtf;
+  restartPacing();
+  answer();
+  res.success = true;
+  res.message = "mode " + res.mode + ", control_dt " + std::to_string(control_dt) + " s, physics_dt " +
+                std::to_string(physics_dt) + " s, real_time_factor " + std::to_string(rtf);
+  ROS_INFO("roar_sim: %s", res.message.c_str());
+  return true;
+}
+
+bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorldInfo::Response& res) {
+  res.version = ROAR_ROS_VERSION;
+  res.map = std::filesystem::path(map_folder_).filename().string();
+  res.folder = map_folder_;
+  res.map_generation = map_generation_;
+  res.mode = modeName();
+  res.control_dt = options_.world.control_dt;
+  res.physics_dt = options_.world.physics_dt;
+  res.real_time_factor = options_.real_time_factor;
+  res.tick = world_->tick();
+  res.stamp = toRosTime(world_->time());
+  for (const auto& [name, io] : io_) {
+    roar_ros::VehicleInfo info;
+    info.name = name;
+    info.model = io.spawned.model;
+    info.blueprint = world_->vehicleParams(name).blueprint;
+    for (const auto& spec : io.sensors->rig().specs()) {
+      info.sensor_names.push_back(spec.name);
+      info.sensor_types.push_back(sensors::typeName(spec.type));
+    }
+    info.agent = io.spawned.agent;
+    res.vehicles.push_back(info);
+  }
+  for (const auto& model : sim::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir)) {
+    roar_ros::BlueprintInfo info;
+    info.blueprint = model.blueprint;
+    info.model = model.model;
+    info.description = model.description;
+    res.blueprints.push_back(info);
+  }
+  res.maps = track::listMaps(options_.maps_dir);
+  return true;
+}
+
+bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros::GetGeolocation::Response& res) {
+  if (req.points.size() > 1000000) return refuse(res, "get_geolocation", "at most 1000000 points a request");
+  for (const auto& p : req.points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || std::abs(p.x) > 1e7 || std::abs(p.y) > 1e7 ||
+        std::abs(p.z) > 1e5) {
+      return refuse(res, "get_geolocation", "points must be finite and within 10,000 km of the map origin");
+    }
+  }
+  for (const auto& p : req.points) {
+    const sensors::GnssFix fix = sensors::toGeodetic({p.x, p.y, p.z}, track_->info().origin);
+    res.latitude.push_back(fix.latitude);
+    res.longitude.push_back(fix.longitude);
+    res.altitude.push_back(fix.altitude);
+  }
+  res.success = true;
+  return true;
+}
+
+bool SimNode::onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res) {
+  try {
+    if (req.clear) {
+      DebugDrawing fresh;  // a refused request clears nothing either
+      fresh.add(req.shapes, world_->time());
+      debug_ = std::move(fresh);
+    } else {
+      debug_.add(req.shapes, world_->time());
+    }
+  } catch (const std::exception& e) {
+    res.drawn = static_cast<std::uint32_t>(debug_.size());
+    return refuse(res, "draw_debug", e.what());
+  }
+  publishDebugMarkers();
+  res.success = true;
+  res.drawn = static_cast<std::uint32_t>(debug_.size());
+  res.message = "drawing " + std::to_string(res.drawn) + " shape(s)";
+  return true;
+}
+
+}  // namespace roar::ros_bridge
