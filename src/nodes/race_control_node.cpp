@@ -6,6 +6,7 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <roar_ros/CollisionEvent.h>
+#include <roar_ros/MapInfo.h>
 #include <roar_ros/RaceStatus.h>
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/Trajectory.h>
@@ -97,8 +98,11 @@ roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
 
 class RaceControlNode {
  public:
-  RaceControlNode(ros::NodeHandle& nh, const track::Track& track, const RaceControlOptions& options)
-      : options_(options), race_(track, options.rules, options.vehicles) {
+  RaceControlNode(ros::NodeHandle& nh, track::Track track, const RaceControlOptions& options)
+      : options_(options),
+        folder_(options.map_folder),
+        track_(std::make_unique<track::Track>(std::move(track))),
+        race_(std::make_unique<race::RaceControl>(*track_, options.rules, options.vehicles)) {
     status_pub_ = nh.advertise<roar_ros::RaceStatus>("race_status", 10);
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("race_status/markers", 10);
     reset_ = nh.serviceClient<roar_ros::ResetVehicle>("/roar_sim/reset_vehicle");
@@ -112,26 +116,60 @@ class RaceControlNode {
     line_sub_ = nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
       onRacingLine(*m);
     });
+    map_sub_ = nh.subscribe("/roar_sim/map", 1, &RaceControlNode::onSimMap, this);
     // Simulated time: the status stops with the simulator.
     status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
   }
 
   double now() const { return now_; }
-  const race::RaceControl& race() const { return race_; }
+  const race::RaceControl& race() const { return *race_; }
   const report::Telemetry& telemetry() const { return telemetry_; }
   const std::vector<report::ProfilePoint>& profile() const { return profile_; }
 
  private:
+  // A map loaded or reloaded at run time ends the race on the old one: its results so far are written
+  // (status interrupted) and a new race starts on the new map with the same cars and rules.
+  void onSimMap(const roar_ros::MapInfo& info) {
+    if (info.folder == folder_ && info.generation <= generation_) return;
+    std::unique_ptr<track::Track> track;
+    try {
+      track = std::make_unique<track::Track>(track::loadMapFolder(info.folder));
+    } catch (const std::exception& e) {
+      ROS_ERROR("race_control: roar_sim's map '%s' could not be read (%s); the race goes on on '%s'", info.name.c_str(),
+                e.what(), track_->info().name.c_str());
+      return;
+    }
+    ++interruptions_;
+    std::printf("race_control: roar_sim %s map '%s' at t = %.2f s: the race on '%s' is interrupted\n",
+                info.reason == "reload" ? "reloaded" : "loaded", info.name.c_str(), info.header.stamp.toSec(),
+                track_->info().name.c_str());
+    if (!options_.output_dir.empty()) {
+      const std::string dir = options_.output_dir + "/interrupted_" + std::to_string(interruptions_);
+      race::writeResults(dir, *race_, race::RaceOutcome::kInterrupted, ros::param::param<std::string>("/run_id", ""));
+      report::writeRaceReport(dir, *race_, telemetry_, profile_);
+      std::printf("race_control: the interrupted race's results are in %s\n", dir.c_str());
+    }
+    std::fflush(stdout);
+    race_ = std::make_unique<race::RaceControl>(*track, options_.rules, options_.vehicles);
+    track_ = std::move(track);  // after: the old race referred to the old track
+    folder_ = info.folder;
+    generation_ = info.generation;
+    telemetry_.clear();
+    profile_.clear();
+    now_ = std::max(now_, info.header.stamp.toSec());
+    publishStatus();
+  }
+
   void onOdometry(const std::string& name, const nav_msgs::Odometry& odom) {
     const double t = odom.header.stamp.toSec();
     now_ = std::max(now_, t);
-    if (!race_.car(name).finished) {
+    if (!race_->car(name).finished) {
       const auto& v = odom.twist.twist.linear;
       telemetry_[name].push_back({t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
                                   std::sqrt(v.x * v.x + v.y * v.y)});
     }
     std::optional<race::Incident> incident;
-    const auto lap = race_.updatePosition(
+    const auto lap = race_->updatePosition(
         name, t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), &incident);
     if (incident) report(name, *incident);
     if (!lap) return;
@@ -147,7 +185,8 @@ class RaceControlNode {
   }
 
   void onRacingLine(const roar_ros::Trajectory& line) {
-    const track::Track& track = race_.track();
+    const track::Track& track = race_->track();
+    if (line.map_name != track.info().name) return;  // the line of the map before a change
     profile_.clear();
     double near = track.info().start_finish_s;
     for (std::size_t i = 0; i < line.points.size(); ++i) {
@@ -162,7 +201,7 @@ class RaceControlNode {
   }
 
   void onCollision(const std::string& name, const roar_ros::CollisionEvent& event) {
-    if (auto incident = race_.updateContact(name, event.header.stamp.toSec(), event.other)) report(name, *incident);
+    if (auto incident = race_->updateContact(name, event.header.stamp.toSec(), event.other)) report(name, *incident);
   }
 
   void report(const std::string& name, const race::Incident& incident) {
@@ -183,7 +222,7 @@ class RaceControlNode {
   }
 
   void publishStatus() {
-    const roar_ros::RaceStatus status = toMessage(race_, now_);
+    const roar_ros::RaceStatus status = toMessage(*race_, now_);
     status_pub_.publish(status);
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(timingMarkers(status));
   }
@@ -223,7 +262,12 @@ class RaceControlNode {
   }
 
   RaceControlOptions options_;
-  race::RaceControl race_;
+  std::string folder_;
+  uint32_t generation_ = 0;
+  int interruptions_ = 0;
+  std::unique_ptr<track::Track> track_;
+  std::unique_ptr<race::RaceControl> race_;
+  ros::Subscriber map_sub_;
   ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;
   std::vector<ros::Subscriber> subs_;
@@ -241,10 +285,9 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     const RaceControlOptions options = readParameters(pnh);
-    const track::Track track = track::loadMapFolder(options.map_folder);
-    RaceControlNode node(nh, track, options);
-    std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps, track.info().name.c_str(),
-                track.length(), options.vehicles.size());
+    RaceControlNode node(nh, track::loadMapFolder(options.map_folder), options);
+    std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
+                node.race().track().info().name.c_str(), node.race().track().length(), options.vehicles.size());
     std::fflush(stdout);
 
     // Wall-time loop: the race ends on simulated events, not on a clock of ours.
@@ -265,7 +308,7 @@ int main(int argc, char** argv) {
                   car.car_contacts, car.track_limit_violations);
     }
     if (!options.output_dir.empty()) {
-      race::writeResults(options.output_dir, node.race(), complete, ros::param::param<std::string>("/run_id", ""));
+      race::writeResults(options.output_dir, node.race(), complete ? race::RaceOutcome::kFinished : race::RaceOutcome::kTimedOut, ros::param::param<std::string>("/run_id", ""));
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
       std::printf("race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
                   "speed_<car>.png\n", options.output_dir.c_str());

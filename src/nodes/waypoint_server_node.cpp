@@ -6,6 +6,7 @@
 #include <roar_ros/GetSpawnPoints.h>
 #include <roar_ros/GetWaypoints.h>
 #include <roar_ros/ListMaps.h>
+#include <roar_ros/MapInfo.h>
 #include <roar_ros/ProjectPoint.h>
 
 #include "roar/ros/msg_conversion.h"
@@ -29,7 +30,7 @@ class WaypointServer {
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
     folder_ = readMapFolder(pnh, readScenario(pnh));
     frame_ = readString(pnh, "frame_id", "map");
-    const int grid = readInt(pnh, "spawn_points", 20, 1, 1000);
+    grid_ = readInt(pnh, "spawn_points", 20, 1, 1000);
     track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
 
     // Latched: late subscribers (rviz, a planner started later) get the track at once.
@@ -37,13 +38,11 @@ class WaypointServer {
     path_pub_ = nh.advertise<nav_msgs::Path>("waypoints/path", 1, true);
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("track/markers", 1, true);
     spawn_pub_ = nh.advertise<geometry_msgs::PoseArray>("spawn_points", 1, true);
-    waypoints_pub_.publish(toWaypointArray(*track_, frame_));
-    path_pub_.publish(toPath(*track_, frame_));
-    markers_pub_.publish(trackMarkers(*track_, frame_));
-    geometry_msgs::PoseArray spawns;
-    spawns.header.frame_id = frame_;
-    for (const auto& p : track_->gridSpawnPoints(grid)) spawns.poses.push_back(poseMessage(p));
-    spawn_pub_.publish(spawns);
+    publishTrack();
+    // The map roar_sim simulates: a map loaded (or reloaded) at run time is served from then on.
+    if (readBool(pnh, "follow_sim_map", true)) {
+      map_sub_ = nh.subscribe("/roar_sim/map", 1, &WaypointServer::onSimMap, this);
+    }
 
     services_.push_back(pnh.advertiseService("get_waypoints", &WaypointServer::getWaypoints, this));
     services_.push_back(pnh.advertiseService("get_spawn_points", &WaypointServer::getSpawnPoints, this));
@@ -54,6 +53,34 @@ class WaypointServer {
   }
 
  private:
+  void publishTrack() {
+    using namespace ros_bridge;
+    waypoints_pub_.publish(toWaypointArray(*track_, frame_));
+    path_pub_.publish(toPath(*track_, frame_));
+    markers_pub_.publish(trackMarkers(*track_, frame_));
+    geometry_msgs::PoseArray spawns;
+    spawns.header.frame_id = frame_;
+    for (const auto& p : track_->gridSpawnPoints(grid_)) spawns.poses.push_back(poseMessage(p));
+    spawn_pub_.publish(spawns);
+  }
+
+  void onSimMap(const roar_ros::MapInfo& info) {
+    // The start message of the map we already serve changes nothing; a reload re-reads the files.
+    if (info.folder == folder_ && info.generation <= generation_) return;
+    try {
+      auto track = std::make_unique<track::Track>(track::loadMapFolder(info.folder));
+      track_ = std::move(track);
+      folder_ = info.folder;
+      generation_ = info.generation;
+      publishTrack();
+      ROS_INFO("waypoint_server: now serving '%s' (%s by roar_sim), %zu waypoints, %.0f m",
+               track_->info().name.c_str(), info.reason.c_str(), track_->size(), track_->length());
+    } catch (const std::exception& e) {
+      ROS_ERROR("waypoint_server: roar_sim's map '%s' (%s) could not be read, still serving '%s': %s",
+                info.name.c_str(), info.folder.c_str(), track_->info().name.c_str(), e.what());
+    }
+  }
+
   bool getWaypoints(roar_ros::GetWaypoints::Request& req, roar_ros::GetWaypoints::Response& res) {
     res.waypoints = req.length <= 0 || !std::isfinite(req.length)
                         ? ros_bridge::waypointMessages(*track_)
@@ -114,6 +141,9 @@ class WaypointServer {
   }
 
   std::string maps_dir_, folder_, frame_;
+  int grid_ = 20;
+  uint32_t generation_ = 0;
+  ros::Subscriber map_sub_;
   std::unique_ptr<track::Track> track_;
   ros::Publisher waypoints_pub_, path_pub_, markers_pub_, spawn_pub_;
   std::vector<ros::ServiceServer> services_;

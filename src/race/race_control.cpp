@@ -123,7 +123,16 @@ std::vector<Standing> RaceControl::standings() const {
   return out;
 }
 
-void writeResults(const std::string& dir, const RaceControl& race, bool complete, const std::string& run) {
+const char* outcomeName(RaceOutcome outcome) {
+  switch (outcome) {
+    case RaceOutcome::kFinished: return "finished";
+    case RaceOutcome::kTimedOut: return "timed_out";
+    case RaceOutcome::kInterrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run) {
   std::filesystem::create_directories(dir);
   std::ofstream yaml(dir + "/results.yaml"), laps(dir + "/laps.csv"), sectors(dir + "/sectors.csv");
   if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
@@ -132,7 +141,7 @@ void writeResults(const std::string& dir, const RaceControl& race, bool complete
   }
   if (!run.empty()) yaml << "run_id: \"" << run << "\"\n";
   yaml << "map: \"" << race.track().info().name << "\"\nlaps: " << race.rules().laps
-       << "\nstatus: " << (complete ? "finished" : "timed_out") << "\ncars:\n";
+       << "\nstatus: " << outcomeName(outcome) << "\ncars:\n";
   laps << "car,lap,lap_time_s,sector_times_s\n";
   sectors << "car,lap,sector,time_s\n";
   std::map<std::string, Standing> standing;

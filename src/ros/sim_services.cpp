@@ -83,8 +83,10 @@ bool SimNode::onSetVelocity(roar_ros::SetVehicleVelocity::Request& req, roar_ros
 bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res) {
   res.tick = world_->tick();
   res.stamp = toRosTime(world_->time());
-  if (options_.mode != SteppingMode::kStep) return refuse(res, "step", "step is only served in mode 'step' (now " + modeName() + "; /roar_sim/set_stepping)");
-  if (req.ticks < 1 || req.ticks > 1000000) return refuse(res, "step", "ticks must be in [1, 1000000]");
+  if (req.ticks > 0 && options_.mode != SteppingMode::kStep) {
+    return refuse(res, "step", "step is only served in mode 'step' (now " + modeName() + "; /roar_sim/set_stepping)");
+  }
+  if (req.ticks > 1000000) return refuse(res, "step", "ticks must be in [0, 1000000]");
   if (req.vehicle_names.size() != req.controls.size()) {
     return refuse(res, "step", "vehicle_names and controls must have the same length");
   }
@@ -296,7 +298,12 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
     roar_ros::VehicleInfo info;
     info.name = name;
     info.model = io.spawned.model;
-    info.blueprint = world_->vehicleParams(name).blueprint;
+    const sim::VehicleParams& params = world_->vehicleParams(name);
+    info.blueprint = params.blueprint;
+    info.extent.x = params.chassis.box_size.x() / 2;
+    info.extent.y = params.chassis.box_size.y() / 2;
+    info.extent.z = params.chassis.box_size.z() / 2;
+    info.gears = static_cast<int>(params.gearbox.ratios.size());
     for (const auto& spec : io.sensors->rig().specs()) {
       info.sensor_names.push_back(spec.name);
       info.sensor_types.push_back(sensors::typeName(spec.type));

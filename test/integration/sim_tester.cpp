@@ -73,8 +73,16 @@ TEST(SimNode, StepAdvancesTimeByExactlyNTicks) {
   EXPECT_EQ(after.tick, before.tick + 7);
   EXPECT_EQ((after.stamp - before.stamp).toNSec(), 7 * 50000000LL);
   EXPECT_EQ(listener->clock, after.stamp);
+  roar_ros::Step look;  // 0 ticks: a snapshot, time stands still
+  look.request.ticks = 0;
+  look.request.observe = {"ego"};
+  ASSERT_TRUE(ros::service::call("/roar_sim/step", look));
+  EXPECT_TRUE(look.response.success) << look.response.message;
+  EXPECT_EQ(look.response.tick, after.tick);
+  ASSERT_EQ(look.response.vehicles.size(), 1u);
+  EXPECT_EQ(look.response.vehicles[0].odometry.header.stamp, after.stamp);
   roar_ros::Step bad;
-  bad.request.ticks = 0;
+  bad.request.ticks = 1000001;
   ASSERT_TRUE(ros::service::call("/roar_sim/step", bad));
   EXPECT_FALSE(bad.response.success);
   bad.request.ticks = 1;

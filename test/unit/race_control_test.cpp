@@ -122,12 +122,12 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
   EXPECT_NEAR(standings[1].gap_to_leader, 3.0, 0.06);
 
   const fs::path dir = fs::temp_directory_path() / ("roar_race_" + std::to_string(::getpid()));
-  race::writeResults(dir.string(), penalised, true);
+  race::writeResults(dir.string(), penalised, race::RaceOutcome::kFinished);
   EXPECT_FALSE(YAML::LoadFile((dir / "results.yaml").string())["run_id"]) << "no run named";
-  race::writeResults(dir.string(), penalised, true, "0f3c-run");
+  race::writeResults(dir.string(), penalised, race::RaceOutcome::kInterrupted, "0f3c-run");
   const YAML::Node results = YAML::LoadFile((dir / "results.yaml").string());
   EXPECT_EQ(results["run_id"].as<std::string>(), "0f3c-run");
-  EXPECT_EQ(results["status"].as<std::string>(), "finished");
+  EXPECT_EQ(results["status"].as<std::string>(), "interrupted");
   ASSERT_EQ(results["cars"].size(), 2u);
   const YAML::Node fast = results["cars"][0];
   EXPECT_EQ(fast["name"].as<std::string>(), "fast");

@@ -86,6 +86,9 @@ class RaceControl {
 // sector times) and sectors.csv (car, lap, sector, time) in `dir`, created if missing. `run`, when not
 // empty, names the run the results are of (race_control: the ROS launch's run_id), so that a reader of a
 // folder that several races wrote to can tell whose results it holds.
-void writeResults(const std::string& dir, const RaceControl& race, bool complete, const std::string& run = "");
+// `status` in results.yaml: every car finished, the time limit ran out, or the map changed under the race.
+enum class RaceOutcome { kFinished, kTimedOut, kInterrupted };
+const char* outcomeName(RaceOutcome outcome);
+void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run = "");
 
 }  // namespace roar::race

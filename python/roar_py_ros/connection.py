@@ -1,0 +1,166 @@
+"""The ROS side of roar_py_ros: finds (or starts) roar_sim, and calls its services with errors in Python's
+terms."""
+import atexit
+import os
+import shutil
+import socket
+import subprocess
+import tempfile
+import threading
+import time
+import typing
+from pathlib import Path
+
+import rosgraph
+import rospy
+
+SIM = "/roar_sim"
+WAYPOINT_SERVER = "/waypoint_server"
+_node_lock = threading.Lock()
+_private_port: typing.Optional[int] = None
+
+
+class RoarSimError(RuntimeError):
+    """roar_sim refused a request, or is not there to answer it."""
+
+
+def package_root() -> Path:
+    """The roar_ros package: this file is python/roar_py_ros/connection.py in it."""
+    return Path(__file__).resolve().parents[2]
+
+
+def master_online(uri: str) -> bool:
+    try:
+        return rosgraph.is_master_online(master_uri=uri)
+    except Exception:  # noqa: BLE001 - any failure to reach it means: not online
+        return False
+
+
+def free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class PrivateSim:
+    """roslaunch of launch/roar_py.launch (with its own master when `port` is given), stopped by stop()."""
+
+    def __init__(self, map_name: str, port: typing.Optional[int]):
+        roslaunch = shutil.which("roslaunch") or "/usr/bin/roslaunch"
+        self.log_dir = tempfile.mkdtemp(prefix="roar_py_ros_")
+        env = dict(os.environ)
+        env["ROS_LOG_DIR"] = self.log_dir
+        root = str(package_root())
+        if root not in env.get("ROS_PACKAGE_PATH", "").split(":"):
+            env["ROS_PACKAGE_PATH"] = root + (":" + env["ROS_PACKAGE_PATH"] if env.get("ROS_PACKAGE_PATH") else "")
+        cmd = [roslaunch] + (["-p", str(port)] if port is not None else ["--wait"])
+        cmd += [str(package_root() / "launch" / "roar_py.launch"), f"map:={map_name}"]
+        self.output_path = os.path.join(self.log_dir, "roslaunch.out")
+        self._output = open(self.output_path, "w")
+        self.process = subprocess.Popen(cmd, env=env, stdout=self._output, stderr=subprocess.STDOUT,
+                                        stdin=subprocess.DEVNULL, start_new_session=True)
+        atexit.register(self.stop)
+
+    def alive(self) -> bool:
+        return self.process.poll() is None
+
+    def output_tail(self, lines: int = 30) -> str:
+        try:
+            with open(self.output_path) as f:
+                return "".join(f.readlines()[-lines:])
+        except OSError:
+            return ""
+
+    def stop(self):
+        if self.process.poll() is None:
+            self.process.send_signal(2)  # SIGINT: roslaunch stops its nodes and its master
+            try:
+                self.process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+        self._output.close()
+
+
+def ensure_node():
+    """rospy's node of this process (one per process), started once."""
+    with _node_lock:
+        if not rospy.core.is_initialized():
+            rospy.init_node("roar_py", anonymous=True, disable_signals=True, disable_rosout=False)
+
+
+def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[PrivateSim]:
+    """Makes sure a roar_sim answers on ROS_MASTER_URI: the one there, or one started here (with a private
+    master when none is reachable). Returns what was started, to stop on close."""
+    global _private_port
+    uri = os.environ.get("ROS_MASTER_URI", "")
+    started = None
+    if not uri or not master_online(uri):
+        if rospy.core.is_initialized() and _private_port is None:
+            raise RoarSimError(f"the ROS master at {uri or '(ROS_MASTER_URI unset)'} has gone away")
+        _private_port = _private_port or free_port()
+        os.environ["ROS_MASTER_URI"] = f"http://127.0.0.1:{_private_port}"
+        started = PrivateSim(map_name or "roar_ring", _private_port)
+        deadline = time.time() + timeout
+        while not master_online(os.environ["ROS_MASTER_URI"]):
+            if not started.alive() or time.time() > deadline:
+                started.stop()
+                raise RoarSimError("could not start a private ROS master and roar_sim:\n" + started.output_tail())
+            time.sleep(0.05)
+    elif not sim_registered():
+        started = PrivateSim(map_name or "roar_ring", None)
+    ensure_node()
+    deadline = time.time() + timeout
+    while not (sim_registered() and service_registered(WAYPOINT_SERVER + "/get_waypoints")):
+        if started is not None and not started.alive():
+            raise RoarSimError("roar_sim did not start:\n" + started.output_tail())
+        if time.time() > deadline:
+            if started is not None:
+                started.stop()
+            raise RoarSimError(f"no roar_sim and waypoint_server answered on {os.environ['ROS_MASTER_URI']} within "
+                               f"{timeout:.0f} s (start them with `roslaunch roar_ros roar_py.launch`)")
+        time.sleep(0.05)
+    return started
+
+
+def service_registered(name: str) -> bool:
+    try:
+        return rosgraph.Master("/roar_py").lookupService(name) is not None
+    except Exception:  # noqa: BLE001 - not registered (or no master): not there
+        return False
+
+
+def sim_registered() -> bool:
+    return service_registered(SIM + "/get_world_info")
+
+
+class Services:
+    """Persistent proxies of roar_sim's and waypoint_server's services; errors as RoarSimError."""
+
+    def __init__(self):
+        self._proxies: typing.Dict[str, rospy.ServiceProxy] = {}
+        self._lock = threading.Lock()
+
+    def call(self, name: str, srv_class, /, check: bool = True, **fields):
+        with self._lock:
+            proxy = self._proxies.get(name)
+            if proxy is None:
+                proxy = rospy.ServiceProxy(name, srv_class, persistent=True)
+                self._proxies[name] = proxy
+            try:
+                response = proxy.call(srv_class._request_class(**fields))
+            except (rospy.ServiceException, rospy.ROSException, OSError) as e:
+                self._proxies.pop(name, None)
+                proxy.close()
+                if not service_registered(name):
+                    raise RoarSimError(f"{name}: roar_sim has gone away ({e})") from None
+                raise RoarSimError(f"{name} failed: {e}") from None
+        if check and hasattr(response, "success") and not response.success:
+            raise RoarSimError(f"{name} refused: {response.message}")
+        return response
+
+    def close(self):
+        with self._lock:
+            for proxy in self._proxies.values():
+                proxy.close()
+            self._proxies.clear()

@@ -1,0 +1,323 @@
+"""A car in roar_sim as ROAR_PY's vehicle: its state, its actions and its sensors."""
+import re
+import threading
+import typing
+
+import numpy as np
+import rospy
+import yaml
+
+import roar_py_interface as rpi
+
+from . import conversions, sensors
+
+
+class BoundingBox:
+    def __init__(self, extent: np.ndarray):
+        self.extent = extent  # m, half the body's length, width and height
+
+    def __repr__(self):
+        return f"BoundingBox(extent={self.extent})"
+
+
+def _finite_vector(value, what: str, length: int = 3) -> np.ndarray:
+    try:
+        v = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what} must be {length} numbers, got {value!r}") from None
+    if v.size != length or not np.all(np.isfinite(v)):
+        raise ValueError(f"{what} must be {length} finite numbers, got {value!r}")
+    return v
+
+
+def ros_safe(name: str) -> str:
+    safe = re.sub(r"[^A-Za-z0-9_]", "_", name) or "sensor"
+    return safe if safe[0].isalpha() else "s_" + safe
+
+
+class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
+    def __init__(self, world, ros_name: str, blueprint_id: str, auto_gear: bool, name: str, info):
+        rpi.RoarPyActor.__init__(self, name=name, control_timestep=world.control_timestep)
+        self._world = world
+        self.ros_name = ros_name
+        self.blueprint_id = blueprint_id
+        self.model = info.model
+        self.auto_gear = auto_gear
+        self.num_gears = max(1, info.gears)
+        self.bounding_box = BoundingBox(conversions.vec3(info.extent))
+        self._closed = False
+        self._sensors: typing.List[rpi.RoarPySensor] = []
+        self._lock = threading.Lock()
+        self._odom = None
+        self._odom_stamp = -1.0
+        self._expected: typing.Dict[str, float] = {}
+        self._step_collisions: list = []
+        self._async_collisions: list = []
+        self.control = None  # roar_sim's VehicleControl of the last action
+        from nav_msgs.msg import Odometry
+        from roar_ros.msg import CollisionEvent, VehicleControl
+
+        self._odom_sub = rospy.Subscriber(f"/{ros_name}/odom", Odometry, self._on_odom, queue_size=2, tcp_nodelay=True)
+        self._collision_sub = rospy.Subscriber(f"/{ros_name}/collision", CollisionEvent, self._on_collision,
+                                               queue_size=100, tcp_nodelay=True)
+        self._control_pub = rospy.Publisher(f"/{ros_name}/control", VehicleControl, queue_size=2, tcp_nodelay=True)
+
+    def __repr__(self):
+        return f"RoarPyRosVehicle(name={self.name!r}, blueprint={self.blueprint_id!r}, roar_sim name={self.ros_name!r})"
+
+    # ---- state ----------------------------------------------------------------------------------------------
+    def _on_odom(self, msg):
+        self._take_odometry(msg)
+
+    def _take_odometry(self, msg):
+        with self._lock:
+            stamp = msg.header.stamp.to_sec()
+            if stamp >= self._odom_stamp:
+                self._odom, self._odom_stamp = msg, stamp
+
+    def _on_collision(self, msg):
+        if self._world.is_asynchronous:
+            with self._lock:
+                self._async_collisions.append(msg)
+
+    def _on_snapshot(self, snapshot):
+        self._take_odometry(snapshot.odometry)
+        with self._lock:
+            self._step_collisions = list(snapshot.collisions)
+            for name, stamp in zip(snapshot.sensor_names, snapshot.sensor_stamps):
+                if stamp.to_sec() > 0:
+                    self._expected[name] = stamp.to_sec()
+
+    def _expected_stamp(self, sim_name: str) -> typing.Optional[float]:
+        with self._lock:
+            return self._expected.get(sim_name)
+
+    def _take_collisions(self) -> list:
+        with self._lock:
+            if self._world.is_asynchronous:
+                events, self._async_collisions = self._async_collisions, []
+                return events
+            return list(self._step_collisions)
+
+    def _odometry(self):
+        self._check_open()
+        if self._odom is None:
+            self._world._observe([self])
+        return self._odom
+
+    def get_3d_location(self) -> np.ndarray:
+        p = self._odometry().pose.pose.position
+        return np.array([p.x, p.y, p.z])
+
+    def get_roll_pitch_yaw(self) -> np.ndarray:
+        return conversions.quaternion_to_rpy(self._odometry().pose.pose.orientation)
+
+    def get_linear_3d_velocity(self) -> np.ndarray:
+        odom = self._odometry()
+        return conversions.rotation_matrix(odom.pose.pose.orientation) @ conversions.vec3(odom.twist.twist.linear)
+
+    def get_angular_velocity(self) -> np.ndarray:
+        odom = self._odometry()
+        return conversions.rotation_matrix(odom.pose.pose.orientation) @ conversions.vec3(odom.twist.twist.angular)
+
+    def set_transform(self, location: np.ndarray, roll_pitch_yaw: np.ndarray) -> None:
+        """Puts the car at rest at location with the yaw of roll_pitch_yaw (roll and pitch follow the ground)."""
+        self._check_open()
+        self._world._reset_vehicle(self, _finite_vector(location, "set_transform: location"),
+                                   _finite_vector(roll_pitch_yaw, "set_transform: roll_pitch_yaw"))
+
+    def set_linear_3d_velocity(self, velocity: np.ndarray) -> None:
+        self._check_open()
+        self._world._set_velocity(self, _finite_vector(velocity, "set_linear_3d_velocity: velocity"),
+                                  self.get_angular_velocity())
+
+    def set_angular_velocity(self, velocity: np.ndarray) -> None:
+        self._check_open()
+        self._world._set_velocity(self, self.get_linear_3d_velocity(),
+                                  _finite_vector(velocity, "set_angular_velocity: velocity"))
+
+    # ---- actions --------------------------------------------------------------------------------------------
+    async def _apply_action(self, action: typing.Any) -> bool:
+        self._check_open()
+        values = conversions.check_action(action, self.get_action_spec())
+        control = conversions.to_vehicle_control(values, self.auto_gear)
+        self.control = control
+        if self._world.is_asynchronous:
+            control.header.stamp = rospy.Time.now()
+            self._control_pub.publish(control)
+        return True
+
+    async def _reset(self) -> None:
+        self._check_open()
+        self._world._reset_vehicle(self, None, None)
+
+    # ---- sensors --------------------------------------------------------------------------------------------
+    def get_sensors(self) -> typing.Iterable[rpi.RoarPySensor]:
+        return [s for s in self._sensors if not s.is_closed()]
+
+    def _sim_sensor_name(self, name: str) -> str:
+        taken = {getattr(s, "sim_name", None) for s in self._sensors}
+        base = ros_safe(name)
+        candidate, n = base, 2
+        while candidate in taken:
+            candidate, n = f"{base}_{n}", n + 1
+        return candidate
+
+    def _rate(self, control_timestep: float, what: str) -> float:
+        if not np.isfinite(control_timestep) or control_timestep < 0:
+            raise ValueError(f"{what}: control_timestep must be >= 0 s, got {control_timestep}")
+        return 1.0 / (control_timestep if control_timestep > 0 else self._world.control_timestep)
+
+    def _attach(self, spec: dict, make):
+        """Attaches spec in roar_sim, then subscribes (make); a refusal raises ValueError naming the field."""
+        self._check_open()
+        from roar_ros.srv import AttachSensor, DetachSensor
+
+        response = self._world._services.call("/roar_sim/attach_sensor", AttachSensor, check=False,
+                                              vehicle=self.ros_name, sensor_yaml=yaml.safe_dump(spec, default_flow_style=True))
+        if not response.success:
+            raise ValueError(f"attaching sensor '{spec['name']}' to '{self.name}': {response.message}")
+        try:
+            sensor = make()
+            sensor._wait_connected()
+        except BaseException:
+            self._world._services.call("/roar_sim/detach_sensor", DetachSensor, check=False, vehicle=self.ros_name,
+                                       sensor=spec["name"])
+            raise
+        self._sensors.append(sensor)
+        return sensor
+
+    @staticmethod
+    def _mount(location, roll_pitch_yaw, what: str) -> dict:
+        loc = _finite_vector(location, f"{what}: location")
+        rpy = np.degrees(_finite_vector(roll_pitch_yaw, f"{what}: roll_pitch_yaw"))
+        return {"x": float(loc[0]), "y": float(loc[1]), "z": float(loc[2]),
+                "roll": float(rpy[0]), "pitch": float(rpy[1]), "yaw": float(rpy[2])}
+
+    def attach_camera_sensor(self, target_datatype: typing.Type[rpi.RoarPyCameraSensorData], location: np.ndarray,
+                             roll_pitch_yaw: np.ndarray, fov: float = 90.0, image_width: int = 800,
+                             image_height: int = 600, control_timestep: float = 0.0, attachment_type=None,
+                             name: str = "camera") -> rpi.RoarPyCameraSensor:
+        kinds = {rpi.RoarPyCameraSensorDataRGB: "camera_rgb", rpi.RoarPyCameraSensorDataGreyscale: "camera_grey",
+                 rpi.RoarPyCameraSensorDataDepth: "camera_depth",
+                 rpi.RoarPyCameraSensorDataSemanticSegmentation: "camera_semantic"}
+        if target_datatype not in kinds:
+            raise ValueError(f"attach_camera_sensor: target_datatype must be one of "
+                             f"{[k.__name__ for k in kinds]}, got {target_datatype!r}")
+        for value, what in ((image_width, "image_width"), (image_height, "image_height")):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                raise ValueError(f"attach_camera_sensor: {what} must be an int, got {value!r}")
+        rate = self._rate(control_timestep, "attach_camera_sensor")
+        sim_name = self._sim_sensor_name(name)
+        spec = {"name": sim_name, "type": kinds[target_datatype], **self._mount(location, roll_pitch_yaw, "attach_camera_sensor"),
+                "rate": rate, "fov": float(fov), "image_width": int(image_width), "image_height": int(image_height)}
+        return self._attach(spec, lambda: sensors.RoarPyRosCameraSensor(
+            self, name, sim_name, target_datatype, float(fov), int(image_width), int(image_height), rate))
+
+    def attach_lidar_sensor(self, location: np.ndarray, roll_pitch_yaw: np.ndarray, num_lasers: int = 32,
+                            max_distance: float = 10.0, points_per_second: int = 56000,
+                            rotation_frequency: float = 10.0, upper_fov: float = 10.0, lower_fov: float = -30.0,
+                            horizontal_fov: float = 360.0, atmosphere_attenuation_rate: float = 0.004,
+                            dropoff_general_rate: float = 0.45, dropoff_intensity_limit_below: float = 0.8,
+                            control_timestep: float = 0.0, noise_std: float = 0.0, attachment_type=None,
+                            name: str = "lidar") -> rpi.RoarPyLiDARSensor:
+        rate = self._rate(control_timestep, "attach_lidar_sensor")
+        sim_name = self._sim_sensor_name(name)
+        lidar = {"num_lasers": int(num_lasers), "max_distance": float(max_distance),
+                 "points_per_second": float(points_per_second), "rotation_frequency": float(rotation_frequency),
+                 "upper_fov": float(upper_fov), "lower_fov": float(lower_fov), "horizontal_fov": float(horizontal_fov),
+                 "noise_std": float(noise_std)}
+        spec = {"name": sim_name, "type": "lidar", **self._mount(location, roll_pitch_yaw, "attach_lidar_sensor"),
+                "rate": rate, **lidar}
+        return self._attach(spec, lambda: sensors.RoarPyRosLiDARSensor(self, name, sim_name, lidar, rate))
+
+    def _attach_simple(self, kind: str, name: str, cls, extra: typing.Optional[dict] = None,
+                       control_timestep: float = 0.0):
+        rate = self._rate(control_timestep, f"attach ({kind})")
+        sim_name = self._sim_sensor_name(name)
+        spec = {"name": sim_name, "type": kind, "rate": rate, **(extra or {})}
+        return self._attach(spec, lambda: cls(self, name, sim_name, rate))
+
+    def attach_collision_sensor(self, location: np.ndarray = None, roll_pitch_yaw: np.ndarray = None,
+                                attachment_type=None, name: str = "collision") -> rpi.RoarPyCollisionSensor:
+        self._check_open()
+        sensor = sensors.RoarPyRosCollisionSensor(self, name)
+        self._sensors.append(sensor)
+        return sensor
+
+    def attach_accelerometer_sensor(self, name: str = "accelerometer"):
+        # ROAR_PY's reads the car's acceleration in the world frame, without gravity.
+        return self._attach_simple("accelerometer", name, sensors.RoarPyRosAccelerometerSensor,
+                                   {"frame": "map", "gravity": False})
+
+    def attach_gyroscope_sensor(self, name: str = "gyroscope"):
+        return self._attach_simple("gyroscope", name, sensors.RoarPyRosGyroscopeSensor, {"frame": "map"})
+
+    def attach_velocimeter_sensor(self, name: str = "velocimeter"):
+        return self._attach_simple("velocimeter", name, sensors.RoarPyRosVelocimeterSensor)
+
+    def attach_roll_pitch_yaw_sensor(self, name: str = "roll_pitch_yaw"):
+        return self._attach_simple("roll_pitch_yaw", name, sensors.RoarPyRosRollPitchYawSensor)
+
+    def attach_location_in_world_sensor(self, name: str = "location_in_world"):
+        return self._attach_simple("location", name, sensors.RoarPyRosLocationInWorldSensor)
+
+    def attach_gnss_sensor(self, noise_altitude_bias: float = 0.0, noise_altitude_std: float = 0.0,
+                           noise_latitude_bias: float = 0.0, noise_latitude_std: float = 0.0,
+                           noise_longitude_bias: float = 0.0, noise_longitude_std: float = 0.0, noise_seed: int = 0,
+                           control_timestep: float = 0.0, name: str = "gnss"):
+        if noise_altitude_bias or noise_latitude_bias or noise_longitude_bias:
+            raise ValueError("attach_gnss_sensor: roar_sim's GNSS has noise but no bias; "
+                             "noise_*_bias must be 0")
+        metres_per_degree = 111_320.0
+        spec = {"horizontal_noise_std": float(max(noise_latitude_std, noise_longitude_std) * metres_per_degree),
+                "vertical_noise_std": float(noise_altitude_std), "seed": int(noise_seed)}
+        return self._attach_simple("gnss", name, sensors.RoarPyRosGNSSSensor, spec, control_timestep)
+
+    def attach_occupancy_map_sensor(self, width: int = 84, height: int = 84, x_res: float = 0.5, y_res: float = 0.5,
+                                    name: str = "occupancy_map", width_in_world: float = None,
+                                    height_in_world: float = None):
+        """A bird's-eye map width x height pixels of x_res by y_res metres each (or width_in_world by
+        height_in_world metres in all), centred on the car, forward up: road 255, other cars 128, else 0."""
+        width_m = float(width_in_world) if width_in_world is not None else float(width) * float(x_res)
+        height_m = float(height_in_world) if height_in_world is not None else float(height) * float(y_res)
+        rate = self._rate(0.0, "attach_occupancy_map_sensor")
+        sim_name = self._sim_sensor_name(name)
+        spec = {"name": sim_name, "type": "occupancy_map", "rate": rate, "image_width": int(width),
+                "image_height": int(height), "width_m": width_m, "height_m": height_m}
+        return self._attach(spec, lambda: sensors.RoarPyRosOccupancyMapSensor(self, name, sim_name, int(width),
+                                                                                 int(height), rate))
+
+    def remove_sensor(self, sensor: rpi.RoarPySensor):
+        if sensor not in self._sensors:
+            raise ValueError(f"remove_sensor: {sensor.name!r} is not a sensor of '{self.name}'")
+        sensor.close()
+
+    def _sensor_closed(self, sensor):
+        if sensor in self._sensors:
+            self._sensors.remove(sensor)
+        sim_name = getattr(sensor, "sim_name", None)
+        if sim_name and not self._closed and self._world._instance._sim_alive():
+            from roar_ros.srv import DetachSensor
+
+            self._world._services.call("/roar_sim/detach_sensor", DetachSensor, check=False, vehicle=self.ros_name,
+                                       sensor=sim_name)
+
+    # ---- life -----------------------------------------------------------------------------------------------
+    def _check_open(self):
+        if getattr(self, "_closed", True):
+            raise RuntimeError(f"vehicle '{getattr(self, 'name', '?')}' is closed")
+        self._world._check_open()
+
+    def close(self):
+        if getattr(self, "_closed", True):
+            return
+        for sensor in list(self._sensors):
+            sensor.close()
+        self._closed = True
+        for handle in (self._odom_sub, self._collision_sub, self._control_pub):
+            handle.unregister()
+        self._world._vehicle_closed(self)
+
+    def is_closed(self) -> bool:
+        return getattr(self, "_closed", True)

@@ -1,0 +1,405 @@
+"""roar_sim's world as ROAR_PY's: its map's waypoints and spawn points, its clock and stepping, its cars."""
+import threading
+import time
+import typing
+
+import numpy as np
+import rospy
+
+import roar_py_interface as rpi
+
+from . import conversions
+from .connection import RoarSimError
+from .vehicle import RoarPyRosVehicle, _finite_vector, ros_safe
+
+WAIT_TIMEOUT = 30.0  # wall seconds
+
+
+class RoarPyRosWorld(rpi.RoarPyWorld):
+    def __init__(self, instance):
+        from geometry_msgs.msg import PoseArray
+        from rosgraph_msgs.msg import Clock
+        from roar_ros.msg import MapInfo, WaypointArray
+
+        self._instance = instance
+        self._services = instance._services
+        self._vehicles: typing.Dict[str, RoarPyRosVehicle] = {}
+        self._cond = threading.Condition()
+        self._waypoints_msg = None
+        self._waypoints_count = 0
+        self._spawn_msg = None
+        self._spawn_count = 0
+        self._map_info = None
+        self._clock = 0.0
+        self._waypoint_cache = None
+        self._last_step_time = None
+        self._subs = [
+            rospy.Subscriber("/waypoints", WaypointArray, self._on_waypoints, queue_size=1),
+            rospy.Subscriber("/spawn_points", PoseArray, self._on_spawn_points, queue_size=1),
+            rospy.Subscriber("/roar_sim/map", MapInfo, self._on_map, queue_size=1),
+            rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1, tcp_nodelay=True),
+        ]
+        self._refresh_settings()
+        self._wait(lambda: self._waypoints_msg is not None and self._spawn_msg is not None,
+                   "waypoint_server's /waypoints and /spawn_points")
+
+    # ---- subscriptions -------------------------------------------------------------------------------------
+    def _on_waypoints(self, msg):
+        with self._cond:
+            self._waypoints_msg, self._waypoint_cache = msg, None
+            self._waypoints_count += 1
+            self._cond.notify_all()
+
+    def _on_spawn_points(self, msg):
+        with self._cond:
+            self._spawn_msg = msg
+            self._spawn_count += 1
+            self._cond.notify_all()
+
+    def _on_map(self, msg):
+        with self._cond:
+            self._map_info = msg
+            self._cond.notify_all()
+
+    def _on_clock(self, msg):
+        with self._cond:
+            self._clock = msg.clock.to_sec()
+            self._cond.notify_all()
+
+    def _wait(self, ready, what: str, timeout: float = WAIT_TIMEOUT):
+        deadline = time.time() + timeout
+        with self._cond:
+            while not ready():
+                if not self._instance._sim_alive():
+                    raise RoarSimError(f"roar_sim has gone away while waiting for {what}")
+                if time.time() > deadline:
+                    raise RoarSimError(f"no {what} within {timeout:.0f} s")
+                self._cond.wait(0.2)
+
+    def _check_open(self):
+        self._instance._check_open()
+
+    # ---- settings -----------------------------------------------------------------------------------------
+    def _refresh_settings(self):
+        from roar_ros.srv import GetWorldInfo
+
+        info = self._services.call("/roar_sim/get_world_info", GetWorldInfo)
+        self._mode, self._control_dt, self._physics_dt = info.mode, info.control_dt, info.physics_dt
+        self._sim_time = info.stamp.to_sec()
+        return info
+
+    def _set_stepping(self, **fields):
+        from roar_ros.srv import SetStepping
+
+        response = self._services.call("/roar_sim/set_stepping", SetStepping, check=False, **fields)
+        if not response.success:
+            raise ValueError(f"roar_sim refused the stepping settings: {response.message}")
+        self._mode, self._control_dt, self._physics_dt = response.mode, response.control_dt, response.physics_dt
+
+    def set_asynchronous(self, asynchronous: bool):
+        """Asynchronous: roar_sim runs on by itself at real time; synchronous: one control step per step()."""
+        self._check_open()
+        self._set_stepping(mode="async" if asynchronous else "step", real_time_factor=1.0 if asynchronous else -1.0)
+
+    @property
+    def is_asynchronous(self) -> bool:
+        return self._mode == "async"
+
+    def set_control_steps(self, control_timestep: float, control_subtimestep: float = None, *,
+                          control_substimestep: float = None):
+        """The control step and the physics substep (s). A control step of 0 (ROAR_PY's variable step in
+        asynchronous mode) keeps roar_sim's: roar_sim's control step is always fixed."""
+        self._check_open()
+        sub = control_subtimestep if control_subtimestep is not None else control_substimestep
+        values = {}
+        for value, field, what in ((control_timestep, "control_dt", "control_timestep"),
+                                   (sub, "physics_dt", "control_subtimestep")):
+            if value is None:
+                continue
+            if not np.isfinite(value) or value < 0:
+                raise ValueError(f"set_control_steps: {what} must be >= 0 s, got {value}")
+            if value > 0:
+                values[field] = float(value)
+        self._set_stepping(**values)
+        for vehicle in self._vehicles.values():
+            vehicle.control_timestep = self._control_dt
+
+    @property
+    def control_timestep(self) -> float:
+        return self._control_dt
+
+    @property
+    def control_subtimestep(self) -> float:
+        return self._physics_dt
+
+    @property
+    def last_tick_elapsed_seconds(self) -> float:
+        """Simulated seconds since roar_sim started, at the last step."""
+        return self._sim_time
+
+    # ---- stepping -----------------------------------------------------------------------------------------
+    async def step(self) -> float:
+        """Synchronous: simulates one control step (every car's last action held) and returns its length.
+        Asynchronous: waits for roar_sim's next tick and returns the simulated time since the last step."""
+        self._check_open()
+        before = self._sim_time
+        if self.is_asynchronous:
+            self._wait(lambda: self._clock > before + 1e-9, "a tick of roar_sim")
+            with self._cond:
+                self._sim_time = self._clock
+            return self._sim_time - before
+        from roar_ros.srv import Step
+
+        vehicles = [v for v in self._vehicles.values() if not v.is_closed()]
+        driven = [v for v in vehicles if v.control is not None]
+        response = self._services.call("/roar_sim/step", Step, check=False, ticks=1,
+                                       vehicle_names=[v.ros_name for v in driven],
+                                       controls=[v.control for v in driven], observe=[v.ros_name for v in vehicles])
+        if not response.success:
+            if "only served in mode" in response.message:
+                self._refresh_settings()
+            raise RoarSimError(f"roar_sim refused the step: {response.message}")
+        self._take_snapshots(response.vehicles)
+        self._sim_time = response.stamp.to_sec()
+        return self._sim_time - before
+
+    def _take_snapshots(self, snapshots):
+        by_name = {v.ros_name: v for v in self._vehicles.values()}
+        for snapshot in snapshots:
+            if snapshot.name in by_name:
+                by_name[snapshot.name]._on_snapshot(snapshot)
+
+    def _observe(self, vehicles):
+        from roar_ros.srv import Step
+
+        response = self._services.call("/roar_sim/step", Step, ticks=0, observe=[v.ros_name for v in vehicles])
+        self._take_snapshots(response.vehicles)
+
+    # ---- the map -----------------------------------------------------------------------------------------
+    @property
+    def map_name(self) -> str:
+        return self._waypoints_msg.map_name
+
+    @property
+    def maneuverable_waypoints(self) -> typing.List[rpi.RoarPyWaypoint]:
+        with self._cond:
+            if self._waypoint_cache is None:
+                self._waypoint_cache = [
+                    rpi.RoarPyWaypoint(np.array([w.location.x, w.location.y, w.location.z]),
+                                       np.array([w.roll, w.pitch, w.yaw]), w.lane_width)
+                    for w in self._waypoints_msg.waypoints]
+            return list(self._waypoint_cache)
+
+    @property
+    def comprehensive_waypoints(self) -> typing.Dict[int, typing.List[rpi.RoarPyWaypoint]]:
+        """Two lanes, each its two edges per waypoint (edge, edge, edge, edge, ...): lane 0 from the left
+        edge to the centre line, lane 1 from the centre line to the right edge."""
+        lanes: typing.Dict[int, typing.List[rpi.RoarPyWaypoint]] = {0: [], 1: []}
+        for w in self.maneuverable_waypoints:
+            left, right = w.line_representation
+            half = w.lane_width / 2.0
+            lanes[0] += [rpi.RoarPyWaypoint(left, w.roll_pitch_yaw, half), rpi.RoarPyWaypoint(w.location, w.roll_pitch_yaw, half)]
+            lanes[1] += [rpi.RoarPyWaypoint(w.location, w.roll_pitch_yaw, half), rpi.RoarPyWaypoint(right, w.roll_pitch_yaw, half)]
+        return lanes
+
+    @property
+    def spawn_points(self) -> typing.List[typing.Tuple[np.ndarray, np.ndarray]]:
+        """The start grid: (location, roll_pitch_yaw) of each slot, pole first."""
+        return [(np.array([p.position.x, p.position.y, p.position.z]), conversions.quaternion_to_rpy(p.orientation))
+                for p in self._spawn_msg.poses]
+
+    def get_geolocation(self, location: np.ndarray) -> np.ndarray:
+        """[latitude deg, longitude deg, altitude m] of a location (or an N x 3 array of them)."""
+        self._check_open()
+        from geometry_msgs.msg import Point
+        from roar_ros.srv import GetGeolocation
+
+        points = np.asarray(location, dtype=np.float64)
+        single = points.ndim == 1
+        points = points.reshape(-1, 3) if points.size % 3 == 0 else None
+        if points is None or not np.all(np.isfinite(points)):
+            raise ValueError(f"get_geolocation: location must be [x, y, z] (or N x 3) finite metres, got {location!r}")
+        response = self._services.call("/roar_sim/get_geolocation", GetGeolocation,
+                                        points=[Point(*p) for p in points])
+        out = np.stack([response.latitude, response.longitude, response.altitude], axis=1)
+        return out[0] if single else out
+
+    # ---- actors ---------------------------------------------------------------------------------------------
+    def spawn_vehicle(self, blueprint_id: str, location: np.ndarray, roll_pitch_yaw: np.ndarray,
+                      auto_gear: bool = True, name: str = "vehicle", rgba: typing.Optional[np.ndarray] = None
+                      ) -> RoarPyRosVehicle:
+        """A car of a blueprint (vehicle.tesla.model3, vehicle.audi.a2, vehicle.roar.racecar) at location,
+        heading the yaw of roll_pitch_yaw; the ground sets its height, roll and pitch. rgba: 0..255."""
+        self._check_open()
+        from geometry_msgs.msg import Pose
+        from roar_ros.srv import GetWorldInfo, SpawnVehicle
+        from std_msgs.msg import ColorRGBA
+
+        loc = _finite_vector(location, "spawn_vehicle: location")
+        rpy = _finite_vector(roll_pitch_yaw, "spawn_vehicle: roll_pitch_yaw")
+        colour = ColorRGBA()
+        if rgba is not None:
+            c = _finite_vector(rgba, "spawn_vehicle: rgba", 4)
+            if np.any(c < 0) or np.any(c > 255):
+                raise ValueError(f"spawn_vehicle: rgba channels must be in [0, 255], got {rgba!r}")
+            colour = ColorRGBA(*(c[:3] / 255.0), 1.0)
+        taken = {v.ros_name for v in self._vehicles.values()}
+        taken |= {v.name for v in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles}
+        base = ros_safe(name)
+        ros_name, n = base, 2
+        while ros_name in taken:
+            ros_name, n = f"{base}_{n}", n + 1
+        pose = Pose()
+        pose.position.x, pose.position.y, pose.position.z = loc
+        q = conversions.rpy_to_quaternion([0.0, 0.0, rpy[2]])
+        pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = q
+        response = self._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=ros_name,
+                                       model=str(blueprint_id), spawn_point=-1, pose=pose, colour=colour)
+        if not response.success:
+            raise ValueError(f"spawn_vehicle('{blueprint_id}'): {response.message}")
+        info = next(v for v in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles
+                    if v.name == ros_name)
+        vehicle = RoarPyRosVehicle(self, ros_name, str(blueprint_id), bool(auto_gear), name, info)
+        self._vehicles[ros_name] = vehicle
+        self._observe([vehicle])
+        return vehicle
+
+    def attach_camera_sensor(self, target_datatype, location, roll_pitch_yaw, fov=90.0, image_width=800,
+                             image_height=600, control_timestep=0.0, attachment_type=None, name="camera",
+                             bind_to: typing.Optional[RoarPyRosVehicle] = None):
+        return self._bound(bind_to, "attach_camera_sensor").attach_camera_sensor(
+            target_datatype, location, roll_pitch_yaw, fov, image_width, image_height, control_timestep,
+            attachment_type, name)
+
+    def attach_lidar_sensor(self, location, roll_pitch_yaw, num_lasers=32, max_distance=10.0, points_per_second=56000,
+                            rotation_frequency=10.0, upper_fov=10.0, lower_fov=-30.0, horizontal_fov=360.0,
+                            atmosphere_attenuation_rate=0.004, dropoff_general_rate=0.45,
+                            dropoff_intensity_limit_below=0.8, control_timestep=0.0, noise_std=0.0,
+                            attachment_type=None, name="lidar", bind_to: typing.Optional[RoarPyRosVehicle] = None):
+        return self._bound(bind_to, "attach_lidar_sensor").attach_lidar_sensor(
+            location, roll_pitch_yaw, num_lasers, max_distance, points_per_second, rotation_frequency, upper_fov,
+            lower_fov, horizontal_fov, atmosphere_attenuation_rate, dropoff_general_rate,
+            dropoff_intensity_limit_below, control_timestep, noise_std, attachment_type, name)
+
+    def _bound(self, bind_to, what: str) -> RoarPyRosVehicle:
+        if not isinstance(bind_to, RoarPyRosVehicle):
+            raise ValueError(f"{what}: roar_sim's sensors ride on a car: pass bind_to=<a vehicle of this world>")
+        return bind_to
+
+    def get_actors(self) -> typing.List[RoarPyRosVehicle]:
+        return [v for v in self._vehicles.values() if not v.is_closed()]
+
+    def get_sensors(self) -> typing.List[rpi.RoarPySensor]:
+        return [s for v in self.get_actors() for s in v.get_sensors()]
+
+    def remove_actor(self, actor: RoarPyRosVehicle):
+        if actor not in self._vehicles.values():
+            raise ValueError(f"remove_actor: {actor!r} is not an actor of this world")
+        actor.close()
+
+    def remove_sensor(self, sensor: rpi.RoarPySensor):
+        for vehicle in self.get_actors():
+            if sensor in vehicle._sensors:
+                return vehicle.remove_sensor(sensor)
+        raise ValueError(f"remove_sensor: {sensor.name!r} is not a sensor in this world")
+
+    def _vehicle_closed(self, vehicle: RoarPyRosVehicle):
+        self._vehicles.pop(vehicle.ros_name, None)
+        if self._instance._sim_alive():
+            from roar_ros.srv import DestroyVehicle
+
+            self._services.call("/roar_sim/destroy_vehicle", DestroyVehicle, check=False, name=vehicle.ros_name)
+
+    def _forget_vehicles(self):
+        """After a map load: roar_sim's cars are gone."""
+        for vehicle in list(self._vehicles.values()):
+            for sensor in list(vehicle._sensors):
+                sensor._closed = True
+            vehicle._sensors.clear()
+            vehicle._closed = True
+            for handle in (vehicle._odom_sub, vehicle._collision_sub, vehicle._control_pub):
+                handle.unregister()
+        self._vehicles.clear()
+
+    def _reset_vehicle(self, vehicle, location, roll_pitch_yaw):
+        from geometry_msgs.msg import Pose
+        from roar_ros.srv import ResetVehicle
+
+        if location is None:
+            self._services.call("/roar_sim/reset_vehicle", ResetVehicle, name=vehicle.ros_name, spawn_point=0)
+        else:
+            pose = Pose()
+            pose.position.x, pose.position.y, pose.position.z = location
+            q = conversions.rpy_to_quaternion([0.0, 0.0, roll_pitch_yaw[2]])
+            pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = q
+            self._services.call("/roar_sim/reset_vehicle", ResetVehicle, name=vehicle.ros_name, spawn_point=-1, pose=pose)
+        self._observe([vehicle])
+
+    def _set_velocity(self, vehicle, linear, angular):
+        from geometry_msgs.msg import Vector3
+        from roar_ros.srv import SetVehicleVelocity
+
+        self._services.call("/roar_sim/set_vehicle_velocity", SetVehicleVelocity, name=vehicle.ros_name,
+                            linear=Vector3(*linear), angular=Vector3(*angular))
+        self._observe([vehicle])
+
+    def clean_actors_not_registered(self, keep: typing.Iterable[str] = ()):
+        """Destroys the cars in roar_sim this world did not spawn (but those named in keep)."""
+        from roar_ros.srv import DestroyVehicle, GetWorldInfo
+
+        mine = {v.ros_name for v in self._vehicles.values()} | set(keep)
+        for info in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles:
+            if info.name not in mine:
+                self._services.call("/roar_sim/destroy_vehicle", DestroyVehicle, name=info.name)
+
+    # ---- debug drawing (CARLA's world.debug, drawn in rviz on /roar_sim/debug_markers) ---------------------
+    def _shape(self, kind, points, color, size=0.0, arrow_size=0.0, text="", life_time=-1.0):
+        from geometry_msgs.msg import Point
+        from roar_ros.msg import DebugShape
+        from std_msgs.msg import ColorRGBA
+
+        c = _finite_vector(color, f"draw_{kind}: color (0..255)", 3 if len(color) == 3 else 4) / 255.0
+        return DebugShape(kind=kind, points=[Point(*_finite_vector(p, f"draw_{kind}: point")) for p in points],
+                          color=ColorRGBA(c[0], c[1], c[2], c[3] if c.size == 4 else 1.0), size=float(size),
+                          arrow_size=float(arrow_size), text=str(text), life_time=float(life_time))
+
+    def _send(self, shapes):
+        from roar_ros.srv import DrawDebug
+
+        self._check_open()
+        response = self._services.call("/roar_sim/draw_debug", DrawDebug, check=False, shapes=shapes)
+        if not response.success:
+            raise ValueError(f"draw: {response.message}")
+
+    def _draw(self, *args, **kwargs):
+        self._send([self._shape(*args, **kwargs)])
+
+    def draw_point(self, location, size=0.1, color=(255, 0, 0), life_time=-1.0):
+        self._draw("point", [location], color, size, life_time=life_time)
+
+    def draw_line(self, begin, end, thickness=0.1, color=(255, 0, 0), life_time=-1.0):
+        self._draw("line", [begin, end], color, thickness, life_time=life_time)
+
+    def draw_arrow(self, begin, end, thickness=0.1, arrow_size=0.1, color=(255, 0, 0), life_time=-1.0):
+        self._draw("arrow", [begin, end], color, thickness, arrow_size, life_time=life_time)
+
+    def draw_string(self, location, text, color=(255, 255, 255), size=1.0, life_time=-1.0):
+        self._draw("text", [location], color, size, text=text, life_time=life_time)
+
+    def draw_waypoints(self, waypoints: typing.Sequence[rpi.RoarPyWaypoint], length=0.5, color=(0, 255, 0)):
+        """Each waypoint as an arrow along its heading: what ROAR_PY users draw with CARLA's debug."""
+        shapes = []
+        for w in waypoints:
+            tip = w.location + rpi.euler2mat(*w.roll_pitch_yaw) @ np.array([length, 0.0, 0.0])
+            shapes.append(self._shape("arrow", [w.location, tip], color, 0.1, 0.1))
+        self._send(shapes)
+
+    def clear_debug(self):
+        from roar_ros.srv import DrawDebug
+
+        self._services.call("/roar_sim/draw_debug", DrawDebug, check=False, clear=True)
+
+    def close(self):
+        for sub in self._subs:
+            sub.unregister()
+        self._subs = []
