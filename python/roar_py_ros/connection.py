@@ -130,6 +130,24 @@ def service_registered(name: str) -> bool:
         return False
 
 
+_node_uris: typing.Dict[str, str] = {}
+
+
+def publisher_connected(node: str, topic: str, subscriber: str) -> bool:
+    """Whether node reports (getBusInfo, as rosnode info reads it) an outbound connection of topic to
+    subscriber."""
+    import xmlrpc.client
+
+    try:
+        if node not in _node_uris:
+            _node_uris[node] = rosgraph.Master("/roar_py").lookupNode(node)
+        code, _, bus = xmlrpc.client.ServerProxy(_node_uris[node]).getBusInfo("/roar_py")
+    except Exception:  # noqa: BLE001 - not reachable (yet, or any more): not connected
+        _node_uris.pop(node, None)
+        return False
+    return code == 1 and any(len(c) >= 5 and c[1] == subscriber and c[2] == "o" and c[4] == topic for c in bus)
+
+
 def sim_registered() -> bool:
     return service_registered(SIM + "/get_world_info")
 

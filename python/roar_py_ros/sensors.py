@@ -15,8 +15,9 @@ import rospy
 import roar_py_interface as rpi
 from roar_py_interface import sensors as data
 
-from . import conversions
+from . import connection, conversions
 
+SIM_NODE = "/roar_sim"
 READING_TIMEOUT = 30.0  # wall seconds a reading roar_sim announced may take to arrive
 
 
@@ -41,13 +42,14 @@ class RosSensorMixin:
                                          buff_size=1 << 24)
 
     def _wait_connected(self, timeout: float = 10.0):
-        """Until roar_sim's publisher is connected: a reading published before that would be lost."""
+        """Until roar_sim itself has the connection to this subscriber: a reading published before that is
+        lost, and rospy reports its side connected a moment before roar_sim's side is."""
         if self._sub is None:
             return
         deadline = time.time() + timeout
-        while self._sub.get_num_connections() == 0:
+        while not connection.publisher_connected(SIM_NODE, self.topic, rospy.get_name()):
             if time.time() > deadline:
-                raise conversions_error(f"sensor '{self.name}': no connection to {self.topic} within {timeout:.0f} s")
+                raise RuntimeError(f"sensor '{self.name}': roar_sim did not connect {self.topic} within {timeout:.0f} s")
             time.sleep(0.002)
 
     def _on_message(self, msg):
@@ -70,6 +72,7 @@ class RosSensorMixin:
                 # No step since the sensor came: tick once so that it has a reading (CARLA would block).
                 await world.step()
                 expected = self._vehicle._expected_stamp(self.sim_name)
+            self._waiting_for = expected
             msg, stamp = self._wait_for(lambda: self._msg_stamp >= (expected or 0.0) - 1e-9 and self._msg is not None)
         else:
             msg, stamp = self._wait_for(lambda: self._msg is not None)
@@ -86,7 +89,9 @@ class RosSensorMixin:
                     raise RuntimeError(f"sensor '{self.name}': roar_sim has gone away")
                 remaining = deadline - time.time()
                 if remaining <= 0:
-                    raise RuntimeError(f"sensor '{self.name}': no reading on {self.topic} within {READING_TIMEOUT:.0f} s")
+                    raise RuntimeError(f"sensor '{self.name}': no reading on {self.topic} within {READING_TIMEOUT:.0f} s "
+                                       f"(the newest is of t = {self._msg_stamp:.3f} s; "
+                                       f"{self._sub.get_num_connections() if self._sub else 0} connection(s))")
                 self._cond.wait(min(remaining, 0.5))
             return self._msg, self._msg_stamp
 
@@ -103,10 +108,6 @@ class RosSensorMixin:
 
     def is_closed(self) -> bool:
         return self._closed
-
-
-def conversions_error(message: str) -> RuntimeError:
-    return RuntimeError(message)
 
 
 class RoarPyRosCameraSensor(RosSensorMixin, rpi.RoarPyCameraSensor):

@@ -30,6 +30,21 @@ def _finite_vector(value, what: str, length: int = 3) -> np.ndarray:
     return v
 
 
+# roar_sim's sensor keys as the ROAR_PY arguments they come from.
+_ARGUMENT_OF_KEY = {"x": "location[0]", "y": "location[1]", "z": "location[2]", "roll": "roll_pitch_yaw[0]",
+                    "pitch": "roll_pitch_yaw[1]", "yaw": "roll_pitch_yaw[2]", "rate": "control_timestep",
+                    "width_m": "width * x_res", "height_m": "height * y_res"}
+
+
+def _roar_py_terms(message: str) -> str:
+    """roar_sim's "sensor 'n': x: 500 is outside [-20, 20] m" with the ROAR_PY argument named too."""
+    def name(match):
+        key = match.group(1)
+        return f": {_ARGUMENT_OF_KEY[key]} (roar_sim's {key}): " if key in _ARGUMENT_OF_KEY else match.group(0)
+
+    return re.sub(r": ([a-z_]+): ", name, message, count=1)
+
+
 def ros_safe(name: str) -> str:
     safe = re.sub(r"[^A-Za-z0-9_]", "_", name) or "sensor"
     return safe if safe[0].isalpha() else "s_" + safe
@@ -176,7 +191,7 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         response = self._world._services.call("/roar_sim/attach_sensor", AttachSensor, check=False,
                                               vehicle=self.ros_name, sensor_yaml=yaml.safe_dump(spec, default_flow_style=True))
         if not response.success:
-            raise ValueError(f"attaching sensor '{spec['name']}' to '{self.name}': {response.message}")
+            raise ValueError(f"attaching sensor '{spec['name']}' to '{self.name}': {_roar_py_terms(response.message)}")
         try:
             sensor = make()
             sensor._wait_connected()

@@ -1,0 +1,242 @@
+"""roar_py_ros against a roar_sim it starts itself (a private master when none is reachable): the world,
+blueprints, sensors, stepping, maps, and every kind of bad input as a Python exception naming it."""
+import asyncio
+import os
+
+import numpy as np
+import pytest
+
+import roar_py_interface as rpi
+import roar_py_ros
+from roar_py_ros import connection
+
+RGB = rpi.RoarPyCameraSensorDataRGB
+GO = {"throttle": np.array([1.0]), "steer": np.array([0.0]), "brake": np.array([0.0]), "hand_brake": np.array([0]),
+      "reverse": np.array([0])}
+
+
+def run(coroutine):
+    return asyncio.run(coroutine)
+
+
+@pytest.fixture(scope="module")
+def instance():
+    master_was_there = connection.master_online(os.environ.get("ROS_MASTER_URI", ""))
+    inst = roar_py_ros.RoarPyRosInstance()
+    assert (inst._private is not None) or master_was_there, "no master: the instance starts its own"
+    yield inst
+    inst.close()
+
+
+@pytest.fixture
+def world(instance):
+    w = instance.world
+    w.set_asynchronous(False)
+    w.set_control_steps(0.05, 0.005)
+    yield w
+    for actor in w.get_actors():
+        actor.close()
+
+
+def spawn(world, blueprint="vehicle.tesla.model3", slot=0, **kwargs):
+    location, rpy = world.spawn_points[slot]
+    return world.spawn_vehicle(blueprint, location + np.array([0, 0, 2.0]), rpy, **kwargs)
+
+
+def test_world_describes_its_map(instance, world):
+    assert instance.get_server_version().startswith("roar_sim ")
+    assert instance.get_client_version().startswith("roar_py_ros ")
+    assert {"roar_ring", "roar_sprint", "monza"} <= set(instance.get_available_maps())
+    assert world.map_name == "Roar Ring"
+    assert len(world.spawn_points) == 20
+    location, rpy = world.spawn_points[0]
+    assert location.shape == (3,) and rpy.shape == (3,)
+    waypoints = world.maneuverable_waypoints
+    assert len(waypoints) > 100 and all(w.lane_width > 5 for w in waypoints)
+    lanes = world.comprehensive_waypoints
+    assert sorted(lanes) == [0, 1] and len(lanes[0]) == 2 * len(waypoints)
+    centre = rpi.RoarPyWaypoint.from_line_representation(lanes[0][0].location, lanes[1][1].location,
+                                                         lanes[0][0].roll_pitch_yaw)
+    assert np.allclose(centre.location, waypoints[0].location) and centre.lane_width == pytest.approx(waypoints[0].lane_width)
+    lat, lon, alt = world.get_geolocation(waypoints[0].location)
+    assert -90 <= lat <= 90 and -180 <= lon <= 180 and np.isfinite(alt)
+    assert world.get_geolocation(np.stack([w.location for w in waypoints[:4]])).shape == (4, 3)
+
+
+def test_blueprints_spawn_and_unknown_ones_are_listed(world):
+    cars = [spawn(world, bp, slot) for slot, bp in
+            enumerate(["vehicle.tesla.model3", "vehicle.audi.a2", "vehicle.roar.racecar"])]
+    extents = [c.bounding_box.extent for c in cars]
+    assert extents[0][0] > extents[1][0], "the sedan is longer than the hatchback"
+    assert extents[2][2] < extents[1][2], "the race car is lower than the hatchback"
+    assert len(world.get_actors()) == 3
+    with pytest.raises(ValueError, match=r"vehicle\.bus.*hatchback \(vehicle\.audi\.a2\)"):
+        spawn(world, "vehicle.bus", 5)
+    with pytest.raises(ValueError, match="rgba channels"):
+        spawn(world, "vehicle.audi.a2", 6, rgba=np.array([300, 0, 0, 255]))
+    with pytest.raises(ValueError, match="location must be 3 finite numbers"):
+        world.spawn_vehicle("vehicle.audi.a2", np.array([np.nan, 0, 0]), np.zeros(3))
+    red = spawn(world, "vehicle.audi.a2", 6, name="my vehicle", rgba=np.array([255, 0, 0, 255]))
+    assert red.name == "my vehicle" and red.ros_name == "my_vehicle"
+    world.remove_actor(red)
+    assert red.is_closed() and len(world.get_actors()) == 3
+
+
+def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
+    car = spawn(world)
+    camera = car.attach_camera_sensor(RGB, np.array([-2.0, 0.0, 1.5]), np.zeros(3), image_width=84, image_height=84)
+    sensors = [car.attach_collision_sensor(name="collision"), car.attach_location_in_world_sensor(name="gps"),
+               car.attach_velocimeter_sensor(name="speed"), car.attach_roll_pitch_yaw_sensor(name="rpy"),
+               car.attach_accelerometer_sensor(name="accel"), car.attach_gyroscope_sensor(name="gyro"),
+               car.attach_gnss_sensor(name="gnss"), car.attach_occupancy_map_sensor(64, 48, 0.5, 0.5, name="occupancy")]
+    lidar = world.attach_lidar_sensor(np.array([0, 0, 2.5]), np.zeros(3), max_distance=50.0, name="lidar", bind_to=car)
+    assert len(list(car.get_sensors())) == 10 and camera.image_size_width == 84
+    t0 = world.last_tick_elapsed_seconds
+    for _ in range(40):
+        run(car.apply_action(GO))
+        assert run(world.step()) == pytest.approx(0.05)
+    assert world.last_tick_elapsed_seconds == pytest.approx(t0 + 2.0)
+    obs = run(car.receive_observation())
+    gym = car.convert_obs_to_gym_obs(obs)
+    assert car.get_gym_observation_spec().contains(gym)
+    speed = np.linalg.norm(car.get_linear_3d_velocity())
+    assert speed > 8.0, "two seconds of full throttle"
+    assert np.allclose(obs["speed"].velocity, car.get_linear_3d_velocity(), atol=1e-6)
+    assert np.allclose(obs["gps"].to_gym(), car.get_3d_location(), atol=1e-4)
+    assert np.allclose(obs["rpy"].roll_pitch_yaw, car.get_roll_pitch_yaw(), atol=1e-6)
+    assert np.allclose(obs["gnss"].to_gym()[:2], world.get_geolocation(car.get_3d_location())[:2], atol=1e-7)
+    assert obs["accel"].accelerometer[2] == pytest.approx(0.0, abs=2.0), "ROAR_PY's accelerometer has no gravity"
+    occupancy = obs["occupancy"].occupancy_map
+    assert occupancy.shape == (48, 64) and occupancy[24, 32] == 255, "the car stands on the road"
+    assert obs["camera"].to_gym().shape == (84, 84, 3) and obs["camera"].to_gym().std() > 5
+    assert obs["lidar"].lidar_points_data.shape[1] == 4 and len(obs["lidar"].lidar_points_data) > 100
+    assert obs["lidar"].channels == 32
+    assert np.allclose(obs["collision"].impulse_normal, 0.0) and obs["collision"].other_actor is None
+    assert car.get_last_gym_observation() is not None
+    # Steer is ROAR_PY's: positive turns right, i.e. the yaw falls.
+    yaw = car.get_roll_pitch_yaw()[2]
+    for _ in range(10):
+        run(car.apply_action({**GO, "throttle": np.array([0.2]), "steer": np.array([0.5])}))
+        run(world.step())
+    assert rpi.normalize_rad(car.get_roll_pitch_yaw()[2] - yaw) < -0.05
+    assert car.get_angular_velocity()[2] < 0
+    car.remove_sensor(lidar)
+    assert lidar.is_closed() and len(list(car.get_sensors())) == 9
+
+
+def test_velocity_and_transform_set_at_once(world):
+    car = spawn(world, "vehicle.audi.a2")
+    yaw = car.get_roll_pitch_yaw()[2]
+    car.set_linear_3d_velocity(np.array([12.0 * np.cos(yaw), 12.0 * np.sin(yaw), 0.0]))
+    assert np.linalg.norm(car.get_linear_3d_velocity()) == pytest.approx(12.0, abs=0.2)
+    location, rpy = world.spawn_points[3]
+    car.set_transform(location, rpy)
+    assert np.allclose(car.get_3d_location()[:2], location[:2], atol=0.05)
+    assert np.linalg.norm(car.get_linear_3d_velocity()) < 0.1
+    with pytest.raises(ValueError, match="set_transform: location"):
+        car.set_transform(np.array([1.0, 2.0]), rpy)
+
+
+def test_bad_sensor_arguments_and_actions_are_named_and_the_sim_runs_on(world):
+    car = spawn(world)
+    with pytest.raises(ValueError, match="fov: 200"):
+        car.attach_camera_sensor(RGB, np.zeros(3), np.zeros(3), fov=200.0, image_width=84, image_height=84)
+    with pytest.raises(ValueError, match="image_width"):
+        car.attach_camera_sensor(RGB, np.zeros(3), np.zeros(3), image_width=100000, image_height=84)
+    with pytest.raises(ValueError, match="num_lasers"):
+        car.attach_lidar_sensor(np.zeros(3), np.zeros(3), num_lasers=0)
+    with pytest.raises(ValueError, match="location"):
+        car.attach_camera_sensor(RGB, np.array([500.0, 0, 0]), np.zeros(3), image_width=84, image_height=84)
+    with pytest.raises(ValueError, match="target_datatype"):
+        car.attach_camera_sensor(int, np.zeros(3), np.zeros(3))
+    with pytest.raises(ValueError, match="bind_to"):
+        world.attach_lidar_sensor(np.zeros(3), np.zeros(3))
+    with pytest.raises(ValueError, match="noise_.*_bias"):
+        car.attach_gnss_sensor(noise_latitude_bias=1.0)
+    assert list(car.get_sensors()) == [], "nothing half-attached"
+    with pytest.raises(ValueError, match="'steer' = 2.0 is outside"):
+        run(car.apply_action({**GO, "steer": np.array([2.0])}))
+    with pytest.raises(ValueError, match="'throttle' must be one finite number"):
+        run(car.apply_action({**GO, "throttle": np.array([np.nan])}))
+    with pytest.raises(ValueError, match="control_timestep must be >= 0"):
+        world.set_control_steps(-1.0, 0.005)
+    with pytest.raises(ValueError, match="whole multiple|multiple"):
+        world.set_control_steps(0.05, 0.03)
+    run(car.apply_action(GO))
+    assert run(world.step()) == pytest.approx(0.05), "roar_sim runs on unharmed"
+
+
+def test_closed_vehicles_and_sensors_say_so(world):
+    car = spawn(world)
+    gps = car.attach_location_in_world_sensor()
+    car.close()
+    with pytest.raises(RuntimeError, match="vehicle 'vehicle' is closed"):
+        car.get_3d_location()
+    with pytest.raises(RuntimeError, match="closed"):
+        run(gps.receive_observation())
+    with pytest.raises(RuntimeError, match="closed"):
+        run(car.apply_action(GO))
+    car.close()  # twice is harmless
+
+
+def test_stepping_settings_change_at_run_time(world):
+    car = spawn(world)
+    world.set_control_steps(0.1, 0.01)
+    assert world.control_timestep == pytest.approx(0.1) and world.control_subtimestep == pytest.approx(0.01)
+    assert run(world.step()) == pytest.approx(0.1)
+    world.set_control_steps(control_timestep=0.05, control_substimestep=0.005)
+    world.set_asynchronous(True)
+    assert world.is_asynchronous
+    run(car.apply_action(GO))
+    dt = run(world.step())
+    assert dt > 0
+    before = car.get_3d_location()
+    for _ in range(20):
+        run(car.apply_action(GO))
+        run(world.step())
+    assert np.linalg.norm(car.get_3d_location() - before) > 0.5, "async: the car drives on roar_sim's own clock"
+    world.set_asynchronous(False)
+    assert not world.is_asynchronous
+    assert run(world.step()) == pytest.approx(0.05)
+
+
+def test_maps_load_and_reload_at_run_time(instance, world):
+    spawn(world)
+    instance.load_world("roar_sprint")
+    assert world.map_name == "Roar Sprint" and world.get_actors() == []
+    sprint = world.maneuverable_waypoints
+    car = spawn(world)
+    instance.reload_world()
+    assert car.is_closed() and world.map_name == "Roar Sprint"
+    assert len(world.maneuverable_waypoints) == len(sprint)
+    with pytest.raises(ValueError, match="Town05.*roar_ring"):
+        instance.load_world("Town05")
+    assert world.map_name == "Roar Sprint", "a refused load changes nothing"
+    root = connection.package_root()
+    instance.load_world(str(root / "maps" / "roar_ring"))
+    assert world.map_name == "Roar Ring"
+    spawn(world)
+    run(world.step())
+
+
+def test_debug_drawing(world):
+    world.draw_waypoints(world.maneuverable_waypoints[:50])
+    world.draw_string(np.array([0.0, 0.0, 3.0]), "hello", color=(255, 255, 0))
+    world.draw_point(np.zeros(3))
+    with pytest.raises(ValueError, match="color"):
+        world.draw_line(np.zeros(3), np.ones(3), color=(np.nan, 0, 0))
+    world.clear_debug()
+
+
+def test_roar_sim_gone_away_is_an_exception_naming_it(instance, world):
+    car = spawn(world)
+    if instance._private is None:
+        pytest.skip("roar_sim belongs to someone else here: not stopping it")
+    instance._private.stop()
+    with pytest.raises(roar_py_ros.RoarSimError, match="roar_sim"):
+        run(world.step())
+    with pytest.raises((roar_py_ros.RoarSimError, RuntimeError), match="roar_sim"):
+        car.attach_velocimeter_sensor()
+    instance.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        instance.get_available_maps()
