@@ -152,6 +152,12 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                                   _finite_vector(velocity, "set_angular_velocity: velocity"))
 
     # ---- actions --------------------------------------------------------------------------------------------
+    def get_action_spec(self):
+        # Built once: a control loop asks for it every step.
+        if getattr(self, "_action_spec", None) is None:
+            self._action_spec = rpi.vehicle_action_spec(self.auto_gear, self.num_gears)
+        return self._action_spec
+
     async def _apply_action(self, action: typing.Any) -> bool:
         self._check_open()
         values = conversions.check_action(action, self.get_action_spec())
