@@ -2,6 +2,9 @@
 # installs only what is missing) and build. Debian's ROS needs Debian's python, hence /usr/bin first.
 SHELL := /bin/bash
 BUILD := build
+# The devel space sits beside build/, not in it: rosrun skips every path under <package>/build/, and the
+# package is the repository root.
+DEVEL := devel
 export PATH := /usr/bin:$(PATH)
 MAKEFLAGS += --no-print-directory
 
@@ -14,8 +17,8 @@ setup:
 build: setup
 	@# catkin writes the test environment (setup_cached.sh) at configure time with only the folders that
 	@# exist then: the generated Python messages' folder must exist before the first configure.
-	@mkdir -p $(BUILD)/devel/lib/python3/dist-packages
-	@cmake -S . -B $(BUILD) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(BUILD)/devel \
+	@mkdir -p $(BUILD) $(DEVEL)/lib/python3/dist-packages
+	@cmake -S . -B $(BUILD) -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_DEVEL_PREFIX=$(CURDIR)/$(DEVEL) \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCATKIN_ENABLE_TESTING=ON > $(BUILD)/configure.log 2>&1 \
 	  || { cat $(BUILD)/configure.log; exit 1; }
 	@# Up-to-date targets are not news: only what is built (and any error) is printed.
@@ -28,7 +31,7 @@ test: build
 	@bash scripts/test
 
 bench: build
-	@$(BUILD)/devel/lib/roar_ros/roar_bench
+	@$(DEVEL)/lib/roar_ros/roar_bench
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(DEVEL)

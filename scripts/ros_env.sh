@@ -5,7 +5,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 restore_u=$([[ $- == *u* ]] && echo 1 || true)
 set +u
 # shellcheck disable=SC1091
-source "$root/build/devel/setup.bash"
+source "$root/devel/setup.bash"
 [ -n "$restore_u" ] && set -u
 export ROS_PACKAGE_PATH="$root${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}"
 export ROS_HOME="$root/build/ros_home"

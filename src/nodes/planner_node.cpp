@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <memory>
 
+#include "roar/planning/overtaking.h"
 #include "roar/planning/trajectory.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
@@ -30,6 +32,8 @@ struct PlannerNodeOptions {
   double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
   double follow_lateral = 3.5;  // m: a car this close to the line is in the way
   std::string frame = "map";
+  bool overtaking = true;  // false: every car follows the car ahead on the racing line
+  planning::OvertakeOptions overtake;
 };
 
 PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
@@ -56,6 +60,12 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   o.window_behind = readDouble(nh, "window_behind", o.window_behind, 0.0, 100.0);
   o.follow_gap = readDouble(nh, "follow_gap", o.follow_gap, 5.0, 200.0);
   o.frame = readString(nh, "frame", o.frame);
+  o.overtaking = readBool(nh, "overtaking", o.overtaking);
+  o.overtake.car_length = o.vehicle.chassis.box_size.x();
+  o.overtake.car_width = o.vehicle.chassis.box_size.y();
+  o.overtake.follow_gap = o.follow_gap;
+  o.overtake.lateral_margin = readDouble(nh, "pass_lateral_margin", o.overtake.lateral_margin, 0.2, 5.0);
+  o.overtake.horizon = readDouble(nh, "pass_horizon", o.overtake.horizon, 1.0, 20.0);
   return o;
 }
 
@@ -114,6 +124,9 @@ class PlannerNode {
       planning::validate(trajectory);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
       trajectory_ = std::move(trajectory);
+      if (options_.overtaking) {
+        overtaker_ = std::make_unique<planning::OvertakePlanner>(track, trajectory_, limits, options_.overtake);
+      }
       for (auto& [name, car] : cars_) {
         car.hint = -1;
         car.located = false;
@@ -148,8 +161,26 @@ class PlannerNode {
     car.on_line = projection;
     car.speed = odom.twist.twist.linear.x;
     car.located = true;
-    planning::Trajectory local = planning::windowAround(trajectory_, projection.s, options_.window_behind, options_.window_ahead);
-    followCarAhead(name, car, &local);
+    planning::Trajectory local;
+    if (overtaker_) {
+      std::vector<planning::TrafficCar> traffic;
+      for (const auto& [other_name, other] : cars_) {
+        if (other.located) traffic.push_back({other_name, other.on_line.s, other.on_line.lateral, other.speed});
+      }
+      const planning::RaceDecision before = overtaker_->decision(name);
+      local = overtaker_->plan(name, projection.s, projection.lateral, car.speed, traffic, options_.window_behind,
+                               options_.window_ahead);
+      const planning::RaceDecision now = overtaker_->decision(name);
+      if (now.mode != before.mode || now.other != before.other || now.side != before.side) {
+        ROS_INFO("planner: %s: %s%s%s at t = %.2f s", name.c_str(), planning::raceModeName(now.mode),
+                 now.other.empty() ? "" : (" " + now.other).c_str(),
+                 now.mode == planning::RaceMode::kPass ? (now.side > 0 ? " on the left" : " on the right") : "",
+                 odom.header.stamp.toSec());
+      }
+    } else {
+      local = planning::windowAround(trajectory_, projection.s, options_.window_behind, options_.window_ahead);
+      followCarAhead(name, car, &local);
+    }
     roar_ros::Trajectory window = ros_bridge::toMessage(local, options_.frame, map_name_);
     window.header.stamp = odom.header.stamp;
     car.window_pub.publish(window);
@@ -162,6 +193,7 @@ class PlannerNode {
 
   PlannerNodeOptions options_;
   planning::Trajectory trajectory_;
+  std::unique_ptr<planning::OvertakePlanner> overtaker_;
   planning::VehicleLimits limits_;
   std::string map_name_;
   ros::Publisher line_pub_, path_pub_;

@@ -1,0 +1,95 @@
+#pragma once
+// Wheel-to-wheel racing on the racing line: each tick, a car's window ahead is chosen among candidate
+// trajectories that leave the racing line sideways (a smooth lateral shift, clamped inside the road) or
+// stay on it, each with the speed profile of its own path and the car's limits. Every other car is
+// predicted along the racing line at its speed, keeping its lateral place; a candidate is kept only while
+// the predicted gap to every car alongside or ahead stays above the cars' size plus a margin over the
+// horizon. The one that gets furthest in the horizon wins; a pass once committed keeps its side until it
+// is complete (the passed car behind), or aborts to following when its side closes. A car that has
+// another alongside holds its lateral place instead of moving back onto the line into it (racecraft:
+// leave a car's width).
+#include <map>
+#include <string>
+#include <vector>
+
+#include "roar/planning/trajectory.h"
+#include "roar/planning/vehicle_limits.h"
+#include "roar/track/track.h"
+
+namespace roar::planning {
+
+// Another car as the planner sees it, in the racing line's terms.
+struct TrafficCar {
+  std::string name;
+  double s = 0.0;        // m along the racing line
+  double lateral = 0.0;  // m left of the racing line
+  double speed = 0.0;    // m/s
+};
+
+struct OvertakeOptions {
+  double car_length = 4.7;           // m, every car's (bumper to bumper)
+  double car_width = 1.85;           // m
+  double lateral_margin = 0.9;       // m of air kept beside another car
+  double longitudinal_margin = 1.5;  // m kept to the car ahead or behind when beside it in the plan
+  double edge_margin = 1.0;          // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
+  double horizon = 6.0;              // s over which other cars are predicted and candidates compared
+  double shift_time = 1.5;           // s over which a lateral move is made (and undone) at the car's speed
+  double min_shift_length = 20.0;    // m, at least
+  double min_gain = 4.0;             // m further in the horizon a pass must get than following
+  double follow_gap = 12.0;          // m, centre to centre, kept behind a car followed
+  double sample_step = 2.0;          // m between the points checked against other cars
+};
+
+enum class RaceMode { kRacingLine, kFollow, kPass, kHold };
+const char* raceModeName(RaceMode mode);
+
+struct RaceDecision {
+  RaceMode mode = RaceMode::kRacingLine;
+  int side = 0;            // kPass: +1 left of the car passed, -1 right
+  std::string other;       // the car followed or passed
+  double offset = 0.0;     // m left of the racing line the plan goes to
+  double progress = 0.0;   // m the plan gets in the horizon
+  // The lateral move under way: from `ramp_from` metres at line s `ramp_s`, reaching `offset` a
+  // shift_length later. Kept from tick to tick, so that the move is made rather than restarted.
+  double ramp_s = 0.0;
+  double ramp_from = 0.0;
+};
+
+class OvertakePlanner {
+ public:
+  // line: the closed racing trajectory every car follows; track: its road (for the edges).
+  OvertakePlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, OvertakeOptions options);
+
+  // The window (behind .. ahead metres around s) for `car` at (s, lateral, speed) on the racing line,
+  // with the others of `traffic` (the car itself may be in it; it is skipped by name).
+  Trajectory plan(const std::string& car, double s, double lateral, double speed, const std::vector<TrafficCar>& traffic,
+                  double behind, double ahead);
+  // What the last plan for `car` chose.
+  RaceDecision decision(const std::string& car) const;
+  const Trajectory& line() const { return line_; }
+
+  // Room from the racing line to the left and right road edges at line s (m, both positive when inside).
+  double roomLeft(double s) const;
+  double roomRight(double s) const;
+
+ private:
+  struct Candidate {
+    Trajectory window;
+    RaceDecision decision;
+    bool clear = true;
+  };
+  // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
+  // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
+  Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to) const;
+  // Whether a plan keeps clear of every car alongside or ahead over the horizon; sets its progress.
+  bool clearOf(const Trajectory& plan, double s0, double lateral0, const std::vector<TrafficCar>& others,
+               double* progress) const;
+
+  Trajectory line_;
+  VehicleLimits limits_;
+  OvertakeOptions options_;
+  std::vector<double> room_s_, room_left_, room_right_;
+  std::map<std::string, RaceDecision> decisions_;
+};
+
+}  // namespace roar::planning

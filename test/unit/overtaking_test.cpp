@@ -1,0 +1,140 @@
+// The overtaking planner: passes a slower car on the side with room, keeps clear of it all the way,
+// rejoins the racing line, holds its place beside a car alongside, and stays on the line when nobody is
+// in the way. Closed loop: cars that drive their plans exactly (no physics), so that what is tested is the
+// decisions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roar/planning/overtaking.h"
+#include "roar/track/map_folder.h"
+#include "test_support.h"
+
+using namespace roar;
+using planning::RaceMode;
+
+namespace {
+
+struct Fixture {
+  track::Track track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
+  planning::VehicleLimits limits = planning::vehicleLimits(test::sedan(), track.info().friction, 0.85);
+  planning::Trajectory line = planning::planRacingTrajectory(track, limits, {});
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+// The longest stretch of the line without a slow corner: where a pass on a straight happens.
+double straightStart(const planning::Trajectory& line) {
+  double best_s = 0.0, best_speed = 0.0;
+  for (const auto& p : line.points) {
+    if (p.speed > best_speed) {
+      best_speed = p.speed;
+      best_s = p.s;
+    }
+  }
+  return best_s - 150.0;
+}
+
+double wrapAhead(double a, double b, double length) {
+  double d = a - b;
+  return d - std::floor(d / length + 0.5) * length;
+}
+
+}  // namespace
+
+TEST(Overtaking, NobodyInTheWayKeepsTheRacingLine) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = 100.0;
+  const auto plan = planner.plan("ego", s, 0.1, 20.0, {{"ego", s, 0.1, 20.0}}, 10.0, 250.0);
+  const auto line = planning::windowAround(f.line, s, 10.0, 250.0);
+  ASSERT_EQ(plan.points.size(), line.points.size());
+  for (std::size_t i = 0; i < plan.points.size(); ++i) {
+    EXPECT_EQ(plan.points[i].position, line.points[i].position);
+    EXPECT_EQ(plan.points[i].speed, line.points[i].speed);
+  }
+  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kRacingLine);
+  // A car well ahead at the line's own speed is no reason to leave it either.
+  const double v = planning::sampleAt(f.line, s + 60.0).speed;
+  planner.plan("ego", s, 0.0, v, {{"rival", s + 60.0, 0.0, v}}, 10.0, 250.0);
+  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kRacingLine);
+}
+
+TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  const planning::TrafficCar slow{"slow", s + 25.0, 0.0, 0.6 * v};
+  const auto plan = planner.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+  const auto decision = planner.decision("ego");
+  ASSERT_EQ(decision.mode, RaceMode::kPass) << planning::raceModeName(decision.mode);
+  EXPECT_EQ(decision.other, "slow");
+  const planning::OvertakeOptions o;
+  const double half = 0.5 * o.car_width;
+  for (const auto& p : plan.points) {
+    const double shift = p.offset - planning::sampleAt(f.line, p.s).offset;
+    EXPECT_LE(shift, planner.roomLeft(p.s) - half + 1e-6) << "inside the left edge at s = " << p.s;
+    EXPECT_GE(shift, -(planner.roomRight(p.s) - half) - 1e-6) << "inside the right edge at s = " << p.s;
+  }
+  // Where the pass happens (the slow car reached in about 3 s), the plan is a car's width and the margin aside.
+  const auto at = planning::sampleAt(plan, s + 80.0);
+  EXPECT_GE(std::abs(at.offset - planning::sampleAt(f.line, s + 80.0).offset), o.car_width + o.lateral_margin - 1e-6);
+}
+
+TEST(Overtaking, ACarAlongsideIsNotSqueezed) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  // We are 3 m to the roomier side of the line; a car is on the line beside us: moving back onto the line
+  // would hit it.
+  const double side = planner.roomLeft(s) > planner.roomRight(s) ? 1.0 : -1.0;
+  const auto plan = planner.plan("ego", s, side * 3.0, v, {{"beside", s + 1.0, 0.0, v}}, 10.0, 250.0);
+  const auto decision = planner.decision("ego");
+  EXPECT_NE(decision.mode, RaceMode::kRacingLine) << "not back onto the line into the car beside";
+  for (double ahead : {5.0, 10.0, 20.0}) {
+    const double shift = planning::sampleAt(plan, s + ahead).offset - planning::sampleAt(f.line, s + ahead).offset;
+    const double room = side > 0 ? planner.roomLeft(s + ahead) : planner.roomRight(s + ahead);
+    EXPECT_GE(side * shift, std::min(3.0, room - 0.5 * 1.85 - 1.0) - 1e-6) << "holds its place " << ahead << " m on";
+  }
+}
+
+// Two cars that drive their plans exactly: the fast one catches the slow one (60 % of the line's speed)
+// and must pass it, never closer than the cars' size, and be back on the line afterwards.
+TEST(Overtaking, InClosedLoopTheFastCarPassesCleanlyAndRejoinsTheLine) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const double L = f.line.length;
+  double fast_s = 10.0, fast_lat = 0.0, fast_v = 10.0;
+  double slow_s = 70.0;
+  int passes = 0;
+  double closest = 1e9, passed_at = -1.0;
+  const double dt = 0.05;
+  for (double t = 0.0; t < 120.0; t += dt) {
+    const double slow_v = 0.6 * planning::sampleAt(f.line, slow_s).speed;
+    const std::vector<planning::TrafficCar> traffic{{"fast", fast_s, fast_lat, fast_v}, {"slow", slow_s, 0.0, slow_v}};
+    const auto plan = planner.plan("fast", fast_s, fast_lat, fast_v, traffic, 10.0, 250.0);
+    if (planner.decision("fast").mode == RaceMode::kPass) ++passes;
+    // Drive the plan: its speed at the car, its lateral place a step ahead.
+    const auto here = planning::sampleAt(plan, fast_s);
+    fast_v = std::min(here.speed, fast_v + 8.0 * dt);
+    fast_s += fast_v * dt;
+    const auto next = planning::sampleAt(plan, fast_s);
+    fast_lat = next.offset - planning::sampleAt(f.line, fast_s).offset;
+    slow_s += slow_v * dt;
+    const double gap = wrapAhead(slow_s, fast_s, L);
+    if (std::abs(gap) < o.car_length) closest = std::min(closest, std::abs(fast_lat));
+    if (passed_at < 0 && gap < -(o.car_length + o.longitudinal_margin)) passed_at = t;
+    if (passed_at >= 0 && t > passed_at + 15.0) break;
+  }
+  ASSERT_GT(passed_at, 0.0) << "the fast car got by";
+  EXPECT_GT(passes, 0);
+  EXPECT_GE(closest, o.car_width + 0.3) << "side by side, the cars were never closer than a car's width and air";
+  EXPECT_LT(std::abs(fast_lat), 0.6) << "back on the racing line after the pass";
+  EXPECT_EQ(planner.decision("fast").mode, RaceMode::kRacingLine);
+}
