@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""Steps per second of roar_rl.VectorEnv from Python, against the C++ VectorEnv (roar_bench's RlEnvSteps,
+run here in the same session) and against N single-thread processes, for 1..N threads: the environment
+roar_bench times (Roar Sprint, config/rl/state.yaml, or that plus an 84x84 RGB camera; the car chases the
+waypoint 10 m ahead; one environment on one thread, two a thread beyond).
+
+    /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N]
+"""
+import argparse
+import multiprocessing
+import os
+import re
+import subprocess
+import tempfile
+import time
+
+import numpy as np
+
+import roar_rl
+from roar_rl.vector_env import ROOT
+
+
+def options_file(camera: bool) -> str:
+    text = (ROOT / "config" / "rl" / "state.yaml").read_text()
+    if not camera:
+        return str(ROOT / "config" / "rl" / "state.yaml")
+    text = text.replace("  waypoint_distances:", "  camera: {width: 84, height: 84, rgb: true}\n  waypoint_distances:")
+    handle = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
+    handle.write(text)
+    handle.close()
+    return handle.name
+
+
+def chase(obs, action):
+    """roar_bench's chase action, written into `action` (arrays made once, as an agent's would be)."""
+    wp = obs["waypoints_information"]["waypoint_10"]
+    np.arctan2(wp[:, 1:2], wp[:, 0:1], out=action["steer"])
+    np.clip(1.5 * action["steer"], -1, 1, out=action["steer"])
+    return action
+
+
+def zero_action(n):
+    return {"throttle": np.full((n, 1), 0.6), "steer": np.zeros((n, 1)), "brake": np.zeros((n, 1)),
+            "hand_brake": np.zeros((n, 1)), "reverse": np.zeros((n, 1))}
+
+
+def python_rate(options: str, num_envs: int, threads: int, seconds: float) -> float:
+    envs = roar_rl.VectorEnv("roar_sprint", options, num_envs=num_envs, num_threads=threads)
+    obs, _ = envs.reset(seed=1)
+    action = zero_action(num_envs)
+    for _ in range(20):
+        obs, *_ = envs.step(chase(obs, action))
+    steps, started = 0, time.perf_counter()
+    while time.perf_counter() - started < seconds:
+        obs, *_ = envs.step(chase(obs, action))
+        steps += 1
+    return steps * num_envs / (time.perf_counter() - started)
+
+
+def cpp_rate(camera: bool, threads: int, seconds: float) -> float:
+    done = subprocess.run([str(ROOT / "devel" / "lib" / "roar_ros" / "roar_bench"),
+                           f"--benchmark_filter=RlEnvSteps/camera:{int(camera)}/threads:{threads}/",
+                           f"--benchmark_min_time={seconds}"], capture_output=True, text=True, check=True)
+    match = re.search(r"steps_per_s=([0-9.]+)(k?)/s", done.stdout)
+    if not match:
+        raise RuntimeError("roar_bench printed no RlEnvSteps figure:\n" + done.stdout[-2000:])
+    return float(match.group(1)) * (1000.0 if match.group(2) else 1.0)
+
+
+def one_process(args):
+    options, num_envs, seconds, queue = args
+    queue.put(python_rate(options, num_envs, 1, seconds))
+
+
+def processes_rate(options: str, count: int, num_envs: int, seconds: float) -> float:
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.Queue()
+    procs = [ctx.Process(target=one_process, args=((options, num_envs, seconds, queue),)) for _ in range(count)]
+    for p in procs:
+        p.start()
+    total = sum(queue.get() for _ in procs)
+    for p in procs:
+        p.join()
+    return total
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description="roar_rl.VectorEnv steps/s from Python")
+    parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--max-threads", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args()
+    for camera in (False, True):
+        options = options_file(camera)
+        name = "camera" if camera else "state"
+        for threads in range(1, args.max_threads + 1):
+            envs = 1 if threads == 1 else 2 * threads
+            cpp = cpp_rate(camera, threads, args.seconds)
+            py = python_rate(options, envs, threads, args.seconds)
+            procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
+            print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
+                  f"({py / cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py / procs:4.2f})",
+                  flush=True)

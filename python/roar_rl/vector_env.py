@@ -1,0 +1,110 @@
+"""Gymnasium's vector API over the C++ VectorEnv (roar_rl_core)."""
+import os
+import typing
+from pathlib import Path
+
+import numpy as np
+
+from roar_py_interface import spaces
+
+import roar_rl_core as _core
+
+ROOT = Path(__file__).resolve().parents[2]  # the roar_ros package: python/roar_rl/vector_env.py in it
+
+
+def available_maps() -> typing.List[str]:
+    return sorted(p.name for p in (ROOT / "maps").iterdir() if (p / "track.yaml").exists())
+
+
+def available_env_options() -> typing.List[str]:
+    return sorted(p.stem for p in (ROOT / "config" / "rl").glob("*.yaml"))
+
+
+def _map_folder(map_name: str) -> str:
+    if os.path.isdir(map_name):
+        return map_name
+    folder = ROOT / "maps" / map_name
+    if not (folder / "track.yaml").exists():
+        raise ValueError(f"VectorEnv: map_name '{map_name}' is neither a map folder nor one of {available_maps()}")
+    return str(folder)
+
+
+def _options_path(env_options: str) -> str:
+    if os.path.isfile(env_options):
+        return env_options
+    path = ROOT / "config" / "rl" / f"{env_options}.yaml"
+    if not path.exists():
+        raise ValueError(f"VectorEnv: env_options '{env_options}' is neither a file nor one of {available_env_options()}")
+    return str(path)
+
+
+def space_of(description: dict) -> spaces.Space:
+    """A space from the C++ side's description of it."""
+    kind = description["kind"]
+    if kind == "Dict":
+        return spaces.Dict({k: space_of(v) for k, v in description["spaces"].items()})
+    if kind == "Discrete":
+        return spaces.Discrete(int(description["n"]), start=int(description["start"]))
+    if kind == "MultiBinary":
+        return spaces.MultiBinary(int(description["shape"][0]))
+    shape = tuple(description["shape"])
+    low = np.asarray(description["low"], dtype=np.float64).reshape(shape)
+    high = np.asarray(description["high"], dtype=np.float64).reshape(shape)
+    return spaces.Box(low=low, high=high, shape=shape, dtype=np.dtype(description["dtype"]))
+
+
+def batch_space(space: spaces.Space, n: int) -> spaces.Space:
+    """gymnasium.vector.utils.batch_space for Box, MultiBinary and Dict (Discrete as an int64 Box)."""
+    if isinstance(space, spaces.Dict):
+        return spaces.Dict({k: batch_space(s, n) for k, s in space.spaces.items()})
+    if isinstance(space, spaces.Discrete):
+        return spaces.Box(low=int(space.start), high=int(space.start + space.n - 1), shape=(n,), dtype=np.int64)
+    if isinstance(space, spaces.MultiBinary):
+        return spaces.MultiBinary((n,) + tuple(space.shape))
+    return spaces.Box(low=np.broadcast_to(space.low, (n,) + space.shape), high=np.broadcast_to(space.high, (n,) + space.shape),
+                      shape=(n,) + space.shape, dtype=space.dtype)
+
+
+class VectorEnv:
+    """num_envs racing environments of one map, options (a name in config/rl or a YAML path) and car model,
+    stepped on num_threads threads (the calling one included) with the GIL released.
+
+    Gymnasium's vector API: reset(seed) -> (observations, infos); step(actions) -> (observations, rewards,
+    terminations, truncations, infos). Observations, rewards and infos are NumPy arrays with a leading
+    environment axis, written in place: they are overwritten by the next step (copy what you keep). An
+    environment whose episode ended starts its next at once (autoreset): its row then holds the new
+    episode's first observation, infos["final_observation"] the last one of the ended episode (same layout,
+    valid where infos["_final_observation"] is True). Environment i is reset with seed + i."""
+
+    def __init__(self, map_name: str = "roar_sprint", env_options: str = "state", num_envs: int = 4,
+                 num_threads: typing.Optional[int] = None, model: str = "sedan", seed: int = 0):
+        threads = num_threads if num_threads is not None else min(num_envs, os.cpu_count() or 1)
+        self._core = _core.VectorEnv(_map_folder(map_name), _options_path(env_options), model, str(ROOT / "urdf"),
+                                     str(ROOT / "config" / "vehicles"), int(num_envs), int(threads))
+        self.num_envs = self._core.num_envs
+        self.num_threads = threads
+        self.single_action_space = space_of(self._core.action_space())
+        self.single_observation_space = space_of(self._core.observation_space())
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self._seed = int(seed)
+        self._started = False
+        self.closed = False
+
+    def reset(self, seed: typing.Optional[int] = None, options: typing.Optional[dict] = None):
+        if seed is not None:
+            self._seed = int(seed)
+        observations, infos = self._core.reset(self._seed)
+        self._started = True
+        return observations, infos
+
+    def step(self, actions):
+        if not self._started:
+            raise RuntimeError("VectorEnv.step before reset")
+        observations, rewards, terminations, truncations, infos, final, mask = self._core.step(actions)
+        infos["final_observation"] = final  # infos is the module's own dict, filled in place like the arrays
+        infos["_final_observation"] = mask
+        return observations, rewards, terminations, truncations, infos
+
+    def close(self):
+        self.closed = True

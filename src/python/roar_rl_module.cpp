@@ -1,0 +1,305 @@
+// roar_rl_core: the C++ vectorised racing environment (rl::VectorEnv) for Python. Observations and infos
+// come back as NumPy arrays with a leading environment axis, written in place into buffers this object
+// owns (a Dict observation is a dict of batched arrays); actions go in the same way. The GIL is released
+// while the environments step. The Python side (python/roar_rl) adds Gymnasium's vector API and spaces.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "roar/rl/env_options.h"
+#include "roar/rl/vector_env.h"
+#include "roar/sim/vehicle_config.h"
+#include "roar/track/map_folder.h"
+
+namespace py = pybind11;
+using namespace roar;
+
+namespace {
+
+const char* kindName(rl::Space::Kind kind) {
+  switch (kind) {
+    case rl::Space::Kind::kBox: return "Box";
+    case rl::Space::Kind::kDiscrete: return "Discrete";
+    case rl::Space::Kind::kMultiBinary: return "MultiBinary";
+    case rl::Space::Kind::kDict: return "Dict";
+  }
+  return "?";
+}
+
+py::dict describe(const rl::Space& space) {
+  py::dict d;
+  d["kind"] = kindName(space.kind);
+  if (space.kind == rl::Space::Kind::kDict) {
+    py::dict entries;
+    for (std::size_t i = 0; i < space.keys.size(); ++i) entries[py::str(space.keys[i])] = describe(space.entries[i]);
+    d["spaces"] = entries;
+    return d;
+  }
+  d["shape"] = py::tuple(py::cast(space.shape));
+  d["low"] = space.low;
+  d["high"] = space.high;
+  d["dtype"] = rl::dtypeName(space.dtype);
+  d["n"] = space.n;
+  d["start"] = space.start;
+  return d;
+}
+
+// Where a leaf of a (possibly Dict) space lives in a Value and in the batched buffers.
+struct Leaf {
+  std::vector<std::string> path;  // keys from the root
+  const rl::Space* space;
+  std::size_t elements;
+};
+
+void leavesOf(const rl::Space& space, std::vector<std::string> path, std::vector<Leaf>* out) {
+  if (space.kind == rl::Space::Kind::kDict) {
+    for (std::size_t i = 0; i < space.keys.size(); ++i) {
+      auto p = path;
+      p.push_back(space.keys[i]);
+      leavesOf(space.entries[i], p, out);
+    }
+    return;
+  }
+  out->push_back({path, &space, space.elements()});
+}
+
+const rl::Value& valueAt(const rl::Value& root, const Leaf& leaf) {
+  const rl::Value* v = &root;
+  for (const auto& key : leaf.path) v = &v->at(key);
+  return *v;
+}
+
+rl::Value& valueAt(rl::Value& root, const Leaf& leaf) {
+  rl::Value* v = &root;
+  for (const auto& key : leaf.path) v = &v->at(key);
+  return *v;
+}
+
+py::dtype dtypeOf(const rl::Space& space) {
+  if (space.kind == rl::Space::Kind::kDiscrete) return py::dtype::of<std::int64_t>();
+  if (space.kind == rl::Space::Kind::kMultiBinary) return py::dtype::of<std::int8_t>();
+  switch (space.dtype) {
+    case rl::DType::kFloat32: return py::dtype::of<float>();
+    case rl::DType::kFloat64: return py::dtype::of<double>();
+    case rl::DType::kInt64: return py::dtype::of<std::int64_t>();
+    case rl::DType::kUInt8: return py::dtype::of<std::uint8_t>();
+  }
+  return py::dtype::of<float>();
+}
+
+template <class T>
+void writeRow(char* base, std::size_t row, const std::vector<double>& numbers) {
+  T* data = reinterpret_cast<T*>(base) + row * numbers.size();
+  for (std::size_t k = 0; k < numbers.size(); ++k) data[k] = static_cast<T>(numbers[k]);
+}
+
+// Batched arrays, one per leaf, and the dict (or single array) Python sees. The arrays' memory and element
+// types are taken once: the hot path makes no Python call.
+struct Batch {
+  enum class Element { kFloat32, kFloat64, kUInt8, kInt8, kInt64 };
+  std::vector<Leaf> leaves;
+  std::vector<py::array> arrays;
+  std::vector<char*> data;
+  std::vector<Element> elements;
+  py::object view;  // a dict of the arrays (nested as the space), or the one array
+
+  Batch(const rl::Space& space, std::size_t n) {
+    leavesOf(space, {}, &leaves);
+    for (const auto& leaf : leaves) {
+      std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)};
+      for (int d : leaf.space->shape) shape.push_back(d);
+      arrays.emplace_back(dtypeOf(*leaf.space), shape);
+      data.push_back(static_cast<char*>(arrays.back().mutable_data()));
+      const auto kind = arrays.back().dtype().kind();
+      const auto size = arrays.back().dtype().itemsize();
+      elements.push_back(kind == 'f' ? (size == 4 ? Element::kFloat32 : Element::kFloat64)
+                         : kind == 'u' ? Element::kUInt8
+                         : size == 1   ? Element::kInt8
+                                       : Element::kInt64);
+    }
+    if (space.kind != rl::Space::Kind::kDict) {
+      view = arrays.front();
+      return;
+    }
+    py::dict root;
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+      py::dict node = root;
+      for (std::size_t k = 0; k + 1 < leaves[i].path.size(); ++k) {
+        py::str key(leaves[i].path[k]);
+        if (!node.contains(key)) node[key] = py::dict();
+        node = node[key].cast<py::dict>();
+      }
+      node[py::str(leaves[i].path.back())] = arrays[i];
+    }
+    view = root;
+  }
+
+  void write(std::size_t row, const rl::Value& value) {
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+      const auto& numbers = valueAt(value, leaves[i]).numbers;
+      if (numbers.size() != leaves[i].elements) throw std::logic_error("an observation does not fit its space");
+      switch (elements[i]) {
+        case Element::kFloat32: writeRow<float>(data[i], row, numbers); break;
+        case Element::kFloat64: writeRow<double>(data[i], row, numbers); break;
+        case Element::kUInt8: writeRow<std::uint8_t>(data[i], row, numbers); break;
+        case Element::kInt8: writeRow<std::int8_t>(data[i], row, numbers); break;
+        case Element::kInt64: writeRow<std::int64_t>(data[i], row, numbers); break;
+      }
+    }
+  }
+};
+
+// The info of every environment: one array per field.
+struct Infos {
+  static constexpr const char* kFields[] = {"progress", "track_s", "lateral", "speed", "collision_impulse",
+                                            "collided", "off_track", "stalled", "wrong_way", "laps",
+                                            "last_lap_time", "episode_time", "episode_steps", "episode_return"};
+  static constexpr std::size_t kCount = sizeof(kFields) / sizeof(kFields[0]);
+  std::vector<py::array_t<double>> arrays;
+  std::vector<double*> data;
+  py::dict view;
+
+  explicit Infos(std::size_t n) {
+    for (const char* field : kFields) {
+      arrays.emplace_back(static_cast<py::ssize_t>(n));
+      data.push_back(arrays.back().mutable_data());
+      view[field] = arrays.back();
+    }
+  }
+  void write(std::size_t row, const rl::StepInfo& i) {
+    const double values[kCount] = {i.progress, i.track_s, i.lateral, i.speed, i.collision_impulse,
+                                   double(i.collided), double(i.off_track), double(i.stalled), double(i.wrong_way),
+                                   double(i.laps), i.last_lap_time, i.episode_time, double(i.episode_steps),
+                                   i.episode_return};
+    for (std::size_t k = 0; k < kCount; ++k) data[k][row] = values[k];
+  }
+};
+
+class PyVectorEnv {
+ public:
+  PyVectorEnv(const std::string& map_folder, const std::string& options_path, const std::string& model,
+              const std::string& urdf_dir, const std::string& vehicle_dir, int num_envs, int num_threads) {
+    if (num_envs < 1 || num_envs > 4096) throw py::value_error("num_envs must be in [1, 4096], got " + std::to_string(num_envs));
+    if (num_threads < 1 || num_threads > 1024) throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
+    const track::Track track = track::loadMapFolder(map_folder);
+    const sim::VehicleParams car = sim::loadVehicleModel(model, urdf_dir, vehicle_dir);
+    const rl::EnvOptions options = rl::readEnvOptions(options_path);
+    std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+    for (int i = 0; i < num_envs; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, options));
+    env_ = std::make_unique<rl::VectorEnv>(std::move(envs), num_threads);
+    const std::size_t n = env_->size();
+    observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
+    final_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
+    infos_ = std::make_unique<Infos>(n);
+    rewards_ = py::array_t<double>(static_cast<py::ssize_t>(n));
+    terminations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
+    truncations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
+    final_mask_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
+    leavesOf(env_->actionSpace(), {}, &action_leaves_);
+    actions_ = std::vector<rl::Value>(n, rl::zeros(env_->actionSpace()));
+    // Each action leaf's Value, found once (the action trees keep their shape from step to step).
+    for (std::size_t i = 0; i < n; ++i) {
+      for (const auto& leaf : action_leaves_) {
+        action_values_.push_back(env_->actionSpace().kind == rl::Space::Kind::kDict ? &valueAt(actions_[i], leaf)
+                                                                                    : &actions_[i]);
+      }
+    }
+  }
+
+  std::size_t numEnvs() const { return env_->size(); }
+  py::dict actionSpace() const { return describe(env_->actionSpace()); }
+  py::dict observationSpace() const { return describe(env_->observationSpace()); }
+
+  py::tuple reset(std::uint64_t seed) {
+    std::vector<rl::ResetResult> results;
+    {
+      py::gil_scoped_release released;
+      results = env_->reset(seed);
+    }
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      observations_->write(i, results[i].observation);
+      infos_->write(i, results[i].info);
+    }
+    return py::make_tuple(observations_->view, infos_->view);
+  }
+
+  py::tuple step(const py::object& actions) {
+    const std::size_t n = env_->size();
+    for (const auto& leaf : action_leaves_) {
+      py::object entry = actions;
+      std::string where = "actions";
+      for (const auto& key : leaf.path) {
+        where += "['" + key + "']";
+        if (!py::isinstance<py::dict>(entry) || !entry.cast<py::dict>().contains(key)) {
+          throw py::key_error(where + " is missing: an action is a dict of arrays with a leading axis of " +
+                              std::to_string(n) + " environments");
+        }
+        entry = entry.cast<py::dict>()[py::str(key)];
+      }
+      const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(entry);
+      if (!array || static_cast<std::size_t>(array.size()) != n * leaf.elements) {
+        throw py::value_error(where + " must hold " + std::to_string(n) + " x " + std::to_string(leaf.elements) +
+                              " numbers (one row per environment)");
+      }
+      const double* data = array.data();
+      const std::size_t l = static_cast<std::size_t>(&leaf - action_leaves_.data());
+      for (std::size_t i = 0; i < n; ++i) {
+        action_values_[i * action_leaves_.size() + l]->numbers.assign(data + i * leaf.elements,
+                                                                      data + (i + 1) * leaf.elements);
+      }
+    }
+    // VectorEnv::step checks every action first (naming actions[i] and the field) and steps nothing then.
+    const rl::VectorStepResult* result = nullptr;
+    {
+      py::gil_scoped_release released;
+      result = &env_->step(actions_);
+    }
+    auto rewards = rewards_.mutable_unchecked<1>();
+    auto terminated = terminations_.mutable_unchecked<1>();
+    auto truncated = truncations_.mutable_unchecked<1>();
+    auto final_mask = final_mask_.mutable_unchecked<1>();
+    for (std::size_t i = 0; i < n; ++i) {
+      const rl::StepResult& r = result->steps[i];
+      observations_->write(i, r.observation);
+      infos_->write(i, r.info);
+      rewards(i) = r.reward;
+      terminated(i) = r.terminated;
+      truncated(i) = r.truncated;
+      final_mask(i) = result->final_observations[i].has_value();
+      if (final_mask(i)) final_observations_->write(i, *result->final_observations[i]);
+    }
+    return py::make_tuple(observations_->view, rewards_, terminations_, truncations_, infos_->view,
+                          final_observations_->view, final_mask_);
+  }
+
+ private:
+  std::unique_ptr<rl::VectorEnv> env_;
+  std::unique_ptr<Batch> observations_, final_observations_;
+  std::unique_ptr<Infos> infos_;
+  py::array_t<double> rewards_;
+  py::array_t<bool> terminations_, truncations_, final_mask_;
+  std::vector<Leaf> action_leaves_;
+  std::vector<rl::Value> actions_;
+  std::vector<rl::Value*> action_values_;  // env-major, one per action leaf
+};
+
+}  // namespace
+
+PYBIND11_MODULE(roar_rl_core, m) {
+  m.doc() = "roar_rl's C++ vectorised racing environment (use roar_rl.VectorEnv)";
+  py::register_exception<rl::SpaceError>(m, "SpaceError", PyExc_ValueError);
+  py::class_<PyVectorEnv>(m, "VectorEnv")
+      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, const std::string&,
+                    int, int>(),
+           py::arg("map_folder"), py::arg("options_path"), py::arg("model"), py::arg("urdf_dir"),
+           py::arg("vehicle_dir"), py::arg("num_envs"), py::arg("num_threads"))
+      .def_property_readonly("num_envs", &PyVectorEnv::numEnvs)
+      .def("action_space", &PyVectorEnv::actionSpace)
+      .def("observation_space", &PyVectorEnv::observationSpace)
+      .def("reset", &PyVectorEnv::reset, py::arg("seed"))
+      .def("step", &PyVectorEnv::step, py::arg("actions"));
+}

@@ -1,0 +1,114 @@
+"""roar_rl: the C++ vectorised racing environment from Python (no ROS): spaces, determinism, autoreset,
+refused actions."""
+import numpy as np
+import pytest
+
+import roar_rl
+
+
+@pytest.fixture(scope="module")
+def envs():
+    return roar_rl.VectorEnv("roar_sprint", "state", num_envs=4, num_threads=2)
+
+
+def row(tree, i):
+    return {k: row(v, i) for k, v in tree.items()} if isinstance(tree, dict) else np.array(tree[i])
+
+
+def copy(tree):
+    return {k: copy(v) for k, v in tree.items()} if isinstance(tree, dict) else np.array(tree)
+
+
+def flat(tree, prefix=""):
+    if isinstance(tree, dict):
+        out = {}
+        for k, v in tree.items():
+            out.update(flat(v, prefix + "/" + k))
+        return out
+    return {prefix: tree}
+
+
+def full_throttle(n, steer=0.0):
+    return {"throttle": np.ones((n, 1)), "steer": np.full((n, 1), steer), "brake": np.zeros((n, 1)),
+            "hand_brake": np.zeros((n, 1)), "reverse": np.zeros((n, 1), np.int8)}
+
+
+def test_spaces_and_shapes(envs):
+    assert envs.num_envs == 4
+    assert list(envs.single_action_space.keys()) == ["brake", "hand_brake", "reverse", "steer", "throttle"]
+    assert envs.single_action_space["steer"].low.tolist() == [-1.0]
+    obs, infos = envs.reset(seed=3)
+    for i in range(4):
+        assert envs.single_observation_space.contains(row(obs, i)), f"environment {i}'s observation"
+    assert envs.observation_space.contains(obs)
+    assert infos["speed"].shape == (4,) and np.all(infos["episode_steps"] == 0)
+    sample = envs.action_space.sample()
+    obs, rewards, terminations, truncations, infos = envs.step(sample)
+    assert rewards.shape == (4,) and terminations.dtype == bool and truncations.shape == (4,)
+    assert envs.observation_space.contains(obs)
+    assert "final_observation" in infos and infos["_final_observation"].shape == (4,)
+
+
+def test_the_same_seed_gives_the_same_episodes_on_any_number_of_threads():
+    def run(num_envs, threads):
+        env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=num_envs, num_threads=threads)
+        obs, _ = env.reset(seed=11)
+        history = [copy(obs)]
+        for k in range(60):
+            obs, rewards, *_ = env.step(full_throttle(num_envs, steer=0.2 * np.sin(0.1 * k)))
+            history.append((copy(obs), np.array(rewards)))
+        return history
+
+    one = run(1, 1)
+    four = run(4, 2)
+    again = run(4, 2)
+    for a, b, c in zip(one[1:], four[1:], again[1:]):
+        fa, fb, fc = flat(a[0]), flat(b[0]), flat(c[0])
+        assert len(fa) == 9
+        for key in fa:
+            assert np.array_equal(fa[key][0], fb[key][0]), "environment 0 of four is the single environment"
+            assert np.array_equal(fb[key], fc[key]), "bit for bit, run to run"
+        assert a[1][0] == b[1][0] and np.array_equal(b[1], c[1])
+
+
+def test_autoreset_keeps_the_final_observation():
+    env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=2, num_threads=1)
+    env.reset(seed=5)
+    ended = None
+    for _ in range(600):  # full throttle and full lock: into the barrier or off the track
+        obs, rewards, terminations, truncations, infos = env.step(full_throttle(2, steer=1.0))
+        if terminations[0] or truncations[0]:
+            ended = (copy(obs), copy(infos))
+            break
+    assert ended is not None, "the episode ended"
+    obs, infos = ended
+    assert infos["_final_observation"][0]
+    assert infos["episode_steps"][0] > 10, "the info is the ended episode's (Gymnasium's)"
+    assert obs["speed"][0, 0] < 0.5, "the row holds the new episode's first observation: the car at rest"
+    final = row(infos["final_observation"], 0)
+    assert final["speed"][0] > obs["speed"][0, 0] + 1.0, "the final observation is the old episode's, still moving"
+    assert env.single_observation_space.contains(final)
+
+
+def test_bad_actions_and_arguments_are_named(envs):
+    envs.reset(seed=1)
+    bad = full_throttle(4)
+    bad["steer"][2, 0] = 1.5
+    with pytest.raises(ValueError, match=r"actions\[2\]\['steer'\]\[0\] = 1.5 is outside"):
+        envs.step(bad)
+    missing = full_throttle(4)
+    del missing["brake"]
+    with pytest.raises(KeyError, match=r"actions\['brake'\] is missing"):
+        envs.step(missing)
+    with pytest.raises(ValueError, match=r"actions\['throttle'\] must hold 4 x 1 numbers"):
+        envs.step({**full_throttle(4), "throttle": np.ones((3, 1))})
+    nan = full_throttle(4)
+    nan["throttle"][0, 0] = np.nan
+    with pytest.raises(ValueError, match=r"actions\[0\]\['throttle'\]"):
+        envs.step(nan)
+    with pytest.raises(ValueError, match="roar_sprint"):
+        roar_rl.VectorEnv("no_such_map", "state", num_envs=1)
+    with pytest.raises(ValueError, match="state"):
+        roar_rl.VectorEnv("roar_sprint", "no_such_options", num_envs=1)
+    with pytest.raises(ValueError, match="num_envs"):
+        roar_rl.VectorEnv("roar_sprint", "state", num_envs=0)
