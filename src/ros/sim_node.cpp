@@ -220,6 +220,23 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
   if (applied) {
     it->second.last_control_stamp = msg->header.stamp;
     it->second.control_seen = true;
+    if (it->second.driver_lost) {
+      it->second.driver_lost = false;
+      ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(), world_->time());
+    }
+  }
+}
+
+void SimNode::markLostDrivers() {
+  const ros::Time now = toRosTime(world_->time());
+  for (auto& [name, io] : io_) {
+    if (io.driver_lost || io.control.getNumPublishers() == 0) continue;
+    if (io.control_seen && io.last_control_stamp >= now) continue;
+    io.driver_lost = true;
+    // Once per loss, naming the car: a dead driver must not stall the race, nor pass unnoticed.
+    ROS_WARN("roar_sim: no control from %s's driver for t = %.2f s within %.1f s of wall time: taken as lost, "
+             "lockstep goes on without waiting for it and the car is brought to a stop on the road",
+             name.c_str(), world_->time(), options_.lockstep_timeout);
   }
 }
 
@@ -305,8 +322,9 @@ roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
 bool SimNode::controlsArrived() const {
   const ros::Time now = toRosTime(world_->time());
   for (const auto& [name, io] : io_) {
-    // Only drivers that are connected are waited for; a car nobody drives stays parked.
-    if (io.control.getNumPublishers() == 0) continue;
+    // Only drivers that are connected are waited for (a car nobody drives stays parked), and not one taken
+    // as lost (a killed driver's publisher can stay registered for a long time).
+    if (io.control.getNumPublishers() == 0 || io.driver_lost) continue;
     if (!io.control_seen || io.last_control_stamp < now) return false;
   }
   return true;
@@ -430,10 +448,7 @@ void SimNode::run() {
         queue->callAvailable(ros::WallDuration(0.001));
         const bool timed_out = (ros::WallTime::now() - waiting_since).toSec() > options_.lockstep_timeout;
         if (controlsArrived() || timed_out) {
-          if (timed_out) {
-            ROS_WARN_THROTTLE(5.0, "roar_sim: no control for t=%.2f s within %.1f s of wall time; stepping without it",
-                              world_->time(), options_.lockstep_timeout);
-          }
+          if (timed_out) markLostDrivers();
           tick();
           waiting_since = ros::WallTime::now();
           paceToRealTime();

@@ -60,6 +60,7 @@ class SimNode {
     ros::Subscriber control;
     ros::Time last_control_stamp{0, 0};
     bool control_seen = false;
+    bool driver_lost = false;  // lockstep: no control within lockstep_timeout; not waited for until one comes
     int scene_id = -1;
     std::unique_ptr<VehicleSensors> sensors;
     std::unique_ptr<AgentInterface> agent;  // when an RL agent drives the car
@@ -72,6 +73,8 @@ class SimNode {
                   const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1), const std::string& agent_env = "",
                   int spawn_point = -1);
   void removeVehicle(const std::string& name);
+  // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
+  void markLostDrivers();
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
   // Builds the world of a map folder (every car gone), from the current tick and time on, and tells

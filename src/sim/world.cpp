@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "roar/sim/safe_stop.h"
 #include "roar/track/road_mesh.h"
 #include "surface.h"
 #include "vehicle_dynamics.h"
@@ -309,7 +310,12 @@ void World::step(const std::function<void(double)>& after_substep) {
   const double dt = w.options.physics_dt;
   for (auto& [name, slot] : w.vehicles) {
     const bool stale = w.options.control_timeout > 0 && time() - slot.last_control_time > w.options.control_timeout;
-    if (!slot.has_control || stale) slot.dynamics->setControl(parkedControl());
+    // A car nobody has driven stays parked; one whose driver fell silent is brought to a stop on the road.
+    if (!slot.has_control) {
+      slot.dynamics->setControl(parkedControl());
+    } else if (stale) {
+      slot.dynamics->setControl(safeStopControl(w.track, slot.dynamics->state(), slot.dynamics->params()));
+    }
     slot.tick_contacts.clear();
   }
   for (int k = 0; k < w.substeps; ++k) {

@@ -144,7 +144,35 @@ TEST(World, StaleControlBrakesTheCar) {
   EXPECT_EQ(world.vehicleState("ego").applied_control.throttle, 1.0);
   world.step();
   EXPECT_EQ(world.vehicleState("ego").applied_control.throttle, 0.0) << "driver silent for longer than the timeout";
-  EXPECT_EQ(world.vehicleState("ego").applied_control.brake, 1.0);
+  EXPECT_GT(world.vehicleState("ego").applied_control.brake, 0.2);
+  EXPECT_FALSE(world.vehicleState("ego").applied_control.hand_brake) << "no locked wheels at speed";
+}
+
+// A driver that falls silent in a corner at speed: the car brakes steadily along the road, stays on it,
+// and parks once stopped (the old fail-safe, full brakes and the hand brake, spun cars into the barrier).
+TEST(World, ACarWhoseDriverFallsSilentStopsOnTheRoad) {
+  const auto track = test::circleTrack(100.0, 12.0);
+  sim::WorldOptions o;
+  o.control_timeout = 0.5;
+  World world(track, o);
+  const auto start = track.poseAt(0.0);
+  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
+  sim::VehicleControl cruise;
+  cruise.throttle = 0.3;
+  world.setControl("ego", cruise);
+  world.step();
+  world.setVehicleVelocity("ego", {25.0 * std::cos(start.heading), 25.0 * std::sin(start.heading), 0}, {0, 0, 25.0 / 100.0});
+  double worst = -1e9;
+  for (int i = 0; i < 800; ++i) {  // 40 s
+    world.step();
+    const auto s = world.vehicleState("ego");
+    worst = std::max(worst, track.project(s.pose.position.head<2>()).beyondEdge());
+    ASSERT_TRUE(world.contacts("ego").empty() || world.contacts("ego").front().other != "barrier") << "at tick " << i;
+  }
+  const auto end = world.vehicleState("ego");
+  EXPECT_LT(worst, -1.0) << "the car's centre stayed at least a metre inside the edges";
+  EXPECT_LT(end.speed, 0.5);
+  EXPECT_TRUE(end.applied_control.hand_brake) << "parked once stopped";
 }
 
 TEST(World, BarrierAndCarContactsAreReportedWithTheOtherBody) {

@@ -1,0 +1,23 @@
+#pragma once
+// What roar_sim drives a car with once its driver has fallen silent (control_timeout): it brakes steadily
+// while steering along the road at its lateral place (kept inside the edges), then parks once stopped. A
+// locked hand brake at speed, the old fail-safe, put cars into the barrier.
+#include "roar/sim/vehicle_control.h"
+#include "roar/sim/vehicle_params.h"
+#include "roar/sim/world.h"
+#include "roar/track/track.h"
+
+namespace roar::sim {
+
+struct SafeStopOptions {
+  double brake = 0.3;           // pedal: about 4-5 m/s^2 on a sedan, well inside the grip of a corner
+  double edge_clearance = 1.5;  // m kept between the car's centre line and a road edge
+  double min_lookahead = 8.0;   // m
+  double lookahead_time = 0.8;  // s of the car's speed
+  double stopped_speed = 0.5;   // m/s below which the car is parked
+};
+
+VehicleControl safeStopControl(const track::Track& track, const VehicleState& state, const VehicleParams& params,
+                               const SafeStopOptions& options = {});
+
+}  // namespace roar::sim

@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""rostest: the controller is killed with SIGKILL in the middle of a lockstep race. roar_sim takes the
+driver as lost after lockstep_timeout (once, not every tick) and the race goes on at full speed; the car,
+left at speed, is brought to a stop on the road without touching the barrier."""
+import os
+import signal
+import time
+import unittest
+import xmlrpc.client
+
+import rosgraph
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from roar_ros.msg import RaceStatus
+from rosgraph_msgs.msg import Clock
+
+
+class DeadDriver(unittest.TestCase):
+    def test_a_killed_controller_does_not_stall_the_race(self):
+        rospy.init_node("dead_driver_checker")
+        latest = {}
+        rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__("clock", m.clock.to_sec()), queue_size=1)
+        rospy.Subscriber("/ego/odom", Odometry, lambda m: latest.__setitem__("odom", m), queue_size=1)
+        rospy.Subscriber("/race_status", RaceStatus, lambda m: latest.__setitem__("status", m), queue_size=1)
+        deadline = time.time() + 120
+        while latest.get("clock", 0.0) < 20.0:
+            self.assertLess(time.time(), deadline, "the race reaches t = 20 s")
+            time.sleep(0.05)
+        speed = latest["odom"].twist.twist.linear.x
+        self.assertGreater(speed, 15.0, "the car is at speed when its driver dies")
+
+        uri = rosgraph.Master("/dead_driver_checker").lookupNode("/controller")
+        code, _, pid = xmlrpc.client.ServerProxy(uri).getPid("/dead_driver_checker")
+        self.assertEqual(code, 1)
+        os.kill(pid, signal.SIGKILL)
+        killed_at, killed_wall = latest["clock"], time.time()
+
+        # Before: every tick waited the full 5 s lockstep_timeout (0.05 s of race per 5 s). Now one wait, then
+        # the race runs on; 40 s of race in at most 90 s of wall time.
+        while latest["clock"] < killed_at + 40.0:
+            self.assertLess(time.time() - killed_wall, 90.0,
+                            f"the race stalled at t = {latest['clock']:.2f} s after the driver was killed")
+            time.sleep(0.1)
+        odom = latest["odom"]
+        v = odom.twist.twist.linear
+        self.assertLess((v.x ** 2 + v.y ** 2) ** 0.5, 0.5, "the car has been brought to a stop")
+        ego = next(c for c in latest["status"].cars if c.name == "ego")
+        self.assertEqual(ego.barrier_contacts, 0, "stopped on the road, not in the barrier")
+        self.assertEqual(ego.track_limit_violations, 0)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("roar_ros", "dead_driver", DeadDriver)
