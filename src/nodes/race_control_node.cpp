@@ -169,9 +169,16 @@ class RaceControlNode {
                                   std::sqrt(v.x * v.x + v.y * v.y)});
     }
     std::optional<race::Incident> incident;
+    const std::size_t passes = race_->overtakes().size();
     const auto lap = race_->updatePosition(
         name, t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), &incident);
     if (incident) report(name, *incident);
+    for (std::size_t k = passes; k < race_->overtakes().size(); ++k) {
+      const race::Overtake& o = race_->overtakes()[k];
+      std::printf("%s passed %s on lap %d at s = %.0f m (t = %.2f s)\n", o.passer.c_str(), o.passed.c_str(), o.lap, o.s,
+                  o.time);
+      std::fflush(stdout);
+    }
     if (!lap) return;
     std::string sectors;
     for (double s : lap->sector_times) {

@@ -65,6 +65,7 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
     car.finished = true;
     car.finish_time = lap->finish_time;
   }
+  detectOvertakes(name, time);
 
   const track::Projection pr = track_.projectNear(position, car.timer.progress() + track_.info().start_finish_s, 100.0);
   const bool off = pr.beyondEdge() > rules_.track_limits_margin;
@@ -75,6 +76,33 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   }
   car.off_track = off;
   return lap;
+}
+
+void RaceControl::detectOvertakes(const std::string& name, double time) {
+  const CarRecord& me = cars_.at(name);
+  if (!me.timer.started()) return;
+  const double mine = me.timer.distanceCovered();
+  for (const auto& [other_name, other] : cars_) {
+    if (other_name == name || !other.timer.started() || other.finished) continue;
+    const double gap = mine - other.timer.distanceCovered();
+    // A lap or more apart is lapping, not racing for position.
+    if (std::abs(gap) > 0.5 * track_.length()) continue;
+    const bool first = name < other_name;
+    const auto key = first ? std::make_pair(name, other_name) : std::make_pair(other_name, name);
+    const int now_mine = gap > rules_.overtake_hysteresis ? 1 : gap < -rules_.overtake_hysteresis ? -1 : 0;
+    if (now_mine == 0) continue;
+    const int now = first ? now_mine : -now_mine;
+    auto it = order_.find(key);
+    if (it == order_.end()) {
+      order_[key] = now;
+    } else if (it->second != now) {
+      it->second = now;
+      if (now_mine > 0) {
+        overtakes_.push_back({time, name, other_name, me.timer.lapsCompleted() + 1,
+                              track_.wrap(track_.info().start_finish_s + me.timer.progress())});
+      }
+    }
+  }
 }
 
 std::optional<Incident> RaceControl::updateContact(const std::string& name, double time, const std::string& other) {
@@ -173,6 +201,11 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
       yaml << "      - {time_s: " << incident.time << ", kind: \"" << incident.kind << "\", penalty_s: " << incident.penalty
            << ", respawn: " << (incident.respawn ? "true" : "false") << "}\n";
     }
+  }
+  yaml << "overtakes:" << (race.overtakes().empty() ? " []\n" : "\n");
+  for (const auto& o : race.overtakes()) {
+    yaml << "  - {time_s: " << o.time << ", passer: " << o.passer << ", passed: " << o.passed << ", lap: " << o.lap
+         << ", s_m: " << o.s << "}\n";
   }
 }
 

@@ -36,6 +36,7 @@ class RaceResults(unittest.TestCase):
         laps = rospy.get_param("~laps", 2)
         min_lap, max_lap = rospy.get_param("~min_lap", 90.0), rospy.get_param("~max_lap", 150.0)
         max_lap_of = rospy.get_param("~max_lap_of", {})  # per car, tighter than max_lap
+        expected_passes = rospy.get_param("~passes", [])  # ["passer>passed", ...] that must be in the results
         path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
         run_id = rospy.get_param("/run_id")
         deadline = time.time() + 280
@@ -49,6 +50,9 @@ class RaceResults(unittest.TestCase):
         self.assertEqual(results["status"], "finished")
         self.assertEqual(sorted(car["name"] for car in results["cars"]), sorted(cars))
         self.assertEqual(sorted(car["position"] for car in results["cars"]), list(range(1, len(cars) + 1)))
+        recorded = {f"{o['passer']}>{o['passed']}" for o in results.get("overtakes", [])}
+        for expected in expected_passes:
+            self.assertIn(expected, recorded, f"race_control recorded the passes {sorted(recorded)}")
         for car in results["cars"]:
             self.assertEqual(car["laps_completed"], laps, car["name"])
             self.assertEqual(car["barrier_contacts"], 0, car["name"])

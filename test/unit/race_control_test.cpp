@@ -140,3 +140,27 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
   EXPECT_EQ(lines((dir / "sectors.csv").string()), 1 + 2 * 2 * 3);
   fs::remove_all(dir);
 }
+
+// A faster car gets by a slower one: one pass, named, on the right lap and place; cars running side by side
+// (within the hysteresis) swap nothing; lapping a car is not a pass.
+TEST(RaceControl, OvertakesAreRecordedOnceWithWhoWhereAndWhen) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 5;
+  race::RaceControl race(track, rules, {"fast", "slow", "twin"});
+  // 200 s: fast is a lap ahead of slow (628 m) from t = 131 s on, which is lapping, not another pass.
+  for (double t = 0.0; t < 200.0; t += 0.05) {
+    race.updatePosition("slow", t, onCircle(-5 + 15.0 * t));                          // 15 m/s, starts ahead
+    race.updatePosition("fast", t, onCircle(-30 + 20.0 * t));                         // 20 m/s
+    race.updatePosition("twin", t, onCircle(-5 + 15.0 * t + 1.5 * std::sin(t), 3.0));  // beside slow, wobbling
+  }
+  ASSERT_EQ(race.overtakes().size(), 2u) << "fast passes slow and twin once each; twin and slow swap nothing";
+  for (const auto& o : race.overtakes()) {
+    EXPECT_EQ(o.passer, "fast");
+    EXPECT_EQ(o.lap, 1);
+    // fast catches 25 m at 5 m/s: 5 s in, 70 m after the line.
+    EXPECT_NEAR(o.time, 5.0, 0.8);
+    EXPECT_NEAR(o.s, 70.0, 15.0);
+  }
+  EXPECT_NE(race.overtakes()[0].passed, race.overtakes()[1].passed);
+}

@@ -24,6 +24,7 @@ struct RaceRules {
   // all four wheels are off).
   double track_limits_margin = 0.93;  // m
   double contact_merge = 0.5;         // s: contacts closer together than this are one incident
+  double overtake_hysteresis = 3.0;   // m one car must be ahead of the other for a change of order to count
 };
 
 struct Incident {
@@ -48,6 +49,17 @@ struct CarRecord {
   std::vector<double> passage;  // s at which the car first covered each 10 m since its first crossing
 };
 
+// One car getting by another on the road: the passer's distance since the start line goes from behind the
+// other's to ahead of it (by more than RaceRules::overtake_hysteresis, so that cars side by side do not
+// swap back and forth).
+struct Overtake {
+  double time = 0.0;   // s, simulated
+  std::string passer;
+  std::string passed;
+  int lap = 0;         // the passer's lap (1 = the first)
+  double s = 0.0;      // m along the track's centre line where it happened
+};
+
 struct Standing {
   std::string name;
   int position = 0;          // 1 = leading
@@ -70,16 +82,21 @@ class RaceControl {
   std::vector<Standing> standings() const;
   const CarRecord& car(const std::string& name) const;
   const std::map<std::string, CarRecord>& cars() const { return cars_; }
+  // Every pass so far, in order (lapping a car is not counted as a pass).
+  const std::vector<Overtake>& overtakes() const { return overtakes_; }
   const RaceRules& rules() const { return rules_; }
   const track::Track& track() const { return track_; }
 
  private:
   CarRecord& record(const std::string& name);
+  void detectOvertakes(const std::string& name, double time);
   Incident makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty);
 
   const track::Track& track_;
   RaceRules rules_;
   std::map<std::string, CarRecord> cars_;
+  std::vector<Overtake> overtakes_;
+  std::map<std::pair<std::string, std::string>, int> order_;  // +1: first ahead of second, -1: behind
 };
 
 // results.yaml (per car: laps, sectors, incidents, penalties, total time), laps.csv (car, lap, lap time,
