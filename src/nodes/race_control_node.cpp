@@ -295,6 +295,7 @@ int main(int argc, char** argv) {
     RaceControlNode node(nh, track::loadMapFolder(options.map_folder), options);
     std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
                 node.race().track().info().name.c_str(), node.race().track().length(), options.vehicles.size());
+    if (!options.output_dir.empty()) std::printf("race_control: results will be written to %s\n", options.output_dir.c_str());
     std::fflush(stdout);
 
     // Wall-time loop: the race ends on simulated events, not on a clock of ours.

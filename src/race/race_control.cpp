@@ -55,6 +55,7 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
                                                      std::optional<Incident>* incident) {
   CarRecord& car = record(name);
   car.last_time = std::max(car.last_time, time);
+  if (!(start_time_ <= time)) start_time_ = time;  // the first position of any car (NaN before)
   if (car.finished) return std::nullopt;
   auto lap = car.timer.update(time, position);
   if (car.timer.started()) {
@@ -76,6 +77,12 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   }
   car.off_track = off;
   return lap;
+}
+
+double RaceControl::raceTime(const std::string& name) const {
+  const CarRecord& car = cars_.at(name);
+  const double start = std::isnan(start_time_) ? 0.0 : start_time_;
+  return (car.finished ? car.finish_time : car.last_time) - start + car.penalties;
 }
 
 void RaceControl::detectOvertakes(const std::string& name, double time) {
@@ -174,15 +181,16 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
   sectors << "car,lap,sector,time_s\n";
   std::map<std::string, Standing> standing;
   for (const auto& s : race.standings()) standing[s.name] = s;
-  for (const auto& [name, car] : race.cars()) {
+  // In finishing order (the standings'), each race time from the start signal.
+  for (const auto& place : race.standings()) {
+    const std::string& name = place.name;
+    const CarRecord& car = race.car(name);
     const auto& timer = car.timer;
-    double lap_sum = 0.0;
-    for (const auto& lap : timer.laps()) lap_sum += lap.lap_time;
     yaml << "  - name: " << name << "\n    position: " << standing[name].position
          << "\n    finished: " << (car.finished ? "true" : "false") << "\n    laps_completed: " << timer.lapsCompleted()
          << "\n    barrier_contacts: " << car.barrier_contacts << "\n    car_contacts: " << car.car_contacts
          << "\n    track_limit_violations: " << car.track_limit_violations << "\n    penalties_s: " << car.penalties
-         << "\n    race_time_s: " << lap_sum + car.penalties << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
+         << "\n    race_time_s: " << race.raceTime(name) << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
     if (auto best = timer.bestLap()) yaml << "\n    best_lap_s: " << *best;
     yaml << "\n    laps:\n";
     for (const auto& lap : timer.laps()) {

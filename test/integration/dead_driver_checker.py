@@ -19,6 +19,9 @@ from rosgraph_msgs.msg import Clock
 class DeadDriver(unittest.TestCase):
     def test_a_killed_controller_does_not_stall_the_race(self):
         rospy.init_node("dead_driver_checker")
+        # race.launch on its own (no output_dir given) writes to a folder of its own under ROS_HOME.
+        output_dir = rospy.get_param("/race_control/output_dir")
+        self.assertTrue(output_dir.startswith(os.environ.get("ROS_HOME", os.path.expanduser("~/.ros"))), output_dir)
         latest = {}
         rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__("clock", m.clock.to_sec()), queue_size=1)
         rospy.Subscriber("/ego/odom", Odometry, lambda m: latest.__setitem__("odom", m), queue_size=1)

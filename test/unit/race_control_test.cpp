@@ -129,13 +129,19 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
   EXPECT_EQ(results["run_id"].as<std::string>(), "0f3c-run");
   EXPECT_EQ(results["status"].as<std::string>(), "interrupted");
   ASSERT_EQ(results["cars"].size(), 2u);
-  const YAML::Node fast = results["cars"][0];
+  EXPECT_EQ(results["cars"][0]["name"].as<std::string>(), "slow") << "the cars in finishing order";
+  EXPECT_EQ(results["cars"][0]["position"].as<int>(), 1);
+  // From the start signal (t = 0): slow crossed the line at 3 s and ran two laps.
+  EXPECT_NEAR(results["cars"][0]["race_time_s"].as<double>(), 3.0 + 2 * length / 20.0, 0.05);
+  const YAML::Node fast = results["cars"][1];
   EXPECT_EQ(fast["name"].as<std::string>(), "fast");
   EXPECT_EQ(fast["position"].as<int>(), 2);
   EXPECT_EQ(fast["penalties_s"].as<double>(), 5.0);
   EXPECT_EQ(fast["laps"].size(), 2u);
   EXPECT_EQ(fast["incidents"][0]["kind"].as<std::string>(), "barrier");
-  EXPECT_NEAR(fast["race_time_s"].as<double>(), 2 * length / 20.0 + 5.0, 0.05);
+  EXPECT_NEAR(fast["race_time_s"].as<double>(), 1.0 + 2 * length / 20.0 + 5.0, 0.05);
+  EXPECT_LT(results["cars"][0]["race_time_s"].as<double>(), fast["race_time_s"].as<double>())
+      << "the winner's race time is the shortest";
   EXPECT_EQ(lines((dir / "laps.csv").string()), 1 + 2 * 2);
   EXPECT_EQ(lines((dir / "sectors.csv").string()), 1 + 2 * 2 * 3);
   fs::remove_all(dir);

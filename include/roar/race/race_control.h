@@ -2,6 +2,7 @@
 // The rules of a race, without ROS: lap and sector timing per car (LapTimer), incidents (barrier and car
 // contacts, leaving the track limits) with a time penalty or a ROAR-style respawn at the last waypoint
 // passed (the clock keeps running), standings with the gap to the leader, and the end of the race.
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -82,6 +83,10 @@ class RaceControl {
   std::vector<Standing> standings() const;
   const CarRecord& car(const std::string& name) const;
   const std::map<std::string, CarRecord>& cars() const { return cars_; }
+  // The start signal: the simulated time of the first position of any car.
+  double startTime() const { return start_time_; }
+  // s from the start signal to the car's finish (or its last position), penalties included.
+  double raceTime(const std::string& name) const;
   // Every pass so far, in order (lapping a car is not counted as a pass).
   const std::vector<Overtake>& overtakes() const { return overtakes_; }
   const RaceRules& rules() const { return rules_; }
@@ -96,6 +101,7 @@ class RaceControl {
   RaceRules rules_;
   std::map<std::string, CarRecord> cars_;
   std::vector<Overtake> overtakes_;
+  double start_time_ = std::numeric_limits<double>::quiet_NaN();
   std::map<std::pair<std::string, std::string>, int> order_;  // +1: first ahead of second, -1: behind
 };
 
