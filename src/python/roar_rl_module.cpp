@@ -6,11 +6,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "roar/rl/env_options.h"
+#include "roar/rl/policy.h"
 #include "roar/rl/vector_env.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -287,11 +290,41 @@ class PyVectorEnv {
   std::vector<rl::Value*> action_values_;  // env-major, one per action leaf
 };
 
+// The policy file format of rl_train and policy_driver (MlpPolicy): its input normalisation for the
+// observation of an options file, and a file written from trained weights.
+py::tuple mlpNormalisation(const std::string& options_path, const std::vector<int>& hidden) {
+  const rl::MlpPolicy policy(rl::readEnvOptions(options_path).observation, hidden);
+  rl::MlpPolicy copy = policy;
+  return py::make_tuple(copy.mean(), copy.spread(), copy.params().size());
+}
+
+void writeMlpPolicy(const std::string& path, const std::string& options_path, const std::vector<int>& hidden,
+                    const std::vector<float>& params) {
+  rl::MlpPolicy policy(rl::readEnvOptions(options_path).observation, hidden);
+  if (params.size() != policy.params().size()) {
+    throw py::value_error("params: the policy has " + std::to_string(policy.params().size()) + " parameters, got " +
+                          std::to_string(params.size()));
+  }
+  policy.params() = params;
+  policy.save(path);
+}
+
+std::array<float, 2> mlpPolicyOutputs(const std::string& path, const std::vector<float>& flat_observation) {
+  return rl::MlpPolicy::load(path).outputs(flat_observation);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(roar_rl_core, m) {
   m.doc() = "roar_rl's C++ vectorised racing environment (use roar_rl.VectorEnv)";
   py::register_exception<rl::SpaceError>(m, "SpaceError", PyExc_ValueError);
+  py::register_exception<rl::PolicyError>(m, "PolicyError", PyExc_ValueError);
+  m.def("mlp_normalisation", &mlpNormalisation, py::arg("options_path"), py::arg("hidden"),
+        "(mean, spread, parameter count) of an MlpPolicy observing as the options file says");
+  m.def("write_mlp_policy", &writeMlpPolicy, py::arg("path"), py::arg("options_path"), py::arg("hidden"),
+        py::arg("params"), "writes a policy file (rl_train's format, what policy_driver drives with)");
+  m.def("mlp_policy_outputs", &mlpPolicyOutputs, py::arg("path"), py::arg("flat_observation"),
+        "{steer, pedal} of a policy file for a flattened observation, as policy_driver computes them");
   py::class_<PyVectorEnv>(m, "VectorEnv")
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, const std::string&,
                     int, int>(),
