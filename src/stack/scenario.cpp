@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
 #include "roar/sensors/sensor_spec.h"
 #include "roar/sim/vehicle_config.h"
@@ -41,48 +42,45 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     throw ScenarioError(path + ": " + e.what());
   }
   auto fail = [&](const std::string& field, const std::string& what) { throw ScenarioError(path + ": " + field + ": " + what); };
+  // Strict: a misspelt key (`color:`) is an error naming the nearest known one, not a silent default.
+  using Section = config::YamlSection<ScenarioError>;
+  Section top(root, "", path);
   Scenario s;
-  try {
-    s.name = root["name"] ? root["name"].as<std::string>() : fs::path(path).stem().string();
-    s.description = root["description"] ? root["description"].as<std::string>() : "";
-    if (!root["map"]) fail("map", "missing");
-    s.map = root["map"].as<std::string>();
-    if (root["laps"]) s.laps = root["laps"].as<int>();
-  } catch (const YAML::Exception& e) {
-    throw ScenarioError(path + ": " + e.what());
-  }
+  s.name = fs::path(path).stem().string();
+  top.read("name", &s.name);
+  top.read("description", &s.description);
+  s.map = top.require<std::string>("map");
+  top.read("laps", &s.laps);
+  const YAML::Node cars = top.raw("cars");
+  top.finish();
   if (s.laps < 1) fail("laps", "must be at least 1");
   try {
     track::resolveMapFolder(s.map, context.maps_dir);
   } catch (const track::MapError& e) {
     fail("map", e.what());
   }
-  const YAML::Node cars = root["cars"];
   if (!cars || !cars.IsSequence() || cars.size() == 0) fail("cars", "must be a list of at least one car");
   std::set<std::string> names;
   std::set<int> slots;
   for (std::size_t i = 0; i < cars.size(); ++i) {
     const std::string field = "cars[" + std::to_string(i) + "]";
-    const YAML::Node c = cars[i];
+    Section c(cars[i], field, path);
     ScenarioCar car;
-    try {
-      if (!c["name"]) fail(field + ".name", "missing");
-      car.name = c["name"].as<std::string>();
-      car.spawn_point = c["spawn_point"] ? c["spawn_point"].as<int>() : static_cast<int>(i);
-      if (c["model"]) car.model = c["model"].as<std::string>();
-      if (c["sensors"]) car.sensors = c["sensors"].as<std::string>();
-      if (c["driven"]) car.driven = c["driven"].as<bool>();
-      if (c["max_speed"]) car.max_speed = c["max_speed"].as<double>();
-      if (c["agent"]) car.agent = c["agent"].as<std::string>();
-      if (c["colour"]) {
-        const auto rgb = c["colour"].as<std::vector<float>>();
-        if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
-        car.colour = Eigen::Vector3f(rgb[0], rgb[1], rgb[2]);
-        if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any()) fail(field + ".colour", "each of r, g, b must be 0..1");
-      }
-    } catch (const YAML::Exception& e) {
-      fail(field, e.what());
+    car.name = c.require<std::string>("name");
+    car.spawn_point = static_cast<int>(i);
+    c.read("spawn_point", &car.spawn_point);
+    c.read("model", &car.model);
+    c.read("sensors", &car.sensors);
+    c.read("driven", &car.driven);
+    c.read("max_speed", &car.max_speed);
+    c.read("agent", &car.agent);
+    std::vector<double> rgb;
+    if (c.read("colour", &rgb)) {
+      if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
+      car.colour = Eigen::Vector3f(static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]));
+      if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any()) fail(field + ".colour", "each of r, g, b must be 0..1");
     }
+    c.finish();
     if (car.name.empty() || car.name.find_first_of(" /") != std::string::npos) {
       fail(field + ".name", "'" + car.name + "' must be non-empty, without spaces or '/'");
     }

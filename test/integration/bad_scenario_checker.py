@@ -17,6 +17,8 @@ BAD = {
     "one_spawn_point": ("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n",
                         "cars[1].spawn_point: 2 is taken by another car"),
     "unknown_sensor": ("map: roar_ring\ncars:\n  - {name: a, sensors: radar}\n", "cars[0].sensors: no sensor set 'radar'"),
+    "misspelt_key": ("map: roar_ring\ncars:\n  - {name: a, color: [1, 0, 0]}\n",
+                     "cars[0].color: is not a known key (did you mean 'colour'?)"),
 }
 
 

@@ -56,7 +56,7 @@ TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
   EXPECT_EQ(errorLoading("map: roar_ring\n" + car), "");
   EXPECT_NE(errorLoading("map: monaco\n" + car).find("map: "), std::string::npos);
   EXPECT_NE(errorLoading("map: monaco\n" + car).find("monaco"), std::string::npos);
-  EXPECT_NE(errorLoading(car).find("map: missing"), std::string::npos);
+  EXPECT_NE(errorLoading(car).find("map: is missing"), std::string::npos);
   const std::string two_on_one = errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n");
   EXPECT_NE(two_on_one.find("cars[1].spawn_point: 2 is taken by another car"), std::string::npos) << two_on_one;
   EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a}\n  - {name: a}\n").find("cars[1].name"), std::string::npos);
@@ -72,6 +72,12 @@ TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
   EXPECT_NE(agent.find("cars[0].agent: no RL environment 'telepathy'"), std::string::npos) << agent;
   EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, agent: state}\n").find("cars[0].agent: an agent's car must have driven: false"),
             std::string::npos);
+  // Misspelt keys are refused, naming the nearest known one (they used to fall back to the default silently).
+  const std::string color = errorLoading("map: roar_ring\ncars:\n  - {name: a, color: [1, 0, 0]}\n");
+  EXPECT_NE(color.find("cars[0].color: is not a known key (did you mean 'colour'?)"), std::string::npos) << color;
+  const std::string lap = errorLoading("map: roar_ring\nlap: 3\n" + car);
+  EXPECT_NE(lap.find("lap: is not a known key (did you mean 'laps'?)"), std::string::npos) << lap;
+  EXPECT_NE(errorLoading("map: roar_ring\nlaps: many\n" + car).find("laps: is not a"), std::string::npos);
 }
 
 TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {
