@@ -68,11 +68,12 @@ def plot(curve, path: str, title: str):
     ax2.set_ylabel("best lap (s)")
     lines = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
     labels = ax.get_legend_handles_labels()[1] + ax2.get_legend_handles_labels()[1]
-    ax.legend(lines, labels, loc="lower right", framealpha=0.9)
+    # Below the axes: inside, some part of a curve is always under it.
+    ax.legend(lines, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     ax.set_title(title)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    fig.savefig(path, dpi=100, bbox_inches="tight")
     plt.close(fig)
 
 
@@ -104,6 +105,10 @@ def main(argv=None):
         if p.seconds > args.minutes * 60:
             break
     ppo.export(os.path.join(out, "policy.yaml"))
+    with open(os.path.join(out, "curve.csv"), "w") as f:
+        f.write("seconds,steps,episodes,mean_return,mean_step_reward,best_lap_s\n")
+        for p in curve:
+            f.write(f"{p.seconds:.3f},{p.steps},{p.episodes},{p.mean_return:.3f},{p.mean_step_reward:.4f},{p.best_lap:.3f}\n")
     plot(curve, os.path.join(out, "learning_curve.png"), f"PPO on {args.map}, {args.envs} environments")
     grid = evaluate_from_grid(ppo)
     summary = {"map": args.map, "minutes": round(curve[-1].seconds / 60, 2), "steps": curve[-1].steps,

@@ -16,8 +16,6 @@ async def main():  # roar_ros: the fragments' surroundings
     vehicle = carla_world.spawn_vehicle("vehicle.tesla.model3", spawn_loc + np.array([0, 0, 2.0]), spawn_rot)
 
     spawn_point, spawn_rpy = carla_world.spawn_points[1]
-    if random_idx == 1:  # roar_ros: two cars cannot share a spawn point
-        spawn_point, spawn_rpy = carla_world.spawn_points[2]
     vehicle = carla_world.spawn_vehicle(
         "vehicle.tesla.model3",
         spawn_point + np.array([0, 0, 2.0]),
