@@ -72,7 +72,6 @@ class RosSensorMixin:
                 # No step since the sensor came: tick once so that it has a reading (CARLA would block).
                 await world.step()
                 expected = self._vehicle._expected_stamp(self.sim_name)
-            self._waiting_for = expected
             msg, stamp = self._wait_for(lambda: self._msg_stamp >= (expected or 0.0) - 1e-9 and self._msg is not None)
         else:
             msg, stamp = self._wait_for(lambda: self._msg is not None)

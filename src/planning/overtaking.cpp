@@ -118,7 +118,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   return out;
 }
 
-bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double lateral0, const std::vector<TrafficCar>& others,
+bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vector<TrafficCar>& others,
                               double* progress) const {
   const auto& pts = plan.points;
   // The car's own motion along the plan: from its speed now, no faster than the plan, accelerating at
@@ -150,7 +150,6 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double lateral0
     }
     if (!clear) break;
   }
-  (void)lateral0;
   *progress = s - s0;
   return clear;
 }
@@ -192,7 +191,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   };
   auto consider = [&](const RaceDecision& d) {
     Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
-    c.clear = clearOf(c.window, s, lateral, others, &c.decision.progress);
+    c.clear = clearOf(c.window, s, others, &c.decision.progress);
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;
@@ -204,7 +203,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         beside = beside || (p.s > s && std::abs(p.offset - sampleAt(line_, p.s).offset - leader->lateral) >= wide);
         if (beside) patient.window.points[k].speed = p.speed;
       }
-      patient.clear = clearOf(patient.window, s, lateral, others, &patient.decision.progress);
+      patient.clear = clearOf(patient.window, s, others, &patient.decision.progress);
       if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
     }
     candidates.push_back(std::move(c));
@@ -212,7 +211,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   if (on_line) {
     Candidate c{base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
-    c.clear = clearOf(c.window, s, lateral, others, &c.decision.progress);
+    c.clear = clearOf(c.window, s, others, &c.decision.progress);
     candidates.push_back(std::move(c));
   } else {
     consider(make(RaceMode::kRacingLine, 0, "", 0.0));  // back to the line
@@ -236,7 +235,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     follow.decision.other = leader->name;
     followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_);
   }
-  clearOf(follow.window, s, lateral, {}, &follow.decision.progress);
+  clearOf(follow.window, s, {}, &follow.decision.progress);
 
   const Candidate* chosen = nullptr;
   // A committed pass keeps its side while it stays clear and the car passed is not yet behind.

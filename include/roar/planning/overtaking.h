@@ -82,8 +82,7 @@ class OvertakePlanner {
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to) const;
   // Whether a plan keeps clear of every car alongside or ahead over the horizon; sets its progress.
-  bool clearOf(const Trajectory& plan, double s0, double lateral0, const std::vector<TrafficCar>& others,
-               double* progress) const;
+  bool clearOf(const Trajectory& plan, double s0, const std::vector<TrafficCar>& others, double* progress) const;
 
   Trajectory line_;
   VehicleLimits limits_;
