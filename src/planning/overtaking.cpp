@@ -208,6 +208,12 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
     candidates.push_back(std::move(c));
   };
+  // Alone on the line (nobody near, no move under way): the racing line's window as it is, so that a car
+  // racing alone drives exactly as without this planner, its tracking error notwithstanding.
+  if (others.empty() && memory.mode == RaceMode::kRacingLine && memory.ramp_from == 0.0) {
+    memory = {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0};
+    return base;
+  }
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   if (on_line) {
     Candidate c{base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};

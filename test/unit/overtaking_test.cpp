@@ -57,6 +57,12 @@ TEST(Overtaking, NobodyInTheWayKeepsTheRacingLine) {
     EXPECT_EQ(plan.points[i].speed, line.points[i].speed);
   }
   EXPECT_EQ(planner.decision("ego").mode, RaceMode::kRacingLine);
+  // Nor does the controller's tracking error change it when the car is alone: 0.8 m off the line (a lap of
+  // Roar Ring in the ROS stack was 2.3 s slower while this reshaped the window).
+  const auto off = planner.plan("ego", s + 5.0, 0.8, 20.0, {{"ego", s + 5.0, 0.8, 20.0}}, 10.0, 250.0);
+  const auto line_there = planning::windowAround(f.line, s + 5.0, 10.0, 250.0);
+  ASSERT_EQ(off.points.size(), line_there.points.size());
+  for (std::size_t i = 0; i < off.points.size(); ++i) EXPECT_EQ(off.points[i].speed, line_there.points[i].speed);
   // A car well ahead at the line's own speed is no reason to leave it either.
   const double v = planning::sampleAt(f.line, s + 60.0).speed;
   planner.plan("ego", s, 0.0, v, {{"rival", s + 60.0, 0.0, v}}, 10.0, 250.0);
