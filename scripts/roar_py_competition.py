@@ -22,10 +22,6 @@ import roar_py_ros
 RESPAWN_IMPULSE = 100.0  # N s
 
 
-def normalize_rad(rad: float):
-    return (rad + np.pi) % (2 * np.pi) - np.pi
-
-
 def filter_waypoints(location: np.ndarray, current_idx: int, waypoints: list) -> int:
     def dist_to_waypoint(waypoint):
         return np.linalg.norm(location[:2] - waypoint.location[:2])
@@ -49,7 +45,7 @@ class WaypointFollowingAgent:
         target_waypoint = waypoints[(self.current_waypoint_idx + 3) % len(waypoints)]
         vector_to_waypoint = (target_waypoint.location - location)[:2]
         heading_to_waypoint = np.arctan2(vector_to_waypoint[1], vector_to_waypoint[0])
-        delta_heading = normalize_rad(heading_to_waypoint - rotation[2])
+        delta_heading = roar_py_interface.normalize_rad(heading_to_waypoint - rotation[2])
         speed = np.linalg.norm(velocity)
         steer_control = -8.0 / np.sqrt(speed) * delta_heading / np.pi if speed > 1e-2 else -np.sign(delta_heading)
         steer_control = np.clip(steer_control, -1.0, 1.0)

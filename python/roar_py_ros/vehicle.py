@@ -330,14 +330,19 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
             raise RuntimeError(f"vehicle '{getattr(self, 'name', '?')}' is closed")
         self._world._check_open()
 
+    def _release(self):
+        """Closes the car on this side: its sensors and topics. Closed first, so that the sensors do not
+        detach one by one from a car about to go (or already gone with its map)."""
+        self._closed = True
+        for sensor in list(self._sensors):
+            sensor.close()
+        for handle in (self._odom_sub, self._collision_sub, self._control_pub):
+            handle.unregister()
+
     def close(self):
         if getattr(self, "_closed", True):
             return
-        for sensor in list(self._sensors):
-            sensor.close()
-        self._closed = True
-        for handle in (self._odom_sub, self._collision_sub, self._control_pub):
-            handle.unregister()
+        self._release()
         self._world._vehicle_closed(self)
 
     def is_closed(self) -> bool:

@@ -313,12 +313,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     def _forget_vehicles(self):
         """After a map load: roar_sim's cars are gone."""
         for vehicle in list(self._vehicles.values()):
-            for sensor in list(vehicle._sensors):
-                sensor._closed = True
-            vehicle._sensors.clear()
-            vehicle._closed = True
-            for handle in (vehicle._odom_sub, vehicle._collision_sub, vehicle._control_pub):
-                handle.unregister()
+            vehicle._release()
         self._vehicles.clear()
 
     def _reset_vehicle(self, vehicle, location, roll_pitch_yaw):

@@ -23,19 +23,9 @@ using namespace roar;
 
 namespace {
 
-const char* kindName(rl::Space::Kind kind) {
-  switch (kind) {
-    case rl::Space::Kind::kBox: return "Box";
-    case rl::Space::Kind::kDiscrete: return "Discrete";
-    case rl::Space::Kind::kMultiBinary: return "MultiBinary";
-    case rl::Space::Kind::kDict: return "Dict";
-  }
-  return "?";
-}
-
 py::dict describe(const rl::Space& space) {
   py::dict d;
-  d["kind"] = kindName(space.kind);
+  d["kind"] = rl::kindName(space.kind);
   if (space.kind == rl::Space::Kind::kDict) {
     py::dict entries;
     for (std::size_t i = 0; i < space.keys.size(); ++i) entries[py::str(space.keys[i])] = describe(space.entries[i]);

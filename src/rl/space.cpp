@@ -123,6 +123,16 @@ void yamlInto(const Space& space, const std::string& indent, std::string* out) {
 
 }  // namespace
 
+const char* kindName(Space::Kind kind) {
+  switch (kind) {
+    case Space::Kind::kBox: return "Box";
+    case Space::Kind::kDiscrete: return "Discrete";
+    case Space::Kind::kMultiBinary: return "MultiBinary";
+    case Space::Kind::kDict: return "Dict";
+  }
+  return "?";
+}
+
 const char* dtypeName(DType dtype) {
   switch (dtype) {
     case DType::kFloat32: return "float32";

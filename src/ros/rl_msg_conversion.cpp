@@ -6,16 +6,6 @@ namespace roar::ros_bridge {
 
 namespace {
 
-const char* typeName(rl::Space::Kind kind) {
-  switch (kind) {
-    case rl::Space::Kind::kBox: return "Box";
-    case rl::Space::Kind::kDiscrete: return "Discrete";
-    case rl::Space::Kind::kMultiBinary: return "MultiBinary";
-    case rl::Space::Kind::kDict: return "Dict";
-  }
-  return "?";
-}
-
 // Calls leaf(key, space) for every non-Dict entry, in flattening order.
 void forEachLeaf(const rl::Space& space, const std::string& prefix,
                  const std::function<void(const std::string&, const rl::Space&)>& leaf) {
@@ -49,7 +39,7 @@ roar_ros::SpaceDescription toMessage(const rl::Space& space) {
   forEachLeaf(space, "", [&](const std::string& key, const rl::Space& leaf) {
     roar_ros::SpaceEntry e;
     e.key = key;
-    e.type = typeName(leaf.kind);
+    e.type = rl::kindName(leaf.kind);
     e.dtype = leaf.kind == rl::Space::Kind::kMultiBinary ? "int8" : rl::dtypeName(leaf.dtype);
     e.shape.assign(leaf.shape.begin(), leaf.shape.end());
     e.low = leaf.low;

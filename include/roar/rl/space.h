@@ -47,6 +47,9 @@ struct Space {
   bool has(const std::string& key) const;
 };
 
+// Gymnasium's class name of a kind of space: "Box", "Discrete", "MultiBinary", "Dict".
+const char* kindName(Space::Kind kind);
+
 // A value of a space: a Box's, Discrete's or MultiBinary's numbers in row-major order, or a Dict's values
 // by (sorted) key.
 struct Value {
