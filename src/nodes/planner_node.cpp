@@ -32,7 +32,7 @@ struct PlannerNodeOptions {
   double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
   double follow_lateral = 3.5;  // m: a car this close to the line is in the way
   std::string frame = "map";
-  bool overtaking = true;  // false: every car follows the car ahead on the racing line
+  bool overtaking = false;  // true: OvertakePlanner; false: every car follows the car ahead on the racing line
   planning::OvertakeOptions overtake;
 };
 
