@@ -38,6 +38,7 @@
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
+#include "traffic_table.h"
 
 using namespace roar;
 
@@ -298,7 +299,10 @@ int main(int argc, char** argv) {
   double grip_use = stack::TimeTrialOptions().grip_use;
   control::LateralMethod lateral = control::TrackerOptions().lateral;
   bool minimum_time = false, yardstick = true;
-  bool race = true, benchmarks = true;
+  bool race = true, benchmarks = true, traffic = false, verbose = false;
+  int seeds = 3, traffic_laps = 3;
+  std::string only_map;
+  planning::OvertakeOptions overtake;
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
     if (std::strncmp(argv[i], "--laps=", 7) == 0) {
@@ -315,6 +319,19 @@ int main(int argc, char** argv) {
       benchmarks = false;
     } else if (std::strcmp(argv[i], "--no-race") == 0) {
       race = false;
+    } else if (std::strcmp(argv[i], "--traffic") == 0) {
+      traffic = true;
+      race = benchmarks = false;
+    } else if (std::strncmp(argv[i], "--seeds=", 8) == 0) {
+      seeds = std::max(1, std::atoi(argv[i] + 8));
+    } else if (std::strncmp(argv[i], "--traffic-laps=", 15) == 0) {
+      traffic_laps = std::max(1, std::atoi(argv[i] + 15));
+    } else if (std::strncmp(argv[i], "--map=", 6) == 0) {
+      only_map = argv[i] + 6;
+    } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
+      bench::setOvertakeOption(&overtake, argv[i] + 11);
+    } else if (std::strcmp(argv[i], "--verbose") == 0) {
+      verbose = true;
     } else {
       rest.push_back(argv[i]);
     }
@@ -326,5 +343,9 @@ int main(int argc, char** argv) {
     benchmark::Shutdown();
   }
   if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
+  if (traffic) {
+    bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,
+                             traffic_laps, overtake, only_map, verbose);
+  }
   return 0;
 }

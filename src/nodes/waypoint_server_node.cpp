@@ -30,7 +30,7 @@ class WaypointServer {
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
     folder_ = readMapFolder(pnh, readScenario(pnh));
     frame_ = readString(pnh, "frame_id", "map");
-    grid_ = readInt(pnh, "spawn_points", 20, 1, 1000);
+    grid_ = readInt(pnh, "spawn_points", track::kGridSlots, 1, 1000);
     track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
 
     // Latched: late subscribers (rviz, a planner started later) get the track at once.
@@ -141,7 +141,7 @@ class WaypointServer {
   }
 
   std::string maps_dir_, folder_, frame_;
-  int grid_ = 20;
+  int grid_ = track::kGridSlots;
   uint32_t generation_ = 0;
   ros::Subscriber map_sub_;
   std::unique_ptr<track::Track> track_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "roar/planning/speed_profile.h"
 #include "roar/track/track.h"
@@ -70,13 +71,14 @@ double ahead(double a, double b, double length) {
 double OvertakePlanner::roomLeft(double s) const { return interpolateWrapped(room_s_, room_left_, line_.length, s); }
 double OvertakePlanner::roomRight(double s) const { return interpolateWrapped(room_s_, room_right_, line_.length, s); }
 
-Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to) const {
+Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s) const {
   Trajectory out = window;
   const double shift_length = std::max(options_.min_shift_length, options_.shift_time * sampleAt(line_, ramp_s).speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
   for (auto& p : pts) {
-    const double shift = from + (to - from) * smoothStep(ahead(p.s, ramp_s, line_.length) / shift_length);
+    double shift = from + (to - from) * smoothStep(ahead(p.s, ramp_s, line_.length) / shift_length);
+    if (std::isfinite(back_s) && p.s > back_s) shift -= to * smoothStep((p.s - back_s) / shift_length);
     const double d = std::clamp(shift, -(roomRight(p.s) - half), roomLeft(p.s) - half);
     p.position += d * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
     p.offset += d;
@@ -118,8 +120,35 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   return out;
 }
 
-bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vector<TrafficCar>& others,
-                              double* progress) const {
+namespace {
+constexpr double kPredictionStep = 0.1;  // s
+}
+
+double OvertakePlanner::Prediction::at(double t) const {
+  const double k = std::clamp(t / kPredictionStep, 0.0, static_cast<double>(ahead.size() - 1));
+  const auto a = static_cast<std::size_t>(k);
+  const std::size_t b = std::min(a + 1, ahead.size() - 1);
+  return ahead[a] + (k - static_cast<double>(a)) * (ahead[b] - ahead[a]);
+}
+
+OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, double s0) const {
+  Prediction p;
+  p.lateral = other.lateral;
+  const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
+  const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
+  double along = ahead(other.s, s0, line_.length);
+  const int steps = static_cast<int>(std::ceil(options_.horizon / kPredictionStep)) + 1;
+  p.ahead.reserve(static_cast<std::size_t>(steps) + 1);
+  p.ahead.push_back(along);
+  for (int k = 0; k < steps; ++k) {
+    along += kPredictionStep * share * sampleAt(line_, s0 + along).speed;
+    p.ahead.push_back(along);
+  }
+  return p;
+}
+
+bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vector<Prediction>& others,
+                              double* progress, double margin_share) const {
   const auto& pts = plan.points;
   // The car's own motion along the plan: from its speed now, no faster than the plan, accelerating at
   // most as the engine can.
@@ -127,7 +156,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
   double s = s0, last_check = -1e9;
   bool clear = true;
   const double length = options_.car_length + options_.longitudinal_margin;
-  const double width = options_.car_width + options_.lateral_margin;
+  const double width = options_.car_width + margin_share * options_.lateral_margin;
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
     if (pts[k + 1].s <= s0) continue;
     const double s_next = pts[k + 1].s;
@@ -142,8 +171,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
     if (t < 0.3) continue;  // too soon to change anything
     const double d = pts[k + 1].offset - sampleAt(line_, s).offset;
     for (const auto& o : others) {
-      const double o_s = ahead(o.s, s0, line_.length) + o.speed * t;
-      if (std::abs((s - s0) - o_s) < length && std::abs(d - o.lateral) < width) {
+      if (std::abs((s - s0) - o.at(t)) < length && std::abs(d - o.lateral) < width) {
         clear = false;
         break;
       }
@@ -154,10 +182,29 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
   return clear;
 }
 
+double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, const Prediction& leader) const {
+  // The car along the plan as clearOf drives it, until it is clear ahead of the leader.
+  const auto& pts = plan.points;
+  double t = 0.0, v = pts.empty() ? 0.0 : std::max(0.0, sampleAt(plan, s0).speed), s = s0;
+  const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
+  for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
+    if (pts[k + 1].s <= s0) continue;
+    const double ds = pts[k + 1].s - std::max(s, pts[k].s);
+    const double v_next = std::min(pts[k + 1].speed,
+                                   std::sqrt(v * v + 2.0 * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass() * ds));
+    t += ds / std::max(0.5, 0.5 * (v + v_next));
+    v = v_next;
+    s = pts[k + 1].s;
+    if ((s - s0) - leader.at(t) > clear_ahead) return s;
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 Trajectory OvertakePlanner::plan(const std::string& car, double s, double lateral, double speed,
-                                 const std::vector<TrafficCar>& traffic, double behind, double ahead_m) {
+                                 const std::vector<TrafficCar>& traffic, double behind, double ahead_m, double pace) {
   const double L = line_.length;
-  const Trajectory base = windowAround(line_, s, behind, ahead_m);
+  Trajectory base = windowAround(line_, s, behind, ahead_m);
+  scaleSpeeds(&base, pace);
   // Cars that matter: alongside or ahead, within the window.
   std::vector<TrafficCar> others;
   const TrafficCar* leader = nullptr;
@@ -174,7 +221,17 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       leader = &o;
     }
   }
+  std::vector<Prediction> predicted;
+  for (const auto& o : others) predicted.push_back(predict(o, s));
   RaceDecision& memory = decisions_[car];
+  Abort& abort = aborts_[car];
+  if (abort.plans_left > 0) --abort.plans_left;
+  // Whether the leader is near enough to pass, and not one a pass on was given up just now.
+  const double engage = options_.car_length + options_.engage_time * std::max(speed, 5.0);
+  const bool passing_leader = leader && memory.mode == RaceMode::kPass && memory.other == leader->name;
+  const bool can_pass = leader && leader_gap < (passing_leader ? 1.5 * engage : engage) &&
+                        (passing_leader || speed >= options_.min_pass_speed) &&
+                        !(abort.plans_left > 0 && abort.other == leader->name);
   std::vector<Candidate> candidates;
   // A move the car is already making goes on from where it began; a new one starts here.
   auto make = [&](RaceMode mode, int side, const std::string& other, double to) {
@@ -191,7 +248,15 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   };
   auto consider = [&](const RaceDecision& d) {
     Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
-    c.clear = clearOf(c.window, s, others, &c.decision.progress);
+    if (d.mode == RaceMode::kPass && leader) {
+      // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
+      const double back_s = passCompleteAt(c.window, s, predict(*leader, s));
+      if (std::isfinite(back_s)) c.window = shifted(base, d.ramp_s, d.ramp_from, d.offset, back_s);
+    }
+    // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
+    const bool under_way = memory.mode == d.mode && memory.side == d.side && memory.other == d.other;
+    const double margin_share = under_way ? 0.5 : 1.0;
+    c.clear = clearOf(c.window, s, predicted, &c.decision.progress, margin_share);
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;
@@ -203,7 +268,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         beside = beside || (p.s > s && std::abs(p.offset - sampleAt(line_, p.s).offset - leader->lateral) >= wide);
         if (beside) patient.window.points[k].speed = p.speed;
       }
-      patient.clear = clearOf(patient.window, s, others, &patient.decision.progress);
+      patient.clear = clearOf(patient.window, s, predicted, &patient.decision.progress, margin_share);
       if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
     }
     candidates.push_back(std::move(c));
@@ -217,21 +282,33 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   if (on_line) {
     Candidate c{base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
-    c.clear = clearOf(c.window, s, others, &c.decision.progress);
+    c.clear = clearOf(c.window, s, predicted, &c.decision.progress);
     candidates.push_back(std::move(c));
   } else {
     consider(make(RaceMode::kRacingLine, 0, "", 0.0));  // back to the line
   }
-  if (alongside && !on_line) consider(make(RaceMode::kHold, 0, "", lateral));
-  if (leader) {
+  // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
+  // target that followed the car's tracking error would walk it into the car alongside.
+  auto held = holds_.find(car);
+  if (held != holds_.end() && !alongside) {
+    holds_.erase(held);
+    held = holds_.end();
+  }
+  const double hold_at = held != holds_.end() ? held->second : lateral;
+  if (alongside && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
+  if (can_pass) {
+    // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
+    const bool close = leader_gap < 2.0 * options_.car_length;
+    const int near_side = lateral >= leader->lateral ? +1 : -1;
     for (int side : {+1, -1}) {
+      if (close && side != near_side && !(passing_leader && memory.side == side)) continue;
       consider(make(RaceMode::kPass, side, leader->name,
                     leader->lateral + side * (options_.car_width + options_.lateral_margin + 0.3)));
     }
   }
   // The fallback: behind the leader at its speed; beside a car, holding the lateral place (never squeezing
   // it), otherwise on or back to the racing line.
-  const RaceDecision fallback_path = alongside && !on_line ? make(RaceMode::kHold, 0, "", lateral)
+  const RaceDecision fallback_path = alongside && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
                                      : on_line             ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                            : make(RaceMode::kRacingLine, 0, "", 0.0);
   Candidate follow{on_line ? base : shifted(base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset),
@@ -242,17 +319,26 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_);
   }
   clearOf(follow.window, s, {}, &follow.decision.progress);
+  if (leader) {
+    // Behind the leader as it is predicted to go, not at the speed it has now.
+    const double leader_travel = predict(*leader, s).at(options_.horizon);
+    follow.decision.progress = std::min(follow.decision.progress, leader_travel - options_.follow_gap);
+  }
 
   const Candidate* chosen = nullptr;
-  // A committed pass keeps its side while it stays clear and the car passed is not yet behind.
   if (memory.mode == RaceMode::kPass) {
+    // A committed pass keeps its side while it stays clear and the car passed is still ahead; it is never
+    // switched to the other side (that is how cars get squeezed).
     for (const auto& c : candidates) {
       if (c.clear && c.decision.mode == RaceMode::kPass && c.decision.side == memory.side &&
           c.decision.other == memory.other) {
         chosen = &c;
       }
     }
-    if (!chosen) {
+    const bool still_ahead = leader && leader->name == memory.other;
+    if (!chosen && still_ahead) {
+      chosen = &follow;  // aborted: fall in behind, holding the lateral place while beside anyone
+    } else if (!chosen) {
       // The passed car is no longer ahead: the pass is complete; hold beside it while it is alongside.
       for (const auto& c : candidates) {
         if (c.clear && (c.decision.mode == RaceMode::kRacingLine || c.decision.mode == RaceMode::kHold) &&
@@ -273,8 +359,34 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
   }
   if (!chosen) chosen = &follow;
+  if (memory.mode == RaceMode::kPass && chosen->decision.mode == RaceMode::kFollow) abort = {memory.other, options_.retry_plans};
+  const bool holding = alongside && (chosen->decision.mode == RaceMode::kHold || (chosen == &follow && !on_line));
+  if (holding) {
+    holds_[car] = hold_at;
+  } else {
+    holds_.erase(car);
+  }
+  Trajectory window = chosen->window;
+  guard(&window, s, speed, others);
   memory = chosen->decision;
-  return chosen->window;
+  return window;
+}
+
+void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const {
+  // Whatever was chosen, never faster than a car ahead in the plan's own path allows: the nearest car
+  // ahead whose lateral place overlaps the plan's where it is is followed at a short gap.
+  const double gap = options_.car_length + options_.longitudinal_margin + options_.guard_time * speed;
+  const TrafficCar* nearest = nullptr;
+  double nearest_rel = 0.0;
+  for (const auto& o : others) {
+    const double rel = ahead(o.s, s, line_.length);
+    if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
+    const double d = sampleAt(*window, s + rel).offset - sampleAt(line_, s + rel).offset;
+    if (std::abs(d - o.lateral) >= options_.car_width + options_.guard_lateral) continue;
+    nearest = &o;
+    nearest_rel = rel;
+  }
+  if (nearest) followBehind(window, s, s + nearest_rel, nearest->speed, gap, limits_);
 }
 
 RaceDecision OvertakePlanner::decision(const std::string& car) const {

@@ -188,4 +188,14 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
   pts.back().acceleration = 0.0;
 }
 
+void scaleSpeeds(Trajectory* trajectory, double pace) {
+  if (pace == 1.0) return;
+  for (auto& p : trajectory->points) {
+    p.speed *= pace;
+    p.acceleration *= pace * pace;
+    p.time /= pace;
+  }
+  trajectory->lap_time /= pace;
+}
+
 }  // namespace roar::planning

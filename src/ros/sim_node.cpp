@@ -20,7 +20,7 @@
 namespace roar::ros_bridge {
 
 namespace {
-constexpr int kGridSlots = 20;  // spawn points: the start grid behind the start/finish line
+using track::kGridSlots;
 
 // Paint of the n-th car: distinct, saturated colours (linear RGB).
 Eigen::Vector3f paint(std::size_t n) {

@@ -16,7 +16,7 @@ namespace roar::stack {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr int kGridSlots = 20;  // waypoint_server's and roar_sim's start grid
+using track::kGridSlots;
 }
 
 std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir) {
@@ -73,6 +73,7 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     c.read("sensors", &car.sensors);
     c.read("driven", &car.driven);
     c.read("max_speed", &car.max_speed);
+    c.read("pace", &car.pace);
     c.read("agent", &car.agent);
     std::vector<double> rgb;
     if (c.read("colour", &rgb)) {
@@ -91,7 +92,12 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     if (!slots.insert(car.spawn_point).second) {
       fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is taken by another car");
     }
-    if (car.max_speed < 0) fail(field + ".max_speed", "must not be negative");
+    if (!(car.max_speed >= 0 && car.max_speed <= 150)) {
+      fail(field + ".max_speed", std::to_string(car.max_speed) + " m/s is outside 0..150 (0: no cap)");
+    }
+    if (!(car.pace > 0.2 && car.pace <= 1)) {
+      fail(field + ".pace", std::to_string(car.pace) + " is outside (0.2, 1] (the share of the planned speeds)");
+    }
     try {
       sim::loadVehicleModel(car.model, context.urdf_dir, context.vehicle_config_dir);
     } catch (const std::exception& e) {

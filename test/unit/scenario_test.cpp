@@ -78,6 +78,16 @@ TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
   const std::string lap = errorLoading("map: roar_ring\nlap: 3\n" + car);
   EXPECT_NE(lap.find("lap: is not a known key (did you mean 'laps'?)"), std::string::npos) << lap;
   EXPECT_NE(errorLoading("map: roar_ring\nlaps: many\n" + car).find("laps: is not a"), std::string::npos);
+  // Speeds and paces: a NaN cap used to let the pace car race uncapped.
+  EXPECT_EQ(errorLoading("map: roar_ring\ncars:\n  - {name: a, pace: 0.9, max_speed: 20}\n"), "");
+  for (const char* bad : {".nan", "-1", "1e30", ".inf"}) {
+    const std::string e = errorLoading(std::string("map: roar_ring\ncars:\n  - {name: a, max_speed: ") + bad + "}\n");
+    EXPECT_NE(e.find("cars[0].max_speed:"), std::string::npos) << bad << ": " << e;
+  }
+  for (const char* bad : {".nan", "0", "1.5", "-0.9"}) {
+    const std::string e = errorLoading(std::string("map: roar_ring\ncars:\n  - {name: a, pace: ") + bad + "}\n");
+    EXPECT_NE(e.find("cars[0].pace:"), std::string::npos) << bad << ": " << e;
+  }
 }
 
 TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {

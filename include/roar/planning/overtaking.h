@@ -8,6 +8,7 @@
 // is complete (the passed car behind), or aborts to following when its side closes. A car that has
 // another alongside holds its lateral place instead of moving back onto the line into it (racecraft:
 // leave a car's width).
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -24,12 +25,15 @@ struct TrafficCar {
   double s = 0.0;        // m along the racing line
   double lateral = 0.0;  // m left of the racing line
   double speed = 0.0;    // m/s
+  // Its recent speed as a share of the racing line's where it was (smoothed over a second or so); 0:
+  // unknown, the share of this moment is taken. How fast it is predicted to go on.
+  double line_share = 0.0;
 };
 
 struct OvertakeOptions {
   double car_length = 4.7;           // m, every car's (bumper to bumper)
   double car_width = 1.85;           // m
-  double lateral_margin = 0.9;       // m of air kept beside another car
+  double lateral_margin = 0.9;       // m of air kept beside another car (to start a move; half of it to go on with one)
   double longitudinal_margin = 1.5;  // m kept to the car ahead or behind when beside it in the plan
   double edge_margin = 1.0;          // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
   double horizon = 6.0;              // s over which other cars are predicted and candidates compared
@@ -38,6 +42,16 @@ struct OvertakeOptions {
   double min_gain = 4.0;             // m further in the horizon a pass must get than following
   double follow_gap = 12.0;          // m, centre to centre, kept behind a car followed
   double sample_step = 2.0;          // m between the points checked against other cars
+  // A pass is considered only for a car ahead within this many seconds at the car's speed (plus a car's
+  // length), and given up when the car passed gets half as far again away: a car far ahead is caught on
+  // the racing line, not on a line beside it.
+  double engage_time = 2.0;          // s
+  double min_pass_speed = 8.0;       // m/s the car must be doing to start a pass (not from the grid)
+  int retry_plans = 60;              // plans (ticks) after an aborted pass before another on the same car
+  // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
+  // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
+  double guard_lateral = 0.4;        // m
+  double guard_time = 0.25;          // s
 };
 
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold };
@@ -61,9 +75,10 @@ class OvertakePlanner {
   OvertakePlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, OvertakeOptions options);
 
   // The window (behind .. ahead metres around s) for `car` at (s, lateral, speed) on the racing line,
-  // with the others of `traffic` (the car itself may be in it; it is skipped by name).
+  // with the others of `traffic` (the car itself may be in it; it is skipped by name), driven at `pace`
+  // (the share of the line's speeds the car is planned at).
   Trajectory plan(const std::string& car, double s, double lateral, double speed, const std::vector<TrafficCar>& traffic,
-                  double behind, double ahead);
+                  double behind, double ahead, double pace = 1.0);
   // What the last plan for `car` chose.
   RaceDecision decision(const std::string& car) const;
   const Trajectory& line() const { return line_; }
@@ -80,15 +95,37 @@ class OvertakePlanner {
   };
   // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
-  Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to) const;
-  // Whether a plan keeps clear of every car alongside or ahead over the horizon; sets its progress.
-  bool clearOf(const Trajectory& plan, double s0, const std::vector<TrafficCar>& others, double* progress) const;
+  // back_s: where (window s) the move is undone again, back onto the racing line (infinite: never).
+  Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
+                     double back_s = std::numeric_limits<double>::infinity()) const;
+  // Another car's predicted motion over the horizon: metres ahead of the planning car's s every
+  // kPredictionStep seconds. It keeps the share of the racing line's speed it has now (a slow car stays
+  // slow, one braking for a corner speeds up out of it) and its lateral place.
+  struct Prediction {
+    std::vector<double> ahead;
+    double lateral = 0.0;
+    double at(double t) const;
+  };
+  Prediction predict(const TrafficCar& other, double s0) const;
+  // Where (window s) a car driving `plan` is first clear ahead of `leader`; infinite when not in the horizon.
+  double passCompleteAt(const Trajectory& plan, double s0, const Prediction& leader) const;
+  void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const;
+  // Whether a plan keeps clear of every car alongside or ahead over the horizon (by lateral_margin beside
+  // them, scaled by margin_share); sets its progress.
+  bool clearOf(const Trajectory& plan, double s0, const std::vector<Prediction>& others, double* progress,
+               double margin_share = 1.0) const;
 
   Trajectory line_;
   VehicleLimits limits_;
   OvertakeOptions options_;
   std::vector<double> room_s_, room_left_, room_right_;
   std::map<std::string, RaceDecision> decisions_;
+  struct Abort {
+    std::string other;  // the car a pass on was given up
+    int plans_left = 0;
+  };
+  std::map<std::string, Abort> aborts_;
+  std::map<std::string, double> holds_;  // the lateral place (m) a car holds while another is alongside
 };
 
 }  // namespace roar::planning

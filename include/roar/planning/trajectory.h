@@ -72,4 +72,8 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
                   const VehicleLimits& limits);
 
+// The trajectory's speeds times `pace`, its accelerations times pace squared (the same path driven at a
+// share of the speed) and its times divided by it.
+void scaleSpeeds(Trajectory* trajectory, double pace);
+
 }  // namespace roar::planning

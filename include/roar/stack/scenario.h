@@ -17,6 +17,7 @@ struct ScenarioCar {
   std::string sensors;      // a sensor set of config/sensors (empty: none)
   bool driven = true;       // the stack's controller drives it (false: yours does)
   double max_speed = 0.0;   // m/s the stack may drive it at; 0: no cap
+  double pace = 1.0;        // share of the planned speeds the stack drives it at (a slower car in a field)
   std::string agent;        // an RL environment of config/rl (or a path): an agent drives it through roar_sim's
                             // RL interface (then driven must be false); empty: none
 };

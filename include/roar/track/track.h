@@ -8,6 +8,9 @@
 
 namespace roar::track {
 
+// The start grid's slots a race places its cars on (scenarios, roar_sim, waypoint_server's spawn points).
+inline constexpr int kGridSlots = 20;
+
 struct CentreLinePoint {
   double x = 0.0;
   double y = 0.0;
@@ -90,6 +93,7 @@ class Track {
   Projection projectNear(const Eigen::Vector2d& p, double near_s, double window) const;
 
   // Start grid: slot 0 (pole) `first_gap` metres behind the start/finish line, then alternating sides.
+  // Races place cars on the first kGridSlots slots.
   std::vector<TrackPose> gridSpawnPoints(int count, double first_gap = 10.0, double spacing = 8.0) const;
   // Indices of the centre-line points with progress in (from_s, from_s + length], the forward way round.
   std::vector<std::size_t> indicesAhead(double from_s, double length) const;

@@ -1,0 +1,214 @@
+#include "traffic_table.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "roar/sim/vehicle_config.h"
+#include "roar/stack/race.h"
+#include "roar/track/map_folder.h"
+
+namespace roar::bench {
+
+namespace {
+
+// A field of one race: its name and its cars, made from a seed.
+struct Field {
+  std::string kind;
+  std::vector<stack::RaceCar> cars;
+  std::vector<std::string> pace_order;  // fastest first (ties: grid order)
+};
+
+double jitter(std::mt19937& rng, double amount) { return std::uniform_real_distribution<double>(-amount, amount)(rng); }
+
+// The pace car: a slow car (60-75% of the line's speeds) on pole, three stack cars behind it.
+Field paceCarField(std::mt19937& rng) {
+  Field f{"pace_car", {}, {}};
+  f.cars.push_back({"pace", 0, 0.675 + jitter(rng, 0.075), 0.0});
+  for (int k = 1; k <= 3; ++k) f.cars.push_back({"car" + std::to_string(k), k, 1.0, 0.0});
+  return f;
+}
+
+// Six cars 5% of pace apart (each jittered by up to 1%), started in reverse order of pace.
+Field reverseGridField(std::mt19937& rng) {
+  Field f{"reverse_grid", {}, {}};
+  for (int k = 0; k < 6; ++k) {
+    const double pace = std::min(1.0, 0.75 + 0.05 * k + jitter(rng, 0.01));
+    f.cars.push_back({"p" + std::to_string(k), k, pace, 0.0});
+  }
+  return f;
+}
+
+// Two equal cars, the one on pole slowed by 5% (4-6%).
+Field twoCarField(std::mt19937& rng) {
+  Field f{"five_percent", {}, {}};
+  f.cars.push_back({"slowed", 0, 0.95 + jitter(rng, 0.01), 0.0});
+  f.cars.push_back({"full", 1, 1.0, 0.0});
+  return f;
+}
+
+void orderByPace(Field* f) {
+  std::vector<stack::RaceCar> cars = f->cars;
+  std::stable_sort(cars.begin(), cars.end(), [](const auto& a, const auto& b) { return a.pace > b.pace; });
+  for (const auto& c : cars) f->pace_order.push_back(c.name);
+}
+
+struct Totals {
+  int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
+  int pace_order = 0, pace_order_races = 0, late_passes = 0;
+  std::vector<double> catch_to_pass, passing_share;
+  double traffic_time = 0.0, race_seconds = 0.0;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double mean(const std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+
+void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
+  const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
+  std::printf("%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s\n", circuit.c_str(), kind.c_str(),
+              t.races, t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share),
+              t.contacts, t.at_fault, t.track_limits, t.late_passes,
+              t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-");
+}
+
+}  // namespace
+
+int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, const std::string& vehicle_config_dir,
+                      int seeds, int laps, const planning::OvertakeOptions& overtake, const std::string& only_map,
+                      bool verbose) {
+  const auto vehicle = sim::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
+  std::printf("\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
+              "lockstep, in one process\n", laps, seeds);
+  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %9s %8s %8s %8s %7s %8s %9s\n", "circuit", "field", "races", "attempts",
+              "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits", "late", "in_order");
+  Totals all;
+  const auto started = std::chrono::steady_clock::now();
+  for (const auto& map : track::listMaps(maps_dir)) {
+    if (!only_map.empty() && map != only_map) continue;
+    const auto track = track::loadMapFolder(maps_dir + "/" + map);
+    stack::RaceOptions options;
+    options.laps = laps;
+    options.field.overtaking = true;
+    options.field.overtake = overtake;
+    // Free air: the same car alone, for the passing speed's reference (a car at pace p: p times it).
+    stack::RaceOptions solo = options;
+    solo.laps = 2;
+    const auto alone = stack::runRace(track, vehicle, {{"alone", 0}}, solo).car("alone");
+    for (auto make : {paceCarField, reverseGridField, twoCarField}) {
+      Totals t;
+      std::string kind;
+      for (int seed = 0; seed < seeds; ++seed) {
+        std::mt19937 rng(static_cast<unsigned>(seed * 7919 + 17));
+        Field field = make(rng);
+        kind = field.kind;
+        orderByPace(&field);
+        const auto r = stack::runRace(track, vehicle, field.cars, options);
+        ++t.races;
+        t.race_seconds += r.sim_time;
+        std::map<std::string, double> pace, best_lap;
+        for (const auto& c : field.cars) pace[c.name] = c.pace;
+        for (const auto& c : r.cars) {
+          t.track_limits += c.track_limit_violations;
+          t.barrier += c.barrier_contacts;
+          t.traffic_time += c.time_in_traffic;
+          best_lap[c.name] = c.lap_times.empty() ? 1e9 : *std::min_element(c.lap_times.begin(), c.lap_times.end());
+        }
+        for (const auto& p : r.passes) {
+          ++t.attempts;
+          if (p.completed) {
+            ++t.completed;
+            t.catch_to_pass.push_back(p.end_time - p.caught_time);
+            if (p.end_time - p.caught_time > best_lap[p.passer]) ++t.late_passes;
+          } else {
+            ++t.aborted;
+          }
+          std::vector<double> free_air = alone.lap_speeds;
+          for (double& v : free_air) v *= pace[p.passer];
+          const double share = stack::passingSpeedShare(p, free_air, r.speed_bin);
+          if (std::isfinite(share)) t.passing_share.push_back(share);
+          if (verbose) {
+            std::printf("  %s seed %d: %s %s %s on the %s, caught %.1f, %.1f-%.1f s, speed %.0f%%\n", map.c_str(), seed,
+                        p.passer.c_str(), p.completed ? "passed" : "aborted passing", p.passed.c_str(),
+                        p.side > 0 ? "left" : "right", p.caught_time, p.start_time, p.end_time, 100 * share);
+          }
+        }
+        t.contacts += static_cast<int>(r.contacts.size());
+        for (const auto& c : r.contacts) {
+          if (!c.at_fault.empty()) ++t.at_fault;
+          if (verbose) {
+            std::printf("  %s seed %d: CONTACT %s-%s at t = %.2f s, %s, at fault: %s\n", map.c_str(), seed, c.a.c_str(),
+                        c.b.c_str(), c.time, c.kind.c_str(), c.at_fault.empty() ? "nobody" : c.at_fault.c_str());
+          }
+        }
+        if (field.kind == "reverse_grid") {
+          ++t.pace_order_races;
+          bool in_order = r.finished;
+          for (std::size_t k = 0; k < r.cars.size() && in_order; ++k) in_order = r.cars[k].name == field.pace_order[k];
+          t.pace_order += in_order;
+        }
+      }
+      printRow(map, kind, t);
+      std::fflush(stdout);
+      all.races += t.races;
+      all.attempts += t.attempts;
+      all.completed += t.completed;
+      all.aborted += t.aborted;
+      all.contacts += t.contacts;
+      all.at_fault += t.at_fault;
+      all.track_limits += t.track_limits;
+      all.barrier += t.barrier;
+      all.late_passes += t.late_passes;
+      all.pace_order += t.pace_order;
+      all.pace_order_races += t.pace_order_races;
+      all.race_seconds += t.race_seconds;
+      all.catch_to_pass.insert(all.catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
+      all.passing_share.insert(all.passing_share.end(), t.passing_share.begin(), t.passing_share.end());
+    }
+  }
+  printRow("all", "", all);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::printf("columns: passes attempted, completed and aborted; rate_%% completed/attempted; catch_s median time from\n"
+              "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
+              "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
+              "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order.\n"
+              "%.0f simulated s in %.0f s wall; barrier contacts %d\n", all.race_seconds, wall, all.barrier);
+  return all.contacts;
+}
+
+void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos) throw std::invalid_argument("--overtake " + assignment + ": expected name=value");
+  const std::string name = assignment.substr(0, eq);
+  const double value = std::stod(assignment.substr(eq + 1));
+  const std::map<std::string, double*> fields = {
+      {"lateral_margin", &o->lateral_margin}, {"longitudinal_margin", &o->longitudinal_margin},
+      {"edge_margin", &o->edge_margin},       {"horizon", &o->horizon},
+      {"shift_time", &o->shift_time},         {"min_shift_length", &o->min_shift_length},
+      {"min_gain", &o->min_gain},             {"engage_time", &o->engage_time},
+      {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time}};
+  const auto it = fields.find(name);
+  if (it != fields.end()) {
+    *it->second = value;
+  } else if (name == "retry_plans") {
+    o->retry_plans = static_cast<int>(value);
+  } else {
+    throw std::invalid_argument("--overtake: no option '" + name + "'");
+  }
+}
+
+}  // namespace roar::bench

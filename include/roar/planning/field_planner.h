@@ -1,0 +1,72 @@
+#pragma once
+// The planner's view of a field of cars: where each is on the racing line, and the window ahead each one
+// is to drive. Either every car follows the car ahead on the line (a procession), or, with overtaking on,
+// the OvertakePlanner chooses between the line, following and passing. The planner node and the
+// in-process race (stack/race.h) both plan through this class, so the choice of the car to follow lives
+// in one place that gtest reaches.
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "roar/planning/overtaking.h"
+#include "roar/planning/trajectory.h"
+#include "roar/planning/vehicle_limits.h"
+#include "roar/track/track.h"
+
+namespace roar::planning {
+
+struct FieldOptions {
+  double window_ahead = 250.0;  // m of the line each window covers ahead of the car
+  double window_behind = 10.0;  // m behind it
+  double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
+  double follow_lateral = 3.5;  // m: without overtaking, a car this close to the line is in the way
+  bool overtaking = false;      // true: pass slower cars (OvertakePlanner); false: follow them
+  OvertakeOptions overtake;     // its follow_gap is taken from follow_gap above
+};
+
+class FieldPlanner {
+ public:
+  // line: the closed racing trajectory of `track`, planned with `limits`.
+  FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, FieldOptions options);
+
+  // Where `car` is now: base_link's position and its forward speed (m/s). A car first seen is searched
+  // for on the whole line, then near its last place.
+  void locate(const std::string& car, const Eigen::Vector2d& position, double speed);
+  bool located(const std::string& car) const { return cars_.count(car) > 0; }
+  void forget(const std::string& car) { cars_.erase(car); }
+  // The share of the line's speeds the car is planned at (0 < pace <= 1; 1: the line's own).
+  // Throws std::invalid_argument outside (0, 1].
+  void setPace(const std::string& car, double pace);
+
+  // The window ahead of a located car (std::out_of_range for a car never located), given every other
+  // located car where it was last located.
+  Trajectory window(const std::string& car);
+  // What the last window for `car` chose (kRacingLine or kFollow without overtaking).
+  RaceDecision decision(const std::string& car) const;
+  // Where the car was last located on the line.
+  const TrajectoryProjection& onLine(const std::string& car) const { return cars_.at(car).on_line; }
+
+  const Trajectory& line() const { return line_; }
+  const FieldOptions& options() const { return options_; }
+
+ private:
+  struct Place {
+    long hint = -1;
+    TrajectoryProjection on_line;
+    double speed = 0.0;
+    double line_share = 0.0;  // its speed over the line's, smoothed (OvertakePlanner's prediction)
+  };
+  // Without overtaking: the nearest car ahead on the line within the window, if one is in the way.
+  void followCarAhead(const std::string& car, const Place& place, Trajectory* window, RaceDecision* decision) const;
+
+  Trajectory line_;
+  VehicleLimits limits_;
+  FieldOptions options_;
+  std::unique_ptr<OvertakePlanner> overtaker_;
+  std::map<std::string, Place> cars_;
+  std::map<std::string, double> pace_;
+  std::map<std::string, RaceDecision> follow_decisions_;
+};
+
+}  // namespace roar::planning

@@ -1,0 +1,101 @@
+#pragma once
+// A race of the stack's cars in one process, without ROS: the simulator world, one planner for the field
+// (planning::FieldPlanner: following or overtaking), a trajectory tracker per car and race control, ticking
+// in lockstep; deterministic. What the traffic benchmark (roar_bench --traffic) runs and gtest drives.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "roar/control/trajectory_tracker.h"
+#include "roar/planning/field_planner.h"
+#include "roar/race/race_control.h"
+#include "roar/sim/vehicle_params.h"
+#include "roar/track/track.h"
+
+namespace roar::stack {
+
+struct RaceCar {
+  std::string name;
+  int grid_slot = 0;        // 0 = pole (track::Track::gridSpawnPoints)
+  double pace = 1.0;        // share of the planned speeds it is driven at
+  double max_speed = 0.0;   // m/s cap; 0: none
+};
+
+// One car at one tick, as the race saw it (RaceOptions::on_tick).
+struct RaceTick {
+  double time = 0.0;  // s
+  const std::string* car = nullptr;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  double speed = 0.0;  // m/s forward
+  planning::TrajectoryProjection on_line;
+  planning::RaceDecision decision;
+};
+
+struct RaceOptions {
+  int laps = 2;
+  double time_limit = 0.0;  // s simulated; 0: three times the slowest car's promised race plus a minute
+  double grip_use = 0.85;   // share of the road's friction the plan uses
+  planning::PlannerOptions planner;
+  control::TrackerOptions tracker;  // wheelbase and steering angle are taken from the vehicle
+  planning::FieldOptions field;     // car length and width are taken from the vehicle
+  race::RaceRules rules;            // laps are taken from `laps`
+  double speed_bin = 2.0;           // m of racing line per bin of RaceCarResult::lap_speeds
+  // Called for every car each tick, before it is stepped: for traces and plots.
+  std::function<void(const RaceTick&)> on_tick;
+};
+
+// A pass attempt: the passer drew alongside (its nose past the other's tail) in a pass; completed when
+// it was clear ahead, aborted when it dropped back behind. Its times and speeds run from the moment the
+// planner chose the pass (pulling out) to the end.
+struct PassAttempt {
+  std::string passer, passed;
+  int side = 0;               // +1 on the left of the car passed, -1 on the right
+  double caught_time = 0.0;   // s when the passer first followed or went for the car passed (this time round)
+  double start_time = 0.0;    // s the planner chose the pass
+  double end_time = 0.0;      // s it was complete or aborted
+  bool completed = false;
+  // The passer's speed during the pass, sampled each tick: line s (m, wrapped) and speed (m/s).
+  std::vector<std::pair<double, double>> samples;
+};
+
+struct CarContactRecord {
+  double time = 0.0;
+  std::string a, b;
+  std::string at_fault;  // empty: a racing incident
+  std::string kind;      // race::ContactFault::kind
+};
+
+struct RaceCarResult {
+  std::string name;
+  double pace = 1.0;
+  int position = 0;                // finishing order (1 = winner)
+  bool finished = false;
+  double race_time = 0.0;          // s from the start signal, penalties included
+  std::vector<double> lap_times;   // s
+  int car_contacts = 0, barrier_contacts = 0, track_limit_violations = 0;
+  double time_in_traffic = 0.0;    // s spent following a car or passing one
+  // The car's speed (m/s) in each speed_bin of the racing line, as it last went through it (NaN: never).
+  std::vector<double> lap_speeds;
+};
+
+struct RaceResult {
+  std::vector<RaceCarResult> cars;  // in finishing order
+  std::vector<PassAttempt> passes;
+  std::vector<race::Overtake> overtakes;
+  std::vector<CarContactRecord> contacts;
+  double sim_time = 0.0;
+  double line_length = 0.0;  // m, the racing line's
+  double speed_bin = 2.0;
+  bool finished = false;     // every car finished within the time limit
+  const RaceCarResult& car(const std::string& name) const;
+};
+
+// Throws std::invalid_argument for no cars, repeated names or grid slots, or a pace outside (0, 1].
+RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
+                   const RaceOptions& options);
+
+// The mean over a pass's samples of the passer's speed as a share of `free_air` (lap_speeds of the same car
+// alone) at the same place; NaN when no sample has a free-air speed.
+double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& free_air, double speed_bin);
+
+}  // namespace roar::stack

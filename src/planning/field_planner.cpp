@@ -1,0 +1,78 @@
+#include "roar/planning/field_planner.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace roar::planning {
+
+FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, FieldOptions options)
+    : line_(std::move(line)), limits_(limits), options_(options) {
+  validate(line_);
+  options_.overtake.follow_gap = options_.follow_gap;
+  if (options_.overtaking) overtaker_ = std::make_unique<OvertakePlanner>(track, line_, limits_, options_.overtake);
+}
+
+void FieldPlanner::locate(const std::string& car, const Eigen::Vector2d& position, double speed) {
+  Place& place = cars_[car];
+  place.on_line = project(line_, position, place.hint);
+  place.hint = static_cast<long>(place.on_line.segment);
+  place.speed = speed;
+  // Smoothed over about 20 odometry messages (a second at 20 Hz): a car braking behind another for a
+  // moment is not taken for a slow one.
+  const double share = speed / std::max(1.0, sampleAt(line_, place.on_line.s).speed);
+  place.line_share = place.line_share > 0 ? place.line_share + 0.05 * (share - place.line_share) : share;
+}
+
+void FieldPlanner::setPace(const std::string& car, double pace) {
+  if (!(pace > 0.0 && pace <= 1.0)) {
+    throw std::invalid_argument("pace of '" + car + "' is " + std::to_string(pace) + ": it must be in (0, 1]");
+  }
+  pace_[car] = pace;
+}
+
+Trajectory FieldPlanner::window(const std::string& car) {
+  const Place& place = cars_.at(car);
+  const auto pace_it = pace_.find(car);
+  const double pace = pace_it == pace_.end() ? 1.0 : pace_it->second;
+  if (overtaker_) {
+    std::vector<TrafficCar> traffic;
+    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share});
+    return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
+                            options_.window_ahead, pace);
+  }
+  Trajectory window = windowAround(line_, place.on_line.s, options_.window_behind, options_.window_ahead);
+  scaleSpeeds(&window, pace);
+  followCarAhead(car, place, &window, &follow_decisions_[car]);
+  return window;
+}
+
+RaceDecision FieldPlanner::decision(const std::string& car) const {
+  if (overtaker_) return overtaker_->decision(car);
+  const auto it = follow_decisions_.find(car);
+  return it == follow_decisions_.end() ? RaceDecision{} : it->second;
+}
+
+void FieldPlanner::followCarAhead(const std::string& car, const Place& place, Trajectory* window,
+                                  RaceDecision* decision) const {
+  double nearest = options_.window_ahead;
+  const std::string* leader_name = nullptr;
+  const Place* leader = nullptr;
+  for (const auto& [name, other] : cars_) {
+    if (name == car || std::abs(other.on_line.lateral) > options_.follow_lateral) continue;
+    double ahead = other.on_line.s - place.on_line.s;
+    ahead -= std::floor(ahead / line_.length) * line_.length;  // forward round the lap
+    if (ahead > 0 && ahead < nearest) {
+      nearest = ahead;
+      leader = &other;
+      leader_name = &name;
+    }
+  }
+  *decision = RaceDecision{};
+  if (leader) {
+    followBehind(window, place.on_line.s, place.on_line.s + nearest, leader->speed, options_.follow_gap, limits_);
+    decision->mode = RaceMode::kFollow;
+    decision->other = *leader_name;
+  }
+}
+
+}  // namespace roar::planning

@@ -1,0 +1,237 @@
+#include "roar/stack/race.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "roar/race/contact_fault.h"
+#include "roar/sim/world.h"
+#include "roar/stack/time_trial.h"
+
+namespace roar::stack {
+
+namespace {
+
+// Forward distance from b to a round a lap of `length`, in [-length / 2, length / 2).
+double aheadOnLap(double a, double b, double length) {
+  const double d = a - b;
+  return d - std::floor(d / length + 0.5) * length;
+}
+
+// What the race keeps of each car between ticks.
+struct Entrant {
+  RaceCar spec;
+  control::TrajectoryTracker tracker;
+  RaceCarResult result;
+  long open_pass = -1;        // index into passes while one is under way (the two cars alongside)
+  std::string engaged_with;   // the car it follows or passes
+  double engaged_since = 0.0;
+  PassAttempt moving_out;     // the planner's pass before the car is alongside (passer empty: none)
+};
+
+void checkCars(const std::vector<RaceCar>& cars) {
+  if (cars.empty()) throw std::invalid_argument("race: no cars");
+  std::set<std::string> names;
+  std::set<int> slots;
+  for (const auto& c : cars) {
+    if (!names.insert(c.name).second) throw std::invalid_argument("race: car '" + c.name + "' is listed twice");
+    if (c.grid_slot < 0 || c.grid_slot >= track::kGridSlots || !slots.insert(c.grid_slot).second) {
+      throw std::invalid_argument("race: car '" + c.name + "': grid slot " + std::to_string(c.grid_slot) +
+                                  " is taken or not in 0.." + std::to_string(track::kGridSlots - 1));
+    }
+    if (!(c.pace > 0.0 && c.pace <= 1.0)) {
+      throw std::invalid_argument("race: car '" + c.name + "': pace " + std::to_string(c.pace) + " is not in (0, 1]");
+    }
+    if (!(c.max_speed >= 0.0)) throw std::invalid_argument("race: car '" + c.name + "': max_speed must not be negative");
+  }
+}
+
+}  // namespace
+
+const RaceCarResult& RaceResult::car(const std::string& name) const {
+  for (const auto& c : cars) {
+    if (c.name == name) return c;
+  }
+  throw std::out_of_range("race result: no car '" + name + "'");
+}
+
+double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& free_air, double speed_bin) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& [s, speed] : pass.samples) {
+    const auto bin = static_cast<std::size_t>(std::max(0.0, s) / speed_bin);
+    if (bin >= free_air.size() || !(free_air[bin] > 1.0)) continue;
+    sum += speed / free_air[bin];
+    ++n;
+  }
+  return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
+RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
+                   const RaceOptions& options) {
+  checkCars(cars);
+  const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
+  planning::FieldOptions field_options = options.field;
+  field_options.overtake.car_length = vehicle.chassis.box_size.x();
+  field_options.overtake.car_width = vehicle.chassis.box_size.y();
+  planning::FieldPlanner field(track, planning::planRacingTrajectory(track, limits, options.planner), limits, field_options);
+  const planning::Trajectory& line = field.line();
+
+  sim::World world(track, {});
+  const auto grid = track.gridSpawnPoints(track::kGridSlots);
+  std::vector<Entrant> entrants;
+  std::vector<std::string> names;
+  double slowest_lap = line.lap_time;
+  for (const auto& c : cars) {
+    control::TrackerOptions tracker_options = trackerFor(vehicle, options.tracker);
+    if (c.max_speed > 0) tracker_options.max_speed = c.max_speed;
+    entrants.push_back({c, control::TrajectoryTracker(tracker_options, limits), {}, -1, "", 0.0, {}});
+    entrants.back().result.name = c.name;
+    entrants.back().result.pace = c.pace;
+    entrants.back().result.lap_speeds.assign(static_cast<std::size_t>(std::ceil(line.length / options.speed_bin)),
+                                             std::numeric_limits<double>::quiet_NaN());
+    field.setPace(c.name, c.pace);
+    world.spawnVehicle(c.name, vehicle, sim::poseOnTrack(grid.at(static_cast<std::size_t>(c.grid_slot))));
+    names.push_back(c.name);
+    slowest_lap = std::max({slowest_lap, line.lap_time / c.pace, c.max_speed > 0 ? line.length / c.max_speed : 0.0});
+  }
+  race::RaceRules rules = options.rules;
+  rules.laps = options.laps;
+  race::RaceControl control(track, rules, names);
+  const double time_limit = options.time_limit > 0 ? options.time_limit : 3.0 * slowest_lap * (options.laps + 1) + 60.0;
+  const double dt = world.options().control_dt;
+
+  RaceResult result;
+  result.line_length = line.length;
+  result.speed_bin = options.speed_bin;
+  std::map<std::pair<std::string, std::string>, double> last_car_contact;
+  std::set<std::string> last_barrier;
+
+  // A pass attempt is the car going alongside another in a pass (its nose past the other's tail); it is
+  // completed when the passer is clear ahead, aborted when it drops back behind. Pulling out and thinking
+  // better of it before drawing alongside is not an attempt, but its time and speeds count towards the
+  // attempt that follows.
+  const double car_length = vehicle.chassis.box_size.x();
+  auto gapAhead = [&](const std::string& a, const std::string& b) {  // a ahead of b (m, along the line)
+    return aheadOnLap(field.onLine(a).s, field.onLine(b).s, line.length);
+  };
+  auto closePass = [&](Entrant& e, double time) {
+    PassAttempt& pass = result.passes[static_cast<std::size_t>(e.open_pass)];
+    pass.end_time = time;
+    pass.completed = gapAhead(e.spec.name, pass.passed) > 0;
+    if (pass.completed) e.engaged_with.clear();
+    e.open_pass = -1;
+  };
+
+  while (world.time() < time_limit && !control.finished()) {
+    std::map<std::string, sim::VehicleState> states;
+    for (auto& e : entrants) {
+      const sim::VehicleState state = world.vehicleState(e.spec.name);
+      field.locate(e.spec.name, state.pose.position.head<2>(), state.forward_speed);
+      states[e.spec.name] = state;
+    }
+    const double now = world.time();
+    for (auto& e : entrants) {
+      const std::string& name = e.spec.name;
+      const sim::VehicleState& state = states[name];
+      e.tracker.setTrajectory(field.window(name));
+      const planning::RaceDecision d = field.decision(name);
+      // The bookkeeping of passes: when one began, whether it was completed or aborted.
+      const bool passing = d.mode == planning::RaceMode::kPass;
+      if ((d.mode == planning::RaceMode::kFollow || passing) && d.other != e.engaged_with) {
+        e.engaged_with = d.other;
+        e.engaged_since = now;
+      } else if (d.mode == planning::RaceMode::kRacingLine && e.open_pass < 0) {
+        e.engaged_with.clear();
+      }
+      if (e.open_pass >= 0) {
+        const std::string& passed = result.passes[static_cast<std::size_t>(e.open_pass)].passed;
+        if (std::abs(gapAhead(name, passed)) > car_length + 1.0) closePass(e, now);
+      }
+      if (passing && e.open_pass < 0) {
+        if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
+          e.moving_out = PassAttempt{};
+          e.moving_out.passer = name;
+          e.moving_out.passed = d.other;
+          e.moving_out.caught_time = e.engaged_since;
+          e.moving_out.start_time = now;
+        }
+        e.moving_out.side = d.side;
+        if (gapAhead(d.other, name) < car_length) {  // alongside
+          result.passes.push_back(std::move(e.moving_out));
+          e.moving_out = PassAttempt{};
+          e.open_pass = static_cast<long>(result.passes.size()) - 1;
+        }
+      } else if (!passing) {
+        e.moving_out = PassAttempt{};
+      }
+      const double s_line = field.onLine(name).s;
+      if (options.on_tick) options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
+      if (e.open_pass >= 0) result.passes[static_cast<std::size_t>(e.open_pass)].samples.emplace_back(s_line, state.forward_speed);
+      if (!e.moving_out.passer.empty()) e.moving_out.samples.emplace_back(s_line, state.forward_speed);
+      if (!control.car(name).finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
+      const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
+      if (bin < e.result.lap_speeds.size()) e.result.lap_speeds[bin] = state.forward_speed;
+
+      const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
+      control::TrackerInput in;
+      in.position = state.pose.position.head<2>();
+      in.yaw = std::atan2(forward.y(), forward.x());
+      in.speed = state.forward_speed;
+      in.yaw_rate = state.body_angular_velocity.z();
+      world.setControl(name, e.tracker.update(in));
+    }
+    world.step();
+    const double time = world.time();
+    for (auto& e : entrants) {
+      const std::string& name = e.spec.name;
+      const sim::VehicleState state = world.vehicleState(name);
+      control.updatePosition(name, time, state.pose.position.head<2>());
+      for (const auto& contact : world.contacts(name)) {
+        if (contact.other == "ground") continue;
+        control.updateContact(name, time, contact.other);
+        if (contact.other == "barrier" || name > contact.other) continue;  // each pair once, from its first name
+        const auto pair = std::make_pair(name, contact.other);
+        const auto last = last_car_contact.find(pair);
+        const bool fresh = last == last_car_contact.end() || time - last->second > rules.contact_merge;
+        last_car_contact[pair] = time;
+        if (!fresh) continue;
+        const sim::VehicleState other = world.vehicleState(contact.other);
+        auto at = [](const std::string& n, const sim::VehicleState& s) {
+          return race::CarAtContact{n, s.pose.position.head<2>(), sim::yawOf(s.pose.orientation), s.linear_velocity.head<2>()};
+        };
+        race::ContactFaultOptions fault_options;
+        fault_options.car_length = vehicle.chassis.box_size.x();
+        const double road = track.project(state.pose.position.head<2>()).heading;
+        const race::ContactFault fault =
+            race::attributeContact(at(name, state), at(contact.other, other), road, fault_options);
+        result.contacts.push_back({time, name, contact.other, fault.at_fault, fault.kind});
+      }
+    }
+  }
+  for (auto& e : entrants) {
+    if (e.open_pass >= 0) closePass(e, world.time());
+  }
+  result.sim_time = world.time();
+  result.finished = control.finished();
+  result.overtakes = control.overtakes();
+  for (const auto& standing : control.standings()) {
+    auto it = std::find_if(entrants.begin(), entrants.end(), [&](const Entrant& e) { return e.spec.name == standing.name; });
+    RaceCarResult r = it->result;
+    const race::CarRecord& record = control.car(standing.name);
+    r.position = standing.position;
+    r.finished = record.finished;
+    r.race_time = control.raceTime(standing.name);
+    for (const auto& lap : record.timer.laps()) r.lap_times.push_back(lap.lap_time);
+    r.car_contacts = record.car_contacts;
+    r.barrier_contacts = record.barrier_contacts;
+    r.track_limit_violations = record.track_limit_violations;
+    result.cars.push_back(std::move(r));
+  }
+  return result;
+}
+
+}  // namespace roar::stack

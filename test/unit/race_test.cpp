@@ -1,0 +1,152 @@
+// Racing in a field: who is at fault in a contact, the planner's choice of the car to follow, and whole
+// races of the stack's cars in one process (stack::runRace), with and without overtaking.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "roar/planning/field_planner.h"
+#include "roar/race/contact_fault.h"
+#include "roar/stack/race.h"
+#include "roar/track/map_folder.h"
+#include "test_support.h"
+
+using namespace roar;
+using planning::RaceMode;
+
+namespace {
+
+race::CarAtContact car(const std::string& name, double x, double y, double vx, double vy) {
+  return {name, {x, y}, std::atan2(vy, vx), {vx, vy}};
+}
+
+struct Sprint {
+  track::Track track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
+  sim::VehicleParams vehicle = test::sedan();
+  planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, 0.85);
+  planning::Trajectory line = planning::planRacingTrajectory(track, limits, {});
+};
+
+Sprint& sprint() {
+  static Sprint s;
+  return s;
+}
+
+Eigen::Vector2d onLineAt(double s, double lateral = 0.0) {
+  const auto p = planning::sampleAt(sprint().line, s);
+  return p.position + lateral * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
+}
+
+}  // namespace
+
+TEST(ContactFault, TheCarBehindIsAtFaultForRunningIntoTheBack) {
+  const auto fault = race::attributeContact(car("front", 10, 0, 20, 0), car("rear", 5.5, 0.3, 25, 0), 0.0);
+  EXPECT_EQ(fault.at_fault, "rear");
+  EXPECT_EQ(fault.kind, "from behind");
+  EXPECT_EQ(race::attributeContact(car("rear", 5.5, 0.3, 25, 0), car("front", 10, 0, 20, 0), 0.0).at_fault, "rear");
+}
+
+TEST(ContactFault, AlongsideTheCarThatMovedSidewaysIsAtFault) {
+  // b alongside a, on its left; a steers left into it.
+  const auto fault = race::attributeContact(car("a", 0, 0, 30, 2.0), car("b", 1.0, 1.9, 30, 0), 0.0);
+  EXPECT_EQ(fault.at_fault, "a");
+  EXPECT_EQ(fault.kind, "alongside");
+  EXPECT_EQ(race::attributeContact(car("a", 0, 0, 30, 0), car("b", 1.0, 1.9, 30, -2.0), 0.0).at_fault, "b");
+}
+
+TEST(ContactFault, SidewaysIsAcrossTheRoadNotAcrossTheCars) {
+  // Both cars follow a road heading 0.3 rad left; b alongside on the left holds its place, a moves over.
+  const double road = 0.3;
+  const Eigen::Vector2d along(std::cos(road), std::sin(road)), left(-std::sin(road), std::cos(road));
+  auto at = [&](const std::string& n, const Eigen::Vector2d& p, const Eigen::Vector2d& v) {
+    return race::CarAtContact{n, p, std::atan2(v.y(), v.x()), v};
+  };
+  const auto fault = race::attributeContact(at("a", {0, 0}, 30 * along + 2.0 * left),
+                                            at("b", 1.0 * along + 1.9 * left, 30 * along), road);
+  EXPECT_EQ(fault.at_fault, "a");
+}
+
+TEST(ContactFault, TwoCarsSqueezingAlikeIsARacingIncident) {
+  const auto fault = race::attributeContact(car("a", 0, 0, 30, 0.5), car("b", 0.5, 1.9, 30, -0.5), 0.0);
+  EXPECT_EQ(fault.at_fault, "");
+  EXPECT_EQ(fault.kind, "alongside");
+}
+
+TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
+  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
+  const double s = 100.0;
+  field.locate("ego", onLineAt(s), 20.0);
+  field.locate("slow", onLineAt(s + 30.0), 10.0);
+  field.locate("aside", onLineAt(s + 15.0, 6.0), 5.0);  // off the line: not in the way
+  const auto window = field.window("ego");
+  EXPECT_EQ(field.decision("ego").mode, RaceMode::kFollow);
+  EXPECT_EQ(field.decision("ego").other, "slow");
+  // No faster than the car followed once at the gap behind it.
+  EXPECT_LE(planning::sampleAt(window, s + 30.0 - field.options().follow_gap + 3.5).speed, 10.0 + 1e-6);
+  // The car in front has nobody ahead within the window: the racing line.
+  field.window("slow");
+  EXPECT_EQ(field.decision("slow").mode, RaceMode::kRacingLine);
+}
+
+TEST(FieldPlanner, APaceBelowOneScalesTheWindowsSpeeds) {
+  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
+  field.locate("ego", onLineAt(300.0), 20.0);
+  const auto full = field.window("ego");
+  field.setPace("ego", 0.9);
+  const auto slow = field.window("ego");
+  ASSERT_EQ(full.points.size(), slow.points.size());
+  for (std::size_t k = 0; k < full.points.size(); k += 10) {
+    EXPECT_NEAR(slow.points[k].speed, 0.9 * full.points[k].speed, 1e-9);
+  }
+  for (double bad : {0.0, -0.5, 1.5, std::nan("")}) {
+    EXPECT_NE(test::errorOf([&] { field.setPace("ego", bad); }).find("pace of 'ego'"), std::string::npos) << bad;
+  }
+  EXPECT_THROW(field.window("nobody"), std::out_of_range);
+}
+
+TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
+  planning::FieldOptions field;
+  field.overtaking = true;
+  stack::RaceOptions options;
+  options.field = field;
+  const auto r = stack::runRace(sprint().track, sprint().vehicle,
+                                {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  ASSERT_TRUE(r.finished);
+  EXPECT_EQ(r.cars.at(0).name, "ego");
+  EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
+  ASSERT_FALSE(r.overtakes.empty());
+  EXPECT_EQ(r.overtakes.front().passer, "ego");
+  EXPECT_EQ(r.overtakes.front().passed, "pace");
+  int completed = 0;
+  for (const auto& pass : r.passes) {
+    if (!pass.completed) continue;
+    ++completed;
+    EXPECT_LT(pass.end_time - pass.caught_time, 63.0) << "from catching to completing the pass";
+  }
+  EXPECT_GE(completed, 1);
+  for (const auto& c : r.cars) {
+    EXPECT_EQ(c.barrier_contacts, 0) << c.name;
+    EXPECT_EQ(c.track_limit_violations, 0) << c.name;
+  }
+  EXPECT_GT(r.car("ego").time_in_traffic, 0.0);
+}
+
+TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
+  stack::RaceOptions options;
+  options.laps = 1;
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  ASSERT_TRUE(r.finished);
+  EXPECT_EQ(r.cars.at(0).name, "pace");
+  EXPECT_TRUE(r.overtakes.empty());
+  EXPECT_TRUE(r.passes.empty());
+  EXPECT_TRUE(r.contacts.empty());
+}
+
+TEST(Race, RefusesBadFields) {
+  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"), std::string::npos);
+  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"a", 1}}, {}); }).find("twice"),
+            std::string::npos);
+  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"b", 0}}, {}); }).find("grid slot 0"),
+            std::string::npos);
+  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0, 0.0}}, {}); }).find("pace"),
+            std::string::npos);
+}
