@@ -117,6 +117,11 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         Field field = make(rng);
         kind = field.kind;
         orderByPace(&field);
+        if (verbose) {
+          std::printf("  %s seed %d %s:", map.c_str(), seed, field.kind.c_str());
+          for (const auto& c : field.cars) std::printf(" %s@%d pace %.4f", c.name.c_str(), c.grid_slot, c.pace);
+          std::printf("\n");
+        }
         const auto r = stack::runRace(track, vehicle, field.cars, options);
         ++t.races;
         t.race_seconds += r.sim_time;
@@ -200,7 +205,9 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
       {"edge_margin", &o->edge_margin},       {"horizon", &o->horizon},
       {"shift_time", &o->shift_time},         {"min_shift_length", &o->min_shift_length},
       {"min_gain", &o->min_gain},             {"engage_time", &o->engage_time},
-      {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time}};
+      {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time},
+      {"rejoin_time", &o->rejoin_time},       {"min_pass_speed", &o->min_pass_speed},
+      {"offline_grip", &o->offline_grip}};
   const auto it = fields.find(name);
   if (it != fields.end()) {
     *it->second = value;

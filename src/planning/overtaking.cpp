@@ -101,13 +101,16 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   curvature[n - 1] = curvature[n - 2];
   SpeedProfileOptions profile_options;
   profile_options.start_speed = -1.0;
-  const SpeedProfile profile = computeSpeedProfile(step, curvature, limits_, false, profile_options);
+  // Off the racing line the car is moving sideways as well: it is planned with a share of the grip.
+  VehicleLimits offline = limits_;
+  offline.friction *= options_.offline_grip;
+  const SpeedProfile profile = computeSpeedProfile(step, curvature, offline, false, profile_options);
   for (std::size_t k = 0; k < n; ++k) {
     pts[k].curvature = curvature[k];
     pts[k].speed = std::min(pts[k].speed, profile.speed[k]);
   }
   for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the cap made
-    const double a = decelerationAt(limits_, pts[k + 1].speed, pts[k + 1].curvature);
+    const double a = decelerationAt(offline, pts[k + 1].speed, pts[k + 1].curvature);
     pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * step[k]));
   }
   out.lap_time = 0.0;
@@ -157,6 +160,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
   bool clear = true;
   const double length = options_.car_length + options_.longitudinal_margin;
   const double width = options_.car_width + margin_share * options_.lateral_margin;
+  const double d0 = pts.empty() ? 0.0 : sampleAt(plan, s0).offset - sampleAt(line_, s0).offset;
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
     if (pts[k + 1].s <= s0) continue;
     const double s_next = pts[k + 1].s;
@@ -171,7 +175,12 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
     if (t < 0.3) continue;  // too soon to change anything
     const double d = pts[k + 1].offset - sampleAt(line_, s).offset;
     for (const auto& o : others) {
-      if (std::abs((s - s0) - o.at(t)) < length && std::abs(d - o.lateral) < width) {
+      // A car behind needs room to brake too: moving across into its lane in front of it keeps
+      // rejoin_time at speed (staying in the lane one is already in, ahead of it, is its to mind).
+      const double ahead_of_it = (s - s0) - o.at(t);
+      const bool moved_across = std::abs(d0 - o.lateral) >= width;
+      const double keep_ahead = length + (moved_across ? options_.rejoin_time * v : 0.0);
+      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - o.lateral) < width) {
         clear = false;
         break;
       }
@@ -186,6 +195,7 @@ double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, const 
   // The car along the plan as clearOf drives it, until it is clear ahead of the leader.
   const auto& pts = plan.points;
   double t = 0.0, v = pts.empty() ? 0.0 : std::max(0.0, sampleAt(plan, s0).speed), s = s0;
+  // As far ahead as clearOf asks of a car moving across in front of another, and a little more.
   const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
     if (pts[k + 1].s <= s0) continue;
@@ -195,7 +205,7 @@ double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, const 
     t += ds / std::max(0.5, 0.5 * (v + v_next));
     v = v_next;
     s = pts[k + 1].s;
-    if ((s - s0) - leader.at(t) > clear_ahead) return s;
+    if ((s - s0) - leader.at(t) > clear_ahead + options_.rejoin_time * v) return s;
   }
   return std::numeric_limits<double>::infinity();
 }
@@ -213,7 +223,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   for (const auto& o : traffic) {
     if (o.name == car) continue;
     const double rel = ahead(o.s, s, L);
-    if (rel < -(options_.car_length + options_.longitudinal_margin) || rel > ahead_m) continue;
+    if (rel < -(options_.car_length + options_.longitudinal_margin + options_.rejoin_time * speed) || rel > ahead_m) continue;
     others.push_back(o);
     if (std::abs(rel) < options_.car_length + options_.longitudinal_margin) alongside = true;
     if (rel > 0 && rel < leader_gap && std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
@@ -239,10 +249,12 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     const bool same_move = mode == RaceMode::kPass
                                ? memory.mode == mode && memory.side == side && memory.other == other
                                : (memory.mode == mode || memory.mode == RaceMode::kFollow) && memory.side == 0;
-    if (same_move && std::abs(memory.offset - to) < 0.5) {
+    // A pass goes on to wherever the car passed now is (the ramp is never restarted: a ramp begun afresh
+    // each tick never moves the car); any other move keeps its target unless that changed.
+    if (same_move && (mode == RaceMode::kPass || std::abs(memory.offset - to) < 0.5)) {
       d.ramp_s = memory.ramp_s;
       d.ramp_from = memory.ramp_from;
-      d.offset = memory.offset;
+      if (mode != RaceMode::kPass) d.offset = memory.offset;
     }
     return d;
   };
@@ -330,8 +342,10 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // A committed pass keeps its side while it stays clear and the car passed is still ahead; it is never
     // switched to the other side (that is how cars get squeezed).
     for (const auto& c : candidates) {
+      // ...and while it still gains on following (a pass squeezed onto the line by the road's edge is
+      // following by another name).
       if (c.clear && c.decision.mode == RaceMode::kPass && c.decision.side == memory.side &&
-          c.decision.other == memory.other) {
+          c.decision.other == memory.other && c.decision.progress > follow.decision.progress + 0.5 * options_.min_gain) {
         chosen = &c;
       }
     }

@@ -37,7 +37,9 @@ struct OvertakeOptions {
   double longitudinal_margin = 1.5;  // m kept to the car ahead or behind when beside it in the plan
   double edge_margin = 1.0;          // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
   double horizon = 6.0;              // s over which other cars are predicted and candidates compared
-  double shift_time = 1.5;           // s over which a lateral move is made (and undone) at the car's speed
+  // s over which a lateral move is made (and undone) at the car's speed: 2.5 s asks about 2.8 m/s^2 of
+  // sideways acceleration for a 3 m move; 1.5 s asked 7.7, all the grip, and cars ran wide at Monza.
+  double shift_time = 2.5;
   double min_shift_length = 20.0;    // m, at least
   double min_gain = 4.0;             // m further in the horizon a pass must get than following
   double follow_gap = 12.0;          // m, centre to centre, kept behind a car followed
@@ -52,6 +54,8 @@ struct OvertakeOptions {
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
   double guard_lateral = 0.4;        // m
   double guard_time = 0.25;          // s
+  double offline_grip = 0.8;         // share of the plan's grip a path off the racing line is planned with
+  double rejoin_time = 0.5;          // s at speed kept ahead of a car behind when moving across in front of it
 };
 
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold };
