@@ -119,7 +119,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         orderByPace(&field);
         if (verbose) {
           std::printf("  %s seed %d %s:", map.c_str(), seed, field.kind.c_str());
-          for (const auto& c : field.cars) std::printf(" %s@%d pace %.4f", c.name.c_str(), c.grid_slot, c.pace);
+          for (const auto& c : field.cars) std::printf(" %s@%d pace %.17g", c.name.c_str(), c.grid_slot, c.pace);
           std::printf("\n");
         }
         const auto r = stack::runRace(track, vehicle, field.cars, options);

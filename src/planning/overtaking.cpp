@@ -134,9 +134,28 @@ double OvertakePlanner::Prediction::at(double t) const {
   return ahead[a] + (k - static_cast<double>(a)) * (ahead[b] - ahead[a]);
 }
 
+double OvertakePlanner::plannedLateral(const TrafficCar& car, double s) const {
+  const auto it = plans_.find(car.name);
+  if (it == plans_.end() || it->second.points.size() < 2) return car.lateral;
+  const Trajectory& plan = it->second;
+  // The window's s runs on from where the car was when it was planned: bring s onto the same lap.
+  const double mid = 0.5 * (plan.points.front().s + plan.points.back().s);
+  s += std::floor((mid - s) / line_.length + 0.5) * line_.length;
+  if (s < plan.points.front().s || s > plan.points.back().s) return car.lateral;
+  return sampleAt(plan, s).offset - sampleAt(line_, s).offset;
+}
+
+double OvertakePlanner::lateralAt(const Prediction& p, double along) const {
+  if (!p.plan) return p.lateral;
+  return plannedLateral({"", p.s + (along - p.ahead.front()), p.lateral, 0.0, 0.0}, p.s + (along - p.ahead.front()));
+}
+
 OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, double s0) const {
   Prediction p;
   p.lateral = other.lateral;
+  p.s = other.s;
+  const auto plan = plans_.find(other.name);
+  if (plan != plans_.end()) p.plan = &plan->second;
   const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
   const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
   double along = ahead(other.s, s0, line_.length);
@@ -180,7 +199,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
       const double ahead_of_it = (s - s0) - o.at(t);
       const bool moved_across = std::abs(d0 - o.lateral) >= width;
       const double keep_ahead = length + (moved_across ? options_.rejoin_time * v : 0.0);
-      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - o.lateral) < width) {
+      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - lateralAt(o, o.at(t))) < width) {
         clear = false;
         break;
       }
@@ -289,6 +308,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // racing alone drives exactly as without this planner, its tracking error notwithstanding.
   if (others.empty() && memory.mode == RaceMode::kRacingLine && memory.ramp_from == 0.0) {
     memory = {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0};
+    plans_.erase(car);  // on the racing line: its lateral place now predicts it
     return base;
   }
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
@@ -383,6 +403,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   Trajectory window = chosen->window;
   guard(&window, s, speed, others);
   memory = chosen->decision;
+  plans_[car] = window;
   return window;
 }
 
@@ -395,8 +416,15 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
   for (const auto& o : others) {
     const double rel = ahead(o.s, s, line_.length);
     if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
-    const double d = sampleAt(*window, s + rel).offset - sampleAt(line_, s + rel).offset;
-    if (std::abs(d - o.lateral) >= options_.car_width + options_.guard_lateral) continue;
+    // In the path now, or moving into it over the next two seconds by its own plan.
+    bool in_path = false;
+    for (double tau : {0.0, 1.0, 2.0}) {
+      const double at = rel + tau * o.speed;
+      const double d = sampleAt(*window, s + at).offset - sampleAt(line_, s + at).offset;
+      const double theirs = tau == 0.0 ? o.lateral : plannedLateral(o, o.s + tau * o.speed);
+      in_path = in_path || std::abs(d - theirs) < options_.car_width + options_.guard_lateral;
+    }
+    if (!in_path) continue;
     nearest = &o;
     nearest_rel = rel;
   }

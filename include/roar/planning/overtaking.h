@@ -105,15 +105,23 @@ class OvertakePlanner {
   // Another car's predicted motion over the horizon: metres ahead of the planning car's s every
   // kPredictionStep seconds. It keeps the share of the racing line's speed it has now (a slow car stays
   // slow, one braking for a corner speeds up out of it) and its lateral place.
+  // Its lateral place is taken from its own last plan where it has one (a car moving over is seen moving
+  // over), otherwise kept.
   struct Prediction {
     std::vector<double> ahead;
     double lateral = 0.0;
+    const Trajectory* plan = nullptr;  // its last window, if it is one of ours
+    double s = 0.0;                    // its line s now
     double at(double t) const;
   };
+  // Metres left of the racing line the predicted car is when `along` metres ahead of the planning car.
+  double lateralAt(const Prediction& p, double along) const;
   Prediction predict(const TrafficCar& other, double s0) const;
   // Where (window s) a car driving `plan` is first clear ahead of `leader`; infinite when not in the horizon.
   double passCompleteAt(const Trajectory& plan, double s0, const Prediction& leader) const;
   void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const;
+  // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
+  double plannedLateral(const TrafficCar& car, double s) const;
   // Whether a plan keeps clear of every car alongside or ahead over the horizon (by lateral_margin beside
   // them, scaled by margin_share); sets its progress.
   bool clearOf(const Trajectory& plan, double s0, const std::vector<Prediction>& others, double* progress,
@@ -129,7 +137,8 @@ class OvertakePlanner {
     int plans_left = 0;
   };
   std::map<std::string, Abort> aborts_;
-  std::map<std::string, double> holds_;  // the lateral place (m) a car holds while another is alongside
+  std::map<std::string, double> holds_;
+  std::map<std::string, Trajectory> plans_;  // each car's last window  // the lateral place (m) a car holds while another is alongside
 };
 
 }  // namespace roar::planning
