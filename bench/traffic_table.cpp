@@ -207,7 +207,7 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
       {"min_gain", &o->min_gain},             {"engage_time", &o->engage_time},
       {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time},
       {"rejoin_time", &o->rejoin_time},       {"min_pass_speed", &o->min_pass_speed},
-      {"offline_grip", &o->offline_grip}};
+      {"offline_grip", &o->offline_grip},     {"max_pass_offset", &o->max_pass_offset}};
   const auto it = fields.find(name);
   if (it != fields.end()) {
     *it->second = value;

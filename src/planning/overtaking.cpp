@@ -73,7 +73,12 @@ double OvertakePlanner::roomRight(double s) const { return interpolateWrapped(ro
 
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s) const {
   Trajectory out = window;
-  const double shift_length = std::max(options_.min_shift_length, options_.shift_time * sampleAt(line_, ramp_s).speed);
+  // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
+  // no more sideways acceleration (which grows with the move and falls with the square of its length).
+  const double move = std::max(std::abs(to - from), std::abs(to));
+  const double stretch = std::sqrt(std::max(1.0, move / (options_.car_width + options_.lateral_margin + 0.3)));
+  const double shift_length =
+      std::max(options_.min_shift_length, stretch * options_.shift_time * sampleAt(line_, ramp_s).speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
   for (auto& p : pts) {
@@ -334,8 +339,9 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     const int near_side = lateral >= leader->lateral ? +1 : -1;
     for (int side : {+1, -1}) {
       if (close && side != near_side && !(passing_leader && memory.side == side)) continue;
-      consider(make(RaceMode::kPass, side, leader->name,
-                    leader->lateral + side * (options_.car_width + options_.lateral_margin + 0.3)));
+      const double to = leader->lateral + side * (options_.car_width + options_.lateral_margin + 0.3);
+      if (std::abs(to) > options_.max_pass_offset) continue;  // round a car far off the line: the other side
+      consider(make(RaceMode::kPass, side, leader->name, to));
     }
   }
   // The fallback: behind the leader at its speed; beside a car, holding the lateral place (never squeezing

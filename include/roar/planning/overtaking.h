@@ -54,6 +54,7 @@ struct OvertakeOptions {
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
   double guard_lateral = 0.4;        // m
   double guard_time = 0.25;          // s
+  double max_pass_offset = 5.0;      // m from the racing line a pass may go
   double offline_grip = 0.8;         // share of the plan's grip a path off the racing line is planned with
   double rejoin_time = 0.5;          // s at speed kept ahead of a car behind when moving across in front of it
 };
