@@ -168,6 +168,13 @@ class RaceControlNode {
       telemetry_[name].push_back({t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
                                   std::sqrt(v.x * v.x + v.y * v.y)});
     }
+    const auto& q = odom.pose.pose.orientation;
+    const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+    // The twist is in base_link: turned into the map frame for judging contacts.
+    const auto& body = odom.twist.twist.linear;
+    const Eigen::Vector2d velocity(std::cos(yaw) * body.x - std::sin(yaw) * body.y,
+                                   std::sin(yaw) * body.x + std::cos(yaw) * body.y);
+    race_->updateMotion(name, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), yaw, velocity);
     std::optional<race::Incident> incident;
     const std::size_t passes = race_->overtakes().size();
     const auto lap = race_->updatePosition(
@@ -212,7 +219,11 @@ class RaceControlNode {
   }
 
   void report(const std::string& name, const race::Incident& incident) {
-    std::printf("%s: %s at t = %.2f s%s\n", name.c_str(), incident.kind.c_str(), incident.time,
+    std::printf("%s: %s%s at t = %.2f s%s\n", name.c_str(), incident.kind.c_str(),
+                incident.contact.empty() ? ""
+                : (" (" + incident.contact + ", " +
+                   (incident.at_fault.empty() ? std::string("racing incident") : incident.at_fault + " at fault") + ")").c_str(),
+                incident.time,
                 incident.penalty > 0 ? (" (+" + std::to_string(incident.penalty) + " s penalty)").c_str()
                 : incident.respawn   ? " (respawned at the last waypoint)"
                                      : "");

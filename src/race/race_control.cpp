@@ -1,5 +1,7 @@
 #include "roar/race/race_control.h"
 
+#include "roar/race/contact_fault.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -66,6 +68,10 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
     car.finished = true;
     car.finish_time = lap->finish_time;
   }
+  if (car.timer.started()) {
+    car.recent.emplace_back(time, car.timer.distanceCovered());
+    while (car.recent.size() > 2 && car.recent.front().first < time - 10.0) car.recent.pop_front();
+  }
   detectOvertakes(name, time);
 
   const track::Projection pr = track_.projectNear(position, car.timer.progress() + track_.info().start_finish_s, 100.0);
@@ -85,13 +91,28 @@ double RaceControl::raceTime(const std::string& name) const {
   return (car.finished ? car.finish_time : car.last_time) - start + car.penalties;
 }
 
+std::optional<double> RaceControl::distanceAt(const CarRecord& car, double time) {
+  const auto& r = car.recent;
+  if (r.empty() || time > r.back().first + 1e-6 || time < r.front().first - 1e-6) return std::nullopt;
+  auto after = std::lower_bound(r.begin(), r.end(), time, [](const auto& e, double t) { return e.first < t; });
+  if (after == r.end()) return r.back().second;
+  if (after == r.begin() || after->first - time < 1e-9) return after->second;
+  const auto before = std::prev(after);
+  const double f = (time - before->first) / (after->first - before->first);
+  return before->second + f * (after->second - before->second);
+}
+
 void RaceControl::detectOvertakes(const std::string& name, double time) {
   const CarRecord& me = cars_.at(name);
   if (!me.timer.started()) return;
   const double mine = me.timer.distanceCovered();
   for (const auto& [other_name, other] : cars_) {
     if (other_name == name || !other.timer.started() || other.finished) continue;
-    const double gap = mine - other.timer.distanceCovered();
+    // The other car where it was at this moment; when its positions have not reached this moment yet, it
+    // makes the comparison itself when they do.
+    const auto theirs = distanceAt(other, time);
+    if (!theirs) continue;
+    const double gap = mine - *theirs;
     // A lap or more apart is lapping, not racing for position.
     if (std::abs(gap) > 0.5 * track_.length()) continue;
     const bool first = name < other_name;
@@ -104,10 +125,13 @@ void RaceControl::detectOvertakes(const std::string& name, double time) {
       order_[key] = now;
     } else if (it->second != now) {
       it->second = now;
-      if (now_mine > 0) {
-        overtakes_.push_back({time, name, other_name, me.timer.lapsCompleted() + 1,
-                              track_.wrap(track_.info().start_finish_s + me.timer.progress())});
-      }
+      // Whichever of the two got ahead; where: the passer's place at that moment.
+      const bool mine_ahead = now_mine > 0;
+      const double passer_covered = mine_ahead ? mine : *theirs;
+      const int laps_done = std::max(0, static_cast<int>(std::floor(passer_covered / track_.length())));
+      const double progress = passer_covered - laps_done * track_.length();
+      overtakes_.push_back({time, mine_ahead ? name : other_name, mine_ahead ? other_name : name, laps_done + 1,
+                            track_.wrap(track_.info().start_finish_s + progress)});
     }
   }
 }
@@ -122,7 +146,32 @@ std::optional<Incident> RaceControl::updateContact(const std::string& name, doub
   const bool barrier = other == "barrier";
   ++(barrier ? car.barrier_contacts : car.car_contacts);
   if (rules_.collision == IncidentRule::kIgnore) return std::nullopt;
-  return makeIncident(car, time, barrier ? "barrier" : "car " + other, rules_.collision, rules_.collision_penalty);
+  const auto them = cars_.find(other);
+  if (barrier || them == cars_.end() || !car.motion_known || !them->second.motion_known) {
+    return makeIncident(car, time, barrier ? "barrier" : "car " + other, rules_.collision, rules_.collision_penalty);
+  }
+  // Between cars, by the rules of racing: the car at fault pays, a racing incident costs nobody.
+  const CarRecord& o = them->second;
+  ContactFaultOptions options;
+  options.car_length = rules_.car_length;
+  const ContactFault fault = attributeContact({name, car.position, car.yaw, car.velocity},
+                                              {other, o.position, o.yaw, o.velocity},
+                                              track_.project(car.position).heading, options);
+  const bool mine = fault.at_fault == name;
+  Incident incident = makeIncident(car, time, "car " + other, mine ? rules_.collision : IncidentRule::kPenalty,
+                                   mine ? rules_.collision_penalty : 0.0);
+  car.incidents.back().at_fault = incident.at_fault = fault.at_fault;
+  car.incidents.back().contact = incident.contact = fault.kind;
+  return incident;
+}
+
+void RaceControl::updateMotion(const std::string& name, const Eigen::Vector2d& position, double yaw,
+                               const Eigen::Vector2d& velocity) {
+  CarRecord& car = record(name);
+  car.motion_known = std::isfinite(yaw) && position.allFinite() && velocity.allFinite();
+  car.position = position;
+  car.yaw = yaw;
+  car.velocity = velocity;
 }
 
 bool RaceControl::finished() const {
@@ -207,7 +256,11 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
     yaml << "    incidents:" << (car.incidents.empty() ? " []\n" : "\n");
     for (const auto& incident : car.incidents) {
       yaml << "      - {time_s: " << incident.time << ", kind: \"" << incident.kind << "\", penalty_s: " << incident.penalty
-           << ", respawn: " << (incident.respawn ? "true" : "false") << "}\n";
+           << ", respawn: " << (incident.respawn ? "true" : "false");
+      if (!incident.contact.empty()) {
+        yaml << ", contact: \"" << incident.contact << "\", at_fault: \"" << incident.at_fault << "\"";
+      }
+      yaml << "}\n";
     }
   }
   yaml << "overtakes:" << (race.overtakes().empty() ? " []\n" : "\n");

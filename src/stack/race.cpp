@@ -7,7 +7,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "roar/race/contact_fault.h"
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 
@@ -100,6 +99,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   }
   race::RaceRules rules = options.rules;
   rules.laps = options.laps;
+  rules.car_length = vehicle.chassis.box_size.x();
   race::RaceControl control(track, rules, names);
   const double time_limit = options.time_limit > 0 ? options.time_limit : 3.0 * slowest_lap * (options.laps + 1) + 60.0;
   const double dt = world.options().control_dt;
@@ -107,8 +107,6 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   RaceResult result;
   result.line_length = line.length;
   result.speed_bin = options.speed_bin;
-  std::map<std::pair<std::string, std::string>, double> last_car_contact;
-  std::set<std::string> last_barrier;
 
   // A pass attempt is the car going alongside another in a pass (its nose past the other's tail); it is
   // completed when the passer is clear ahead, aborted when it drops back behind. Pulling out and thinking
@@ -187,28 +185,20 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     world.step();
     const double time = world.time();
     for (auto& e : entrants) {
+      const sim::VehicleState state = world.vehicleState(e.spec.name);
+      control.updatePosition(e.spec.name, time, state.pose.position.head<2>());
+      control.updateMotion(e.spec.name, state.pose.position.head<2>(), sim::yawOf(state.pose.orientation),
+                           state.linear_velocity.head<2>());
+    }
+    for (auto& e : entrants) {
       const std::string& name = e.spec.name;
-      const sim::VehicleState state = world.vehicleState(name);
-      control.updatePosition(name, time, state.pose.position.head<2>());
       for (const auto& contact : world.contacts(name)) {
         if (contact.other == "ground") continue;
-        control.updateContact(name, time, contact.other);
-        if (contact.other == "barrier" || name > contact.other) continue;  // each pair once, from its first name
-        const auto pair = std::make_pair(name, contact.other);
-        const auto last = last_car_contact.find(pair);
-        const bool fresh = last == last_car_contact.end() || time - last->second > rules.contact_merge;
-        last_car_contact[pair] = time;
-        if (!fresh) continue;
-        const sim::VehicleState other = world.vehicleState(contact.other);
-        auto at = [](const std::string& n, const sim::VehicleState& s) {
-          return race::CarAtContact{n, s.pose.position.head<2>(), sim::yawOf(s.pose.orientation), s.linear_velocity.head<2>()};
-        };
-        race::ContactFaultOptions fault_options;
-        fault_options.car_length = vehicle.chassis.box_size.x();
-        const double road = track.project(state.pose.position.head<2>()).heading;
-        const race::ContactFault fault =
-            race::attributeContact(at(name, state), at(contact.other, other), road, fault_options);
-        result.contacts.push_back({time, name, contact.other, fault.at_fault, fault.kind});
+        const auto incident = control.updateContact(name, time, contact.other);
+        // Each contact between two cars once, as the first of the two (by name) saw it.
+        if (incident && contact.other != "barrier" && name < contact.other) {
+          result.contacts.push_back({time, name, contact.other, incident->at_fault, incident->contact});
+        }
       }
     }
   }

@@ -48,6 +48,36 @@ TEST(RaceControl, ContactsArePenalisedOncePerIncident) {
   EXPECT_EQ(race.car("ego").penalties, 10.0);
 }
 
+TEST(RaceControl, BetweenCarsOnlyTheCarAtFaultIsPenalised) {
+  // Counter-clockwise on a circle of 100 m: at (100, 0) the road heads +y.
+  const auto track = test::circleTrack(100.0);
+  race::RaceControl race(track, {}, {"front", "rear", "a", "b"});
+  const double up = M_PI / 2;
+  race.updateMotion("front", {100.0, 5.0}, up, {0.0, 20.0});
+  race.updateMotion("rear", {100.2, 0.5}, up, {0.0, 25.0});
+  const auto rear = race.updateContact("rear", 2.0, "front");
+  const auto front = race.updateContact("front", 2.0, "rear");
+  ASSERT_TRUE(rear && front);
+  EXPECT_EQ(rear->at_fault, "rear");
+  EXPECT_EQ(rear->contact, "from behind");
+  EXPECT_EQ(rear->penalty, 5.0);
+  EXPECT_EQ(front->at_fault, "rear");
+  EXPECT_EQ(front->penalty, 0.0) << "run into from behind: no penalty";
+  // Alongside, both holding their lines: a racing incident, nobody pays.
+  race.updateMotion("a", {98.0, 0.0}, up, {0.0, 20.0});
+  race.updateMotion("b", {100.0, 0.5}, up, {0.0, 20.0});
+  const auto a = race.updateContact("a", 4.0, "b");
+  ASSERT_TRUE(a);
+  EXPECT_EQ(a->contact, "alongside");
+  EXPECT_EQ(a->at_fault, "");
+  EXPECT_EQ(a->penalty, 0.0);
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_fault_results").string();
+  race::writeResults(dir, race, race::RaceOutcome::kTimedOut);
+  std::ifstream in(dir + "/results.yaml");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("contact: \"from behind\", at_fault: \"rear\""), std::string::npos) << text;
+}
+
 TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
   const auto track = test::circleTrack(100.0);  // 6 m either side
   race::RaceRules rules;
@@ -169,4 +199,26 @@ TEST(RaceControl, OvertakesAreRecordedOnceWithWhoWhereAndWhen) {
     EXPECT_NEAR(o.s, 70.0, 15.0);
   }
   EXPECT_NE(race.overtakes()[0].passed, race.overtakes()[1].passed);
+}
+
+// Odometry of different cars arrives in any order: a second of one car's positions, then a second of the
+// other's. Two cars side by side 1 m apart at 30 m/s swapped places every batch (a batch apart is 30 m);
+// judged at the same moment they never do, and a real pass is still seen once.
+TEST(RaceControl, OvertakesAreJudgedAtTheSameMomentWhateverOrderPositionsArriveIn) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 5;
+  race::RaceControl race(track, rules, {"a", "b", "c"});
+  const double dt = 0.05;
+  for (double t0 = 0.0; t0 < 12.0; t0 += 1.0) {
+    for (const char* car : {"a", "b", "c"}) {
+      for (double t = t0; t < t0 + 1.0 - 1e-9; t += dt) {
+        const std::string name = car;
+        const double s = name == "a" ? -5 + 30.0 * t : name == "b" ? -6 + 30.0 * t : -40 + 35.0 * t;
+        race.updatePosition(name, t, onCircle(s, name == "b" ? 3.0 : 0.0));
+      }
+    }
+  }
+  ASSERT_EQ(race.overtakes().size(), 2u) << "c passes a and b; a and b, side by side, swap nothing";
+  for (const auto& o : race.overtakes()) EXPECT_EQ(o.passer, "c");
 }

@@ -2,6 +2,7 @@
 // The rules of a race, without ROS: lap and sector timing per car (LapTimer), incidents (barrier and car
 // contacts, leaving the track limits) with a time penalty or a ROAR-style respawn at the last waypoint
 // passed (the clock keeps running), standings with the gap to the leader, and the end of the race.
+#include <deque>
 #include <limits>
 #include <map>
 #include <optional>
@@ -26,11 +27,17 @@ struct RaceRules {
   double track_limits_margin = 0.93;  // m
   double contact_merge = 0.5;         // s: contacts closer together than this are one incident
   double overtake_hysteresis = 3.0;   // m one car must be ahead of the other for a change of order to count
+  double car_length = 4.7;            // m, for judging who was at fault in a contact between cars
 };
 
 struct Incident {
   double time = 0.0;      // s, simulated
   std::string kind;       // "barrier", "car <name>" or "track limits"
+  // A contact between cars, once both cars' motion is known (RaceControl::updateMotion): the car at fault
+  // (empty: a racing incident, nobody) and how they met ("from behind", "alongside"). Only the car at
+  // fault is penalised; before motion is known, both are.
+  std::string at_fault;
+  std::string contact;
   double penalty = 0.0;   // s added to the car's race time
   bool respawn = false;   // the car is to be put back on the track at respawn_pose
   track::TrackPose respawn_pose;
@@ -48,6 +55,12 @@ struct CarRecord {
   double last_contact = -1e9;
   bool off_track = false;
   std::vector<double> passage;  // s at which the car first covered each 10 m since its first crossing
+  // (time, distance covered) over the last seconds: where the car was when another car's position of the
+  // same moment is judged (odometry of different cars arrives in any order).
+  std::deque<std::pair<double, double>> recent;
+  bool motion_known = false;    // position, yaw and velocity below are set (updateMotion)
+  Eigen::Vector2d position = Eigen::Vector2d::Zero(), velocity = Eigen::Vector2d::Zero();
+  double yaw = 0.0;
 };
 
 // One car getting by another on the road: the passer's distance since the start line goes from behind the
@@ -76,6 +89,9 @@ class RaceControl {
   // limits) is appended to `incident` when given.
   std::optional<LapRecord> updatePosition(const std::string& car, double time, const Eigen::Vector2d& position,
                                           std::optional<Incident>* incident = nullptr);
+  // The car's heading (rad) and velocity (m/s, map frame) with its position: what a contact between cars
+  // is judged by (race/contact_fault.h).
+  void updateMotion(const std::string& car, const Eigen::Vector2d& position, double yaw, const Eigen::Vector2d& velocity);
   // A contact reported by the simulator; returns the incident it makes, if it makes one.
   std::optional<Incident> updateContact(const std::string& car, double time, const std::string& other);
 
@@ -95,6 +111,7 @@ class RaceControl {
  private:
   CarRecord& record(const std::string& name);
   void detectOvertakes(const std::string& name, double time);
+  static std::optional<double> distanceAt(const CarRecord& car, double time);
   Incident makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty);
 
   const track::Track& track_;
