@@ -213,6 +213,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     *it->second = value;
   } else if (name == "retry_plans") {
     o->retry_plans = static_cast<int>(value);
+  } else if (name == "abort_plans") {
+    o->abort_plans = static_cast<int>(value);
   } else {
     throw std::invalid_argument("--overtake: no option '" + name + "'");
   }

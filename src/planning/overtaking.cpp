@@ -139,20 +139,22 @@ double OvertakePlanner::Prediction::at(double t) const {
   return ahead[a] + (k - static_cast<double>(a)) * (ahead[b] - ahead[a]);
 }
 
+double OvertakePlanner::plannedLateral(const Trajectory* plan, double now, double s) const {
+  if (!plan || plan->points.size() < 2) return now;
+  // The window's s runs on from where the car was when it was planned: bring s onto the same lap.
+  const double mid = 0.5 * (plan->points.front().s + plan->points.back().s);
+  s += std::floor((mid - s) / line_.length + 0.5) * line_.length;
+  if (s < plan->points.front().s || s > plan->points.back().s) return now;
+  return sampleAt(*plan, s).offset - sampleAt(line_, s).offset;
+}
+
 double OvertakePlanner::plannedLateral(const TrafficCar& car, double s) const {
   const auto it = plans_.find(car.name);
-  if (it == plans_.end() || it->second.points.size() < 2) return car.lateral;
-  const Trajectory& plan = it->second;
-  // The window's s runs on from where the car was when it was planned: bring s onto the same lap.
-  const double mid = 0.5 * (plan.points.front().s + plan.points.back().s);
-  s += std::floor((mid - s) / line_.length + 0.5) * line_.length;
-  if (s < plan.points.front().s || s > plan.points.back().s) return car.lateral;
-  return sampleAt(plan, s).offset - sampleAt(line_, s).offset;
+  return plannedLateral(it == plans_.end() ? nullptr : &it->second, car.lateral, s);
 }
 
 double OvertakePlanner::lateralAt(const Prediction& p, double along) const {
-  if (!p.plan) return p.lateral;
-  return plannedLateral({"", p.s + (along - p.ahead.front()), p.lateral, 0.0, 0.0}, p.s + (along - p.ahead.front()));
+  return plannedLateral(p.plan, p.lateral, p.s + (along - p.ahead.front()));
 }
 
 OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, double s0) const {
@@ -174,12 +176,12 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   return p;
 }
 
-bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vector<Prediction>& others,
+bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others,
                               double* progress, double margin_share) const {
   const auto& pts = plan.points;
-  // The car's own motion along the plan: from its speed now, no faster than the plan, accelerating at
-  // most as the engine can.
-  double t = 0.0, v = std::max(0.0, pts.empty() ? 0.0 : sampleAt(plan, s0).speed);
+  // The car's own motion along the plan: from its speed now (not the plan's: a car held up behind another
+  // is slower than its plan there), no faster than the plan, accelerating at most as the engine can.
+  double t = 0.0, v = std::clamp(v0, 0.0, pts.empty() ? 0.0 : sampleAt(plan, s0).speed);
   double s = s0, last_check = -1e9;
   bool clear = true;
   const double length = options_.car_length + options_.longitudinal_margin;
@@ -215,10 +217,10 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, const std::vect
   return clear;
 }
 
-double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, const Prediction& leader) const {
+double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const {
   // The car along the plan as clearOf drives it, until it is clear ahead of the leader.
   const auto& pts = plan.points;
-  double t = 0.0, v = pts.empty() ? 0.0 : std::max(0.0, sampleAt(plan, s0).speed), s = s0;
+  double t = 0.0, v = std::clamp(v0, 0.0, pts.empty() ? 0.0 : sampleAt(plan, s0).speed), s = s0;
   // As far ahead as clearOf asks of a car moving across in front of another, and a little more.
   const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
@@ -286,13 +288,13 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
     if (d.mode == RaceMode::kPass && leader) {
       // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
-      const double back_s = passCompleteAt(c.window, s, predict(*leader, s));
+      const double back_s = passCompleteAt(c.window, s, speed, predict(*leader, s));
       if (std::isfinite(back_s)) c.window = shifted(base, d.ramp_s, d.ramp_from, d.offset, back_s);
     }
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
     const bool under_way = memory.mode == d.mode && memory.side == d.side && memory.other == d.other;
     const double margin_share = under_way ? 0.5 : 1.0;
-    c.clear = clearOf(c.window, s, predicted, &c.decision.progress, margin_share);
+    c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress, margin_share);
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;
@@ -304,7 +306,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         beside = beside || (p.s > s && std::abs(p.offset - sampleAt(line_, p.s).offset - leader->lateral) >= wide);
         if (beside) patient.window.points[k].speed = p.speed;
       }
-      patient.clear = clearOf(patient.window, s, predicted, &patient.decision.progress, margin_share);
+      patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share);
       if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
     }
     candidates.push_back(std::move(c));
@@ -319,7 +321,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   if (on_line) {
     Candidate c{base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
-    c.clear = clearOf(c.window, s, predicted, &c.decision.progress);
+    c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress);
     candidates.push_back(std::move(c));
   } else {
     consider(make(RaceMode::kRacingLine, 0, "", 0.0));  // back to the line
@@ -356,7 +358,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     follow.decision.other = leader->name;
     followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_);
   }
-  clearOf(follow.window, s, {}, &follow.decision.progress);
+  clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {
     // Behind the leader as it is predicted to go, not at the speed it has now.
     const double leader_travel = predict(*leader, s).at(options_.horizon);
@@ -376,6 +378,17 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       }
     }
     const bool still_ahead = leader && leader->name == memory.other;
+    // One plan's doubt is not an abort: predictions jitter with the odometry's timing, and the guard keeps
+    // the car off the back of anyone in its path meanwhile.
+    int& doubts = doubts_[car];
+    if (!chosen && still_ahead && ++doubts < options_.abort_plans) {
+      for (const auto& c : candidates) {
+        if (c.decision.mode == RaceMode::kPass && c.decision.side == memory.side && c.decision.other == memory.other) {
+          chosen = &c;
+        }
+      }
+    }
+    if (chosen && chosen->clear) doubts = 0;
     if (!chosen && still_ahead) {
       chosen = &follow;  // aborted: fall in behind, holding the lateral place while beside anyone
     } else if (!chosen) {

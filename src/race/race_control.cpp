@@ -22,7 +22,7 @@ RaceControl::RaceControl(const track::Track& track, RaceRules rules, const std::
   if (rules.laps < 1) throw std::invalid_argument("race control: laps must be at least 1");
   for (const auto& name : cars) {
     if (cars_.count(name)) throw std::invalid_argument("race control: car '" + name + "' is listed twice");
-    cars_.emplace(name, CarRecord{name, LapTimer(track)});
+    cars_.emplace(name, CarRecord(name, LapTimer(track)));
   }
 }
 

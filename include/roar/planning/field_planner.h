@@ -21,7 +21,7 @@ struct FieldOptions {
   double window_behind = 10.0;  // m behind it
   double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
   double follow_lateral = 3.5;  // m: without overtaking, a car this close to the line is in the way
-  bool overtaking = false;      // true: pass slower cars (OvertakePlanner); false: follow them
+  bool overtaking = true;       // true: pass slower cars (OvertakePlanner); false: follow them
   OvertakeOptions overtake;     // its follow_gap is taken from follow_gap above
 };
 

@@ -49,6 +49,7 @@ struct OvertakeOptions {
   // the racing line, not on a line beside it.
   double engage_time = 2.0;          // s
   double min_pass_speed = 8.0;       // m/s the car must be doing to start a pass (not from the grid)
+  int abort_plans = 3;               // plans in a row a committed pass must look blocked or not worth it to be given up
   int retry_plans = 60;              // plans (ticks) after an aborted pass before another on the same car
   // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
@@ -119,13 +120,14 @@ class OvertakePlanner {
   double lateralAt(const Prediction& p, double along) const;
   Prediction predict(const TrafficCar& other, double s0) const;
   // Where (window s) a car driving `plan` is first clear ahead of `leader`; infinite when not in the horizon.
-  double passCompleteAt(const Trajectory& plan, double s0, const Prediction& leader) const;
+  double passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const;
   void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const;
   // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
   double plannedLateral(const TrafficCar& car, double s) const;
-  // Whether a plan keeps clear of every car alongside or ahead over the horizon (by lateral_margin beside
-  // them, scaled by margin_share); sets its progress.
-  bool clearOf(const Trajectory& plan, double s0, const std::vector<Prediction>& others, double* progress,
+  double plannedLateral(const Trajectory* plan, double now, double s) const;
+  // Whether a plan, driven from speed v0 at s0, keeps clear of every car alongside or ahead over the
+  // horizon (by lateral_margin beside them, scaled by margin_share); sets its progress.
+  bool clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others, double* progress,
                double margin_share = 1.0) const;
 
   Trajectory line_;
@@ -139,6 +141,7 @@ class OvertakePlanner {
   };
   std::map<std::string, Abort> aborts_;
   std::map<std::string, double> holds_;
+  std::map<std::string, int> doubts_;  // plans in a row a committed pass has looked blocked
   std::map<std::string, Trajectory> plans_;  // each car's last window  // the lateral place (m) a car holds while another is alongside
 };
 

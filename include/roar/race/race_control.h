@@ -44,6 +44,7 @@ struct Incident {
 };
 
 struct CarRecord {
+  CarRecord(std::string car, LapTimer lap_timer) : name(std::move(car)), timer(std::move(lap_timer)) {}
   std::string name;
   LapTimer timer;
   std::vector<Incident> incidents;
