@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <list>
 
+#include "roar/ros/wall_throttle.h"
 #include "roar/control/trajectory_tracker.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
@@ -105,7 +106,7 @@ class Driver {
   // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
   void checkOdometry() {
     if (held_odom_ && tracker_.hasTrajectory() && (ros::WallTime::now() - held_since_).toSec() >= window_wait_) {
-      ROS_WARN_THROTTLE(5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
+      ROAR_WARN_WALL_THROTTLE(5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
                         trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_,
                         window_stamp_.toSec());
       answer(*held_odom_);
@@ -138,7 +139,7 @@ class Driver {
       }
       if (held_odom_ && (first || window_stamp_ >= held_odom_->header.stamp)) answer(*held_odom_);
     } catch (const std::exception& e) {
-      ROS_ERROR_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
+      ROAR_ERROR_WALL_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
                          tracker_.hasTrajectory() ? "; keeping the previous one" : "");
     }
   }
@@ -151,7 +152,7 @@ class Driver {
     newest_odom_stamp_ = std::max(newest_odom_stamp_, odom.header.stamp);
     odometry_seen_ = true;
     if (!tracker_.hasTrajectory()) {
-      ROS_WARN_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
+      ROAR_WARN_WALL_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
       hold(keep);
       return;
     }

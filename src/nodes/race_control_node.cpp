@@ -5,6 +5,7 @@
 // car finished, 1 on a time-out.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <std_msgs/String.h>
 #include <roar_ros/CollisionEvent.h>
 #include <roar_ros/MapInfo.h>
 #include <roar_ros/RaceStatus.h>
@@ -34,6 +35,7 @@ struct RaceControlOptions {
   std::vector<std::string> vehicles;
   race::RaceRules rules;
   double max_sim_time = 0.0;
+  double sim_silence = 10.0;  // s of wall time without odometry before roar_sim is probed (dead: aborted)
   std::string output_dir;
 };
 
@@ -62,6 +64,7 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   r.track_limits_penalty = readDouble(nh, "track_limits_penalty", r.track_limits_penalty, 0.0, 3600.0);
   r.track_limits_margin = readDouble(nh, "track_limits_margin", r.track_limits_margin, 0.0, 50.0);
   o.max_sim_time = readDouble(nh, "max_sim_time", 0.0, 0.0, 1e7);
+  o.sim_silence = readDouble(nh, "sim_silence", o.sim_silence, 1.0, 3600.0);
   o.output_dir = readString(nh, "output_dir", "");
   return o;
 }
@@ -117,11 +120,20 @@ class RaceControlNode {
       onRacingLine(*m);
     });
     map_sub_ = nh.subscribe("/roar_sim/map", 1, &RaceControlNode::onSimMap, this);
+    // A car whose driver died is out of the race (roar_sim stops waiting for it and brings it to a stop).
+    lost_sub_ = nh.subscribe<std_msgs::String>("/roar_sim/driver_lost", 10, [this](const std_msgs::String::ConstPtr& m) {
+      if (!race_->cars().count(m->data) || !race_->car(m->data).retired.empty() || race_->car(m->data).finished) return;
+      race_->retire(m->data, now_, "driver lost");
+      std::printf("%s: retired at t = %.2f s (driver lost)\n", m->data.c_str(), now_);
+      std::fflush(stdout);
+    });
     // Simulated time: the status stops with the simulator.
     status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
   }
 
   double now() const { return now_; }
+  // Wall time of the last odometry message (zero: none yet).
+  ros::WallTime lastMessage() const { return last_message_; }
   const race::RaceControl& race() const { return *race_; }
   const report::Telemetry& telemetry() const { return telemetry_; }
   const std::vector<report::ProfilePoint>& profile() const { return profile_; }
@@ -161,6 +173,7 @@ class RaceControlNode {
   }
 
   void onOdometry(const std::string& name, const nav_msgs::Odometry& odom) {
+    last_message_ = ros::WallTime::now();
     const double t = odom.header.stamp.toSec();
     now_ = std::max(now_, t);
     if (!race_->car(name).finished) {
@@ -285,7 +298,8 @@ class RaceControlNode {
   int interruptions_ = 0;
   std::unique_ptr<track::Track> track_;
   std::unique_ptr<race::RaceControl> race_;
-  ros::Subscriber map_sub_;
+  ros::Subscriber map_sub_, lost_sub_;
+  ros::WallTime last_message_;
   ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;
   std::vector<ros::Subscriber> subs_;
@@ -304,30 +318,53 @@ int main(int argc, char** argv) {
   try {
     const RaceControlOptions options = readParameters(pnh);
     RaceControlNode node(nh, track::loadMapFolder(options.map_folder), options);
+    // Read now: at the end the master may be gone with the launch.
+    const std::string run_id = ros::param::param<std::string>("/run_id", "");
     std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
                 node.race().track().info().name.c_str(), node.race().track().length(), options.vehicles.size());
     if (!options.output_dir.empty()) std::printf("race_control: results will be written to %s\n", options.output_dir.c_str());
     std::fflush(stdout);
 
-    // Wall-time loop: the race ends on simulated events, not on a clock of ours.
+    // Wall-time loop: the race ends on simulated events, not on a clock of ours; but a simulator that has
+    // gone silent and no longer answers (killed) ends it as aborted.
+    bool aborted = false;
+    ros::WallTime last_probe = ros::WallTime::now();
     while (ros::ok()) {
       ros::spinOnce();
       if (node.race().finished() || (options.max_sim_time > 0 && node.now() > options.max_sim_time)) break;
+      const ros::WallTime wall = ros::WallTime::now();
+      if (!node.lastMessage().isZero() && (wall - node.lastMessage()).toSec() > options.sim_silence &&
+          (wall - last_probe).toSec() > 1.0) {
+        last_probe = wall;
+        if (!ros::service::exists("/roar_sim/spawn_vehicle", false)) {
+          aborted = true;
+          std::printf("race_control: no odometry for %.0f s of wall time and roar_sim does not answer: race aborted\n",
+                      (wall - node.lastMessage()).toSec());
+          break;
+        }
+      }
       ros::WallDuration(0.002).sleep();
     }
     const bool complete = node.race().finished();
-    std::printf("race_control: race %s at t = %.2f s\n", complete ? "finished" : "timed out", node.now());
+    // Shut down before the end (roar_sim, a required node, died and took the launch down): aborted too.
+    const bool out_of_time = options.max_sim_time > 0 && node.now() > options.max_sim_time;
+    aborted = aborted || (!complete && !out_of_time);
+    std::printf("race_control: race %s at t = %.2f s\n", complete ? "finished" : aborted ? "aborted" : "timed out", node.now());
     for (const auto& standing : node.race().standings()) {
       const race::CarRecord& car = node.race().car(standing.name);
       const auto best = car.timer.bestLap();
-      std::printf("  P%d %s: %d/%d laps, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
+      std::printf("  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
                   "car contacts %d, track limits %d\n",
                   standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
+                  car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
                   best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
                   car.car_contacts, car.track_limit_violations);
     }
     if (!options.output_dir.empty()) {
-      race::writeResults(options.output_dir, node.race(), complete ? race::RaceOutcome::kFinished : race::RaceOutcome::kTimedOut, ros::param::param<std::string>("/run_id", ""));
+      const race::RaceOutcome outcome = complete  ? race::RaceOutcome::kFinished
+                                        : aborted ? race::RaceOutcome::kAborted
+                                                  : race::RaceOutcome::kTimedOut;
+      race::writeResults(options.output_dir, node.race(), outcome, run_id);
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
       std::printf("race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
                   "speed_<car>.png\n", options.output_dir.c_str());

@@ -58,7 +58,7 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   CarRecord& car = record(name);
   car.last_time = std::max(car.last_time, time);
   if (!(start_time_ <= time)) start_time_ = time;  // the first position of any car (NaN before)
-  if (car.finished) return std::nullopt;
+  if (car.finished || !car.retired.empty()) return std::nullopt;
   auto lap = car.timer.update(time, position);
   if (car.timer.started()) {
     const double covered = car.timer.distanceCovered();
@@ -174,8 +174,15 @@ void RaceControl::updateMotion(const std::string& name, const Eigen::Vector2d& p
   car.velocity = velocity;
 }
 
+void RaceControl::retire(const std::string& name, double time, const std::string& reason) {
+  CarRecord& car = record(name);
+  if (car.finished || !car.retired.empty()) return;
+  car.retired = reason.empty() ? "retired" : reason;
+  car.retire_time = time;
+}
+
 bool RaceControl::finished() const {
-  return std::all_of(cars_.begin(), cars_.end(), [](const auto& kv) { return kv.second.finished; });
+  return std::all_of(cars_.begin(), cars_.end(), [](const auto& kv) { return kv.second.finished || !kv.second.retired.empty(); });
 }
 
 std::vector<Standing> RaceControl::standings() const {
@@ -185,6 +192,7 @@ std::vector<Standing> RaceControl::standings() const {
   std::sort(order.begin(), order.end(), [](const CarRecord* a, const CarRecord* b) {
     if (a->finished != b->finished) return a->finished;
     if (a->finished) return a->finish_time + a->penalties < b->finish_time + b->penalties;
+    if (a->retired.empty() != b->retired.empty()) return a->retired.empty();  // still running first
     return a->timer.distanceCovered() > b->timer.distanceCovered();
   });
   std::vector<Standing> out;
@@ -212,6 +220,7 @@ const char* outcomeName(RaceOutcome outcome) {
     case RaceOutcome::kFinished: return "finished";
     case RaceOutcome::kTimedOut: return "timed_out";
     case RaceOutcome::kInterrupted: return "interrupted";
+    case RaceOutcome::kAborted: return "aborted";
   }
   return "unknown";
 }
@@ -236,7 +245,9 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
     const CarRecord& car = race.car(name);
     const auto& timer = car.timer;
     yaml << "  - name: " << name << "\n    position: " << standing[name].position
-         << "\n    finished: " << (car.finished ? "true" : "false") << "\n    laps_completed: " << timer.lapsCompleted()
+         << "\n    finished: " << (car.finished ? "true" : "false");
+    if (!car.retired.empty()) yaml << "\n    retired: \"" << car.retired << "\"\n    retired_at_s: " << car.retire_time;
+    yaml << "\n    laps_completed: " << timer.lapsCompleted()
          << "\n    barrier_contacts: " << car.barrier_contacts << "\n    car_contacts: " << car.car_contacts
          << "\n    track_limit_violations: " << car.track_limit_violations << "\n    penalties_s: " << car.penalties
          << "\n    race_time_s: " << race.raceTime(name) << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;

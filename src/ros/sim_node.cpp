@@ -3,6 +3,7 @@
 #include <ros/callback_queue.h>
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
+#include <std_msgs/String.h>
 #include <roar_ros/MapInfo.h>
 
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/sensors/vehicle_looks.h"
+#include "roar/ros/wall_throttle.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -45,6 +47,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   map_pub_ = private_nh_.advertise<roar_ros::MapInfo>("map", 1, true);
   debug_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("debug_markers", 1, true);
+  driver_lost_pub_ = private_nh_.advertise<std_msgs::String>("driver_lost", 10, true);
   loadMap(options_.map_folder, "start");
   for (const auto& v : options_.vehicles) {
     if (v.spawn_point >= kGridSlots) {
@@ -216,7 +219,7 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
   if (it == io_.end() || !world_->hasVehicle(name)) return;
   std::string why;
   const bool applied = applyControl(name, *msg, &why);
-  if (!why.empty()) ROS_WARN_THROTTLE(1.0, "roar_sim: %s", why.c_str());
+  if (!why.empty()) ROAR_WARN_WALL_THROTTLE(1.0, "roar_sim: %s", why.c_str());
   if (applied) {
     it->second.last_control_stamp = msg->header.stamp;
     it->second.control_seen = true;
@@ -232,12 +235,29 @@ void SimNode::markLostDrivers() {
   for (auto& [name, io] : io_) {
     if (io.driver_lost || io.control.getNumPublishers() == 0) continue;
     if (io.control_seen && io.last_control_stamp >= now) continue;
-    io.driver_lost = true;
-    // Once per loss, naming the car: a dead driver must not stall the race, nor pass unnoticed.
-    ROS_WARN("roar_sim: no control from %s's driver for t = %.2f s within %.1f s of wall time: taken as lost, "
-             "lockstep goes on without waiting for it and the car is brought to a stop on the road",
-             name.c_str(), world_->time(), options_.lockstep_timeout);
+    char why[160];
+    std::snprintf(why, sizeof(why), "no control for t = %.2f s within %.1f s of wall time", world_->time(),
+                  options_.lockstep_timeout);
+    driverLost(name, io, why);
   }
+}
+
+void SimNode::markDisconnectedDrivers() {
+  for (auto& [name, io] : io_) {
+    if (io.driver_lost || !io.control_seen || io.control.getNumPublishers() > 0) continue;
+    driverLost(name, io, "its control publisher is gone");
+  }
+}
+
+void SimNode::driverLost(const std::string& name, VehicleIo& io, const std::string& why) {
+  io.driver_lost = true;
+  // Once per loss, naming the car: a dead driver must not stall the race, nor pass unnoticed.
+  ROS_WARN("roar_sim: %s's driver is lost (%s) at t = %.2f s: lockstep goes on without waiting for it and the "
+           "car is brought to a stop on the road",
+           name.c_str(), why.c_str(), world_->time());
+  std_msgs::String msg;
+  msg.data = name;
+  driver_lost_pub_.publish(msg);
 }
 
 void SimNode::publishStaticTransforms() {
@@ -449,6 +469,7 @@ void SimNode::run() {
         const bool timed_out = (ros::WallTime::now() - waiting_since).toSec() > options_.lockstep_timeout;
         if (controlsArrived() || timed_out) {
           if (timed_out) markLostDrivers();
+          markDisconnectedDrivers();
           tick();
           waiting_since = ros::WallTime::now();
           paceToRealTime();

@@ -75,6 +75,10 @@ class SimNode {
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
   void markLostDrivers();
+  // A driver that had a control publisher and has none now (it died): lost at once, not after a timeout.
+  void markDisconnectedDrivers();
+  // Warns once, naming the car, and tells race control (~driver_lost, the car's name).
+  void driverLost(const std::string& name, VehicleIo& io, const std::string& why);
   std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
   // Builds the world of a map folder (every car gone), from the current tick and time on, and tells
@@ -130,7 +134,7 @@ class SimNode {
   std::size_t spawned_count_ = 0;                     // for the palette
   std::uint32_t map_generation_ = 0;
   DebugDrawing debug_;
-  ros::Publisher clock_pub_, map_pub_, debug_pub_;
+  ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::vector<ros::ServiceServer> services_;

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest: the controller is killed with SIGKILL in the middle of a lockstep race. roar_sim takes the
-driver as lost after lockstep_timeout (once, not every tick) and the race goes on at full speed; the car,
-left at speed, is brought to a stop on the road without touching the barrier."""
+driver as lost (its publisher gone, or after lockstep_timeout; once, not every tick) and the race goes on at
+full speed; the car, left at speed, is brought to a stop on the road without touching the barrier, and
+race_control retires it ("driver lost"): the race, every car finished or retired, ends as finished."""
 import os
 import signal
 import time
@@ -11,6 +12,7 @@ import xmlrpc.client
 import rosgraph
 import rospy
 import rostest
+import yaml
 from nav_msgs.msg import Odometry
 from roar_ros.msg import RaceStatus
 from rosgraph_msgs.msg import Clock
@@ -51,6 +53,19 @@ class DeadDriver(unittest.TestCase):
         ego = next(c for c in latest["status"].cars if c.name == "ego")
         self.assertEqual(ego.barrier_contacts, 0, "stopped on the road, not in the barrier")
         self.assertEqual(ego.track_limit_violations, 0)
+        results_path = os.path.join(output_dir, "results.yaml")
+        while not os.path.exists(results_path):
+            self.assertLess(time.time() - killed_wall, 150.0, "race_control wrote results.yaml")
+            time.sleep(0.2)
+        time.sleep(0.5)
+        with open(results_path) as f:
+            results = yaml.safe_load(f)
+        self.assertEqual(results["status"], "finished")
+        car = results["cars"][0]
+        self.assertEqual(car["name"], "ego")
+        self.assertEqual(car["retired"], "driver lost")
+        self.assertFalse(car["finished"])
+        self.assertAlmostEqual(car["retired_at_s"], killed_at, delta=6.0)
 
 
 if __name__ == "__main__":

@@ -78,6 +78,32 @@ TEST(RaceControl, BetweenCarsOnlyTheCarAtFaultIsPenalised) {
   EXPECT_NE(text.find("contact: \"from behind\", at_fault: \"rear\""), std::string::npos) << text;
 }
 
+TEST(RaceControl, ARetiredCarIsNotWaitedForAndClassifiedLast) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 1;
+  race::RaceControl race(track, rules, {"runner", "dead"});
+  double t = 0.0;
+  for (; t < 10.0; t += 0.05) {
+    race.updatePosition("runner", t, onCircle(-5 + 20.0 * t));
+    race.updatePosition("dead", t, onCircle(-10 + 30.0 * t));  // ahead when its driver dies
+  }
+  race.retire("dead", t, "driver lost");
+  EXPECT_FALSE(race.finished()) << "the runner is still racing";
+  for (; !race.finished() && t < 60.0; t += 0.05) race.updatePosition("runner", t, onCircle(-5 + 20.0 * t));
+  ASSERT_TRUE(race.finished()) << "every car finished or retired";
+  EXPECT_EQ(race.standings().front().name, "runner");
+  EXPECT_EQ(race.car("dead").retired, "driver lost");
+  race.retire("runner", t, "too late");
+  EXPECT_EQ(race.car("runner").retired, "") << "a finished car cannot retire";
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_retired_results").string();
+  race::writeResults(dir, race, race::RaceOutcome::kFinished);
+  std::ifstream in(dir + "/results.yaml");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("retired: \"driver lost\""), std::string::npos) << text;
+  EXPECT_EQ(race::outcomeName(race::RaceOutcome::kAborted), std::string("aborted"));
+}
+
 TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
   const auto track = test::circleTrack(100.0);  // 6 m either side
   race::RaceRules rules;

@@ -133,6 +133,7 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
 TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   stack::RaceOptions options;
   options.laps = 1;
+  options.field.overtaking = false;
   const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "pace");

@@ -52,6 +52,8 @@ struct CarRecord {
   int barrier_contacts = 0, car_contacts = 0, track_limit_violations = 0;
   bool finished = false;
   double finish_time = 0.0;  // s when the last lap was completed
+  std::string retired;       // why the car left the race before finishing ("driver lost"); empty: it did not
+  double retire_time = 0.0;  // s
   double last_time = 0.0;
   double last_contact = -1e9;
   bool off_track = false;
@@ -96,7 +98,10 @@ class RaceControl {
   // A contact reported by the simulator; returns the incident it makes, if it makes one.
   std::optional<Incident> updateContact(const std::string& car, double time, const std::string& other);
 
-  bool finished() const;  // every car has completed its laps
+  // The car is out of the race (its driver died, say): it is no longer waited for, and is classified
+  // behind every car still running, by distance covered. A finished car cannot retire.
+  void retire(const std::string& car, double time, const std::string& reason);
+  bool finished() const;  // every car has completed its laps or retired
   std::vector<Standing> standings() const;
   const CarRecord& car(const std::string& name) const;
   const std::map<std::string, CarRecord>& cars() const { return cars_; }
@@ -127,8 +132,10 @@ class RaceControl {
 // sector times) and sectors.csv (car, lap, sector, time) in `dir`, created if missing. `run`, when not
 // empty, names the run the results are of (race_control: the ROS launch's run_id), so that a reader of a
 // folder that several races wrote to can tell whose results it holds.
-// `status` in results.yaml: every car finished, the time limit ran out, or the map changed under the race.
-enum class RaceOutcome { kFinished, kTimedOut, kInterrupted };
+// `status` in results.yaml: every car finished (or retired), the time limit ran out, the map changed under
+// the race, or the simulator died (aborted).
+// kAborted: the simulator died under the race.
+enum class RaceOutcome { kFinished, kTimedOut, kInterrupted, kAborted };
 const char* outcomeName(RaceOutcome outcome);
 void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run = "");
 
