@@ -94,7 +94,17 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
     }
     paths.push_back(std::move(path));
   }
-  track::renderTrackPreview(track, dir + "/trajectories.png", 1400, paths, "speed km/h");
+  // Every pass where the passer was when it got by.
+  std::vector<track::MapMark> passes;
+  for (const auto& o : race.overtakes()) {
+    const auto samples = telemetry.find(o.passer);
+    if (samples == telemetry.end() || samples->second.empty()) continue;
+    const auto at = std::lower_bound(samples->second.begin(), samples->second.end(), o.time,
+                                     [](const TelemetrySample& sample, double t) { return sample.time < t; });
+    const TelemetrySample& where = at == samples->second.end() ? samples->second.back() : *at;
+    passes.push_back({where.position, o.passer + " > " + o.passed + " (lap " + std::to_string(o.lap) + format(", t = %.1f s)", o.time)});
+  }
+  track::renderTrackPreview(track, dir + "/trajectories.png", 1400, paths, "speed km/h", passes);
   written.push_back(dir + "/trajectories.png");
 
   for (const auto& [name, car] : race.cars()) {

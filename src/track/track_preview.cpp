@@ -9,7 +9,8 @@
 namespace roar::track {
 
 void renderTrackPreview(const Track& track, const std::string& png_path, int width_px,
-                        const std::vector<ValuedPath>& paths, const std::string& value_name) {
+                        const std::vector<ValuedPath>& paths, const std::string& value_name,
+                        const std::vector<MapMark>& marks) {
   const double margin = 40.0 + track.info().barrier_offset;
   Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
   for (std::size_t i = 0; i < track.size(); ++i) {
@@ -85,6 +86,20 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     char label[96];
     std::snprintf(label, sizeof(label), "%s %.1f .. %.1f", value_name.c_str(), v_lo, v_hi);
     cv::putText(image, label, {x0, y0 - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  }
+  // Marks: a numbered ring on the map, the numbers listed top right (labels on the map would overlap).
+  int list_y = 70;
+  for (std::size_t k = 0; k < marks.size(); ++k) {
+    const cv::Point at = px(marks[k].position);
+    const std::string number = std::to_string(k + 1);
+    cv::circle(image, at, 11, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
+    cv::putText(image, number, at + cv::Point(13, -10), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 2,
+                cv::LINE_AA);
+    if (list_y < image.rows - 80) {
+      cv::putText(image, number + "  " + marks[k].label, {image.cols - 330, list_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55,
+                  cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+      list_y += 22;
+    }
   }
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the preview image");
 }

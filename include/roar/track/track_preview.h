@@ -13,10 +13,18 @@ struct ValuedPath {
   std::vector<double> values;
 };
 
+// A labelled place on the map (where a pass happened: "ego > pace").
+struct MapMark {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
+  std::string label;
+};
+
 // Writes a top-down PNG of the track: grass, barriers, road, centre line, start/finish line, sector lines,
-// and the paths coloured from blue (lowest value) to red (highest) with a scale labelled `value_name`.
+// the paths coloured from blue (lowest value) to red (highest) with a scale labelled `value_name`, and the
+// marks as white rings with their labels, listed with a number each.
 // Throws std::runtime_error when the image cannot be written.
 void renderTrackPreview(const Track& track, const std::string& png_path, int width_px = 1200,
-                        const std::vector<ValuedPath>& paths = {}, const std::string& value_name = "");
+                        const std::vector<ValuedPath>& paths = {}, const std::string& value_name = "",
+                        const std::vector<MapMark>& marks = {});
 
 }  // namespace roar::track
