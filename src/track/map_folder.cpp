@@ -1,5 +1,7 @@
 #include "roar/track/map_folder.h"
 
+#include "roar/config/yaml_section.h"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -170,7 +172,7 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
   }
 }
 
-TrackInfo readTrackYaml(const std::string& path) {
+TrackInfo readTrackYaml(const std::string& path, std::string* centreline) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -178,42 +180,42 @@ TrackInfo readTrackYaml(const std::string& path) {
     throw MapError(path + ": " + e.what());
   }
   if (!root.IsMap()) throw MapError(path + ": expected a mapping of track properties");
+  // The one strict reader: a misspelt key (`frcition:`) is refused, naming the nearest known one.
+  config::YamlSection<MapError> top(root, "", path);
   TrackInfo info;
-  auto number = [&](const YAML::Node& node, const std::string& field, double fallback) {
-    if (!node) return fallback;
-    try {
-      const double v = node.as<double>();
-      if (!std::isfinite(v)) throw MapError(path + ": field '" + field + "' is not finite");
-      return v;
-    } catch (const YAML::Exception&) {
-      throw MapError(path + ": field '" + field + "' is not a number");
-    }
+  info.name = fs::path(path).parent_path().filename().string();
+  top.read("name", &info.name);
+  std::string file = "centerline.csv";
+  top.read("centerline", &file);
+  if (file.empty()) top.fail("centerline", "must name the centre-line file");
+  if (centreline) *centreline = file;
+  auto origin = top.child("origin");
+  origin.read("latitude", &info.origin.latitude);
+  origin.read("longitude", &info.origin.longitude);
+  origin.read("altitude", &info.origin.altitude);
+  origin.finish();
+  auto inRange = [&](const std::string& field, double v, double lo, double hi, bool lo_open, const std::string& unit) {
+    if (lo_open ? v > lo && v <= hi : v >= lo && v <= hi) return;
+    top.fail(field, std::to_string(v) + unit + " is outside " + (lo_open ? "(" : "[") + std::to_string(lo) + ", " +
+                        std::to_string(hi) + "]");
   };
-  try {
-    info.name = root["name"] ? root["name"].as<std::string>() : fs::path(path).parent_path().filename().string();
-  } catch (const YAML::Exception&) {
-    throw MapError(path + ": field 'name' is not a string");
-  }
-  if (const auto origin = root["origin"]) {
-    info.origin.latitude = number(origin["latitude"], "origin.latitude", 0.0);
-    info.origin.longitude = number(origin["longitude"], "origin.longitude", 0.0);
-    info.origin.altitude = number(origin["altitude"], "origin.altitude", 0.0);
-    if (std::abs(info.origin.latitude) > 90) throw MapError(path + ": field 'origin.latitude' must be in [-90, 90]");
-    if (std::abs(info.origin.longitude) > 180) throw MapError(path + ": field 'origin.longitude' must be in [-180, 180]");
-  }
-  info.friction = number(root["friction"], "friction", info.friction);
-  info.ground_friction = number(root["ground_friction"], "ground_friction", info.ground_friction);
-  if (info.friction <= 0 || info.friction > 3) throw MapError(path + ": field 'friction' must be in (0, 3]");
-  if (info.ground_friction <= 0 || info.ground_friction > 3) {
-    throw MapError(path + ": field 'ground_friction' must be in (0, 3]");
-  }
-  if (const auto sf = root["start_finish"]) info.start_finish_s = number(sf["s"], "start_finish.s", 0.0);
-  info.sectors = static_cast<int>(number(root["sectors"], "sectors", info.sectors));
-  if (info.sectors < 1 || info.sectors > 100) throw MapError(path + ": field 'sectors' must be in [1, 100]");
-  info.barrier_offset = number(root["barrier_offset"], "barrier_offset", info.barrier_offset);
-  info.barrier_height = number(root["barrier_height"], "barrier_height", info.barrier_height);
-  if (info.barrier_offset < 0) throw MapError(path + ": field 'barrier_offset' must not be negative");
-  if (info.barrier_height <= 0) throw MapError(path + ": field 'barrier_height' must be positive");
+  inRange("origin.latitude", info.origin.latitude, -90, 90, false, " degrees");
+  inRange("origin.longitude", info.origin.longitude, -180, 180, false, " degrees");
+  inRange("origin.altitude", info.origin.altitude, -500, 9000, false, " m");
+  top.read("friction", &info.friction);
+  top.read("ground_friction", &info.ground_friction);
+  inRange("friction", info.friction, 0, 3, true, "");
+  inRange("ground_friction", info.ground_friction, 0, 3, true, "");
+  auto start_finish = top.child("start_finish");
+  start_finish.read("s", &info.start_finish_s);
+  start_finish.finish();
+  top.read("sectors", &info.sectors);
+  inRange("sectors", info.sectors, 1, 100, false, "");
+  top.read("barrier_offset", &info.barrier_offset);
+  top.read("barrier_height", &info.barrier_height);
+  inRange("barrier_offset", info.barrier_offset, 0, 100, false, " m");
+  inRange("barrier_height", info.barrier_height, 0, 20, true, " m");
+  top.finish();
   return info;
 }
 
@@ -270,14 +272,8 @@ std::vector<CentreLinePoint> readPointList(const std::string& path, double width
 Track loadMapFolder(const std::string& folder) {
   const fs::path yaml_path = fs::path(folder) / "track.yaml";
   if (!fs::exists(yaml_path)) throw MapError(yaml_path.string() + ": no such file (is '" + folder + "' a map folder?)");
-  TrackInfo info = readTrackYaml(yaml_path.string());
-  std::string centreline = "centerline.csv";
-  try {
-    const YAML::Node root = YAML::LoadFile(yaml_path.string());
-    if (root["centerline"]) centreline = root["centerline"].as<std::string>();
-  } catch (const YAML::Exception& e) {
-    throw MapError(yaml_path.string() + ": field 'centerline': " + e.what());
-  }
+  std::string centreline;
+  TrackInfo info = readTrackYaml(yaml_path.string(), &centreline);
   const std::string csv_path = (fs::path(folder) / centreline).string();
   CentreLineFile file = readCentreLineCsv(csv_path);
   Track track(std::move(file.points), std::move(info));

@@ -170,10 +170,24 @@ TEST(MapFolder, TrackYamlErrorsNameTheField) {
   dir.write("centerline.csv", "0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n");
   dir.write("track.yaml", "name: x\nfriction: lots\n");
   auto msg = errorOf([&] { track::loadMapFolder(dir.str()); });
-  EXPECT_NE(msg.find("track.yaml: field 'friction' is not a number"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("track.yaml: friction: is not a number"), std::string::npos) << msg;
   dir.write("track.yaml", "name: x\nsectors: 0\n");
   msg = errorOf([&] { track::loadMapFolder(dir.str()); });
-  EXPECT_NE(msg.find("'sectors'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("track.yaml: sectors: 0"), std::string::npos) << msg;
+  // Misspelt keys are refused (they used to fall back to the default without a word), and numbers must
+  // be physical, not just finite.
+  dir.write("track.yaml", "name: x\nfrcition: 0.9\n");
+  msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("track.yaml: frcition: is not a known key (did you mean 'friction'?)"), std::string::npos) << msg;
+  dir.write("track.yaml", "name: x\norigin: {latitude: 37.87, longitud: -122.26}\n");
+  msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+  EXPECT_NE(msg.find("origin.longitud: is not a known key"), std::string::npos) << msg;
+  for (const char* bad : {"barrier_height: 1e300", "barrier_offset: -1", "friction: .nan", "ground_friction: 0"}) {
+    dir.write("track.yaml", std::string("name: x\n") + bad + "\n");
+    msg = errorOf([&] { track::loadMapFolder(dir.str()); });
+    const std::string key = std::string(bad).substr(0, std::string(bad).find(':'));
+    EXPECT_NE(msg.find("track.yaml: " + key + ":"), std::string::npos) << bad << ": " << msg;
+  }
   dir.write("track.yaml", "name: x\norigin: {latitude: 37.87, longitude: -122.26, altitude: 50}\nfriction: 0.9\n");
   const auto track = track::loadMapFolder(dir.str());
   EXPECT_DOUBLE_EQ(track.info().origin.latitude, 37.87);

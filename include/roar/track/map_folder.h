@@ -27,7 +27,9 @@ void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoi
 // `lines` maps point indices to file lines for the message (may be empty).
 void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines);
 
-TrackInfo readTrackYaml(const std::string& path);
+// track.yaml, strictly (an unknown key is refused naming the nearest known one; every number in its
+// physical range); `centreline`, when given, receives the centre-line file it names.
+TrackInfo readTrackYaml(const std::string& path, std::string* centreline = nullptr);
 void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::string& centreline = "centerline.csv");
 
 // Writes `<folder>/centerline.csv` and `<folder>/track.yaml` (created if missing), checked like loadMapFolder.
