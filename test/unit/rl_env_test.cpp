@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "roar/rl/racing_env.h"
+#include "roar/rl/async_vector_env.h"
 #include "roar/rl/vector_env.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
@@ -267,4 +268,67 @@ TEST(RlVectorEnv, StepsInParallelLikeOneAtATimeAndResetsFinishedEpisodes) {
   std::vector<Value> bad(4, rl::zeros(parallel.actionSpace()));
   bad[2].at("brake").numbers[0] = -1;
   EXPECT_EQ(test::errorOf([&] { parallel.step(bad); }), "actions[2]['brake'][0] = -1 is outside [0, 1]");
+}
+
+// EnvPool's way: recv() hands back the first environments to be done; an environment stepped
+// asynchronously gives the same results as one stepped in VectorEnv's lockstep (each is deterministic on
+// its own), auto-resets the same way, and misuse is refused by name.
+TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
+  rl::EnvOptions options = stateOptions();
+  options.termination.time_limit = 1.0;  // every 20 steps
+  auto envs = [&](int n) {
+    std::vector<std::unique_ptr<rl::RacingEnv>> out;
+    for (int i = 0; i < n; ++i) out.push_back(std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), options));
+    return out;
+  };
+  rl::AsyncVectorEnv async(envs(4), 2);
+  rl::VectorEnv lockstep(envs(4), 1);
+  std::vector<rl::ResetResult> l0 = lockstep.reset(7);
+  async.reset(7);
+  EXPECT_EQ(async.inFlight(), 4u);
+  std::vector<Value> ao(4), lo(4);
+  for (auto& r : async.recv(4)) ao[r.env_id] = r.step.observation;
+  for (std::size_t i = 0; i < 4; ++i) {
+    lo[i] = l0[i].observation;
+    EXPECT_EQ(ao[i].at("speed").numbers, lo[i].at("speed").numbers);
+  }
+  // Lockstep reference: 30 steps of all four. Async: environments 0 and 1 stepped in batches of 1 and 2
+  // as they come back, 2 and 3 in one batch, until each has done 30 steps.
+  std::vector<std::vector<double>> lockstep_rewards(4), async_rewards(4);
+  int finals = 0;
+  for (int step = 0; step < 30; ++step) {
+    std::vector<Value> actions;
+    for (std::size_t i = 0; i < 4; ++i) actions.push_back(chase(lockstep.actionSpace(), lo[i]));
+    const rl::VectorStepResult& r = lockstep.step(actions);
+    for (std::size_t i = 0; i < 4; ++i) {
+      lockstep_rewards[i].push_back(r.steps[i].reward);
+      lo[i] = r.steps[i].observation;
+    }
+  }
+  std::vector<int> steps(4, 0);
+  auto sendOne = [&](std::size_t i) { async.send({chase(async.actionSpace(), ao[i])}, {i}); };
+  for (std::size_t i = 0; i < 4; ++i) sendOne(i);
+  while (async.inFlight() > 0) {
+    const std::size_t batch = async.inFlight() >= 2 ? 2 : 1;
+    for (auto& r : async.recv(batch)) {
+      ASSERT_LT(r.env_id, 4u);
+      async_rewards[r.env_id].push_back(r.step.reward);
+      ao[r.env_id] = r.step.observation;
+      if (r.final_observation) ++finals;
+      if (++steps[r.env_id] < 30) sendOne(r.env_id);
+    }
+  }
+  EXPECT_EQ(async_rewards, lockstep_rewards);
+  EXPECT_EQ(finals, 4) << "each environment ended its 20-step episode once and was reset";
+  // Misuse, refused by name with nothing sent.
+  async.send({chase(async.actionSpace(), ao[1])}, {1});
+  EXPECT_NE(test::errorOf([&] { async.send({chase(async.actionSpace(), ao[1])}, {1}); }).find("environment 1 is still stepping"),
+            std::string::npos);
+  EXPECT_NE(test::errorOf([&] { async.send({rl::zeros(async.actionSpace())}, {9}); }).find("env_ids[0] = 9"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { async.recv(2); }).find("batch_size 2 with 1 environment(s) in flight"), std::string::npos);
+  std::vector<Value> bad(1, rl::zeros(async.actionSpace()));
+  bad[0].at("brake").numbers[0] = -1;
+  EXPECT_EQ(test::errorOf([&] { async.send(bad, {2}); }), "actions[0]['brake'][0] = -1 is outside [0, 1]");
+  EXPECT_EQ(async.inFlight(), 1u);
+  EXPECT_EQ(async.recv(1).front().env_id, 1u);
 }

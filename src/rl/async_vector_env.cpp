@@ -1,0 +1,145 @@
+#include "roar/rl/async_vector_env.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace roar::rl {
+
+AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads)
+    : envs_(std::move(envs)), busy_(envs_.size(), 0) {
+  if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
+  if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
+  for (const auto& e : envs_) {
+    if (toYaml(e->actionSpace()) != toYaml(actionSpace()) || toYaml(e->observationSpace()) != toYaml(observationSpace())) {
+      throw std::invalid_argument("AsyncVectorEnv: the environments' spaces differ");
+    }
+  }
+  const int n = std::min<int>(threads, static_cast<int>(envs_.size()));
+  for (int t = 0; t < n; ++t) inboxes_.push_back(std::make_unique<Inbox>());
+  for (int t = 0; t < n; ++t) threads_.emplace_back([this, t] { work(t); });
+}
+
+AsyncVectorEnv::~AsyncVectorEnv() {
+  for (auto& inbox : inboxes_) {
+    std::lock_guard<std::mutex> lock(inbox->mutex);
+    stopping_ = true;
+  }
+  for (auto& inbox : inboxes_) inbox->ready.notify_all();
+  for (auto& t : threads_) t.join();
+}
+
+std::size_t AsyncVectorEnv::inFlight() const {
+  std::lock_guard<std::mutex> lock(done_mutex_);
+  return in_flight_;
+}
+
+void AsyncVectorEnv::work(int thread) {
+  Inbox& inbox = *inboxes_[static_cast<std::size_t>(thread)];
+  for (;;) {
+    Job job;
+    {
+      std::unique_lock<std::mutex> lock(inbox.mutex);
+      inbox.ready.wait(lock, [&] { return stopping_ || !inbox.jobs.empty(); });
+      if (inbox.jobs.empty()) return;  // stopping
+      job = std::move(inbox.jobs.front());
+      inbox.jobs.pop_front();
+    }
+    AsyncResult result;
+    result.env_id = job.env_id;
+    std::exception_ptr error;
+    try {
+      RacingEnv& env = *envs_[job.env_id];
+      if (job.reset_seed) {
+        ResetResult r = env.reset(*job.reset_seed);
+        result.step.observation = std::move(r.observation);
+        result.step.info = r.info;
+      } else {
+        env.step(job.action, &result.step);
+        if (result.step.done()) {
+          result.final_observation = std::move(result.step.observation);
+          result.step.observation = env.reset().observation;
+        }
+      }
+    } catch (...) {
+      error = std::current_exception();
+    }
+    {
+      std::lock_guard<std::mutex> lock(done_mutex_);
+      if (error && !error_) error_ = error;
+      done_.push_back(std::move(result));
+    }
+    done_ready_.notify_one();
+  }
+}
+
+void AsyncVectorEnv::reset(std::uint64_t seed) {
+  if (inFlight() > 0) throw std::logic_error("AsyncVectorEnv::reset: environments are in flight; recv() them first");
+  for (std::size_t i = 0; i < envs_.size(); ++i) {
+    busy_[i] = 1;
+    Inbox& inbox = *inboxes_[i % inboxes_.size()];
+    std::lock_guard<std::mutex> lock(inbox.mutex);
+    inbox.jobs.push_back({i, Value{}, seed + i});
+  }
+  {
+    std::lock_guard<std::mutex> lock(done_mutex_);
+    in_flight_ += envs_.size();
+  }
+  for (auto& inbox : inboxes_) inbox->ready.notify_one();
+}
+
+void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<std::size_t>& env_ids) {
+  if (actions.size() != env_ids.size()) {
+    throw std::invalid_argument("AsyncVectorEnv::send: " + std::to_string(actions.size()) + " actions for " +
+                                std::to_string(env_ids.size()) + " environment ids");
+  }
+  std::vector<char> listed(envs_.size(), 0);
+  for (std::size_t k = 0; k < env_ids.size(); ++k) {
+    const std::size_t id = env_ids[k];
+    if (id >= envs_.size()) {
+      throw std::invalid_argument("AsyncVectorEnv::send: env_ids[" + std::to_string(k) + "] = " + std::to_string(id) +
+                                  " is not an environment (0.." + std::to_string(envs_.size() - 1) + ")");
+    }
+    if (busy_[id] || listed[id]) {
+      throw std::invalid_argument("AsyncVectorEnv::send: environment " + std::to_string(id) +
+                                  (listed[id] ? " is listed twice" : " is still stepping: recv() its result first"));
+    }
+    listed[id] = 1;
+    check(actionSpace(), actions[k], "actions[" + std::to_string(k) + "]");
+  }
+  for (std::size_t k = 0; k < env_ids.size(); ++k) {
+    busy_[env_ids[k]] = 1;
+    Inbox& inbox = *inboxes_[env_ids[k] % inboxes_.size()];
+    std::lock_guard<std::mutex> lock(inbox.mutex);
+    inbox.jobs.push_back({env_ids[k], actions[k], std::nullopt});
+  }
+  {
+    std::lock_guard<std::mutex> lock(done_mutex_);
+    in_flight_ += env_ids.size();
+  }
+  for (auto& inbox : inboxes_) inbox->ready.notify_one();
+}
+
+std::vector<AsyncResult> AsyncVectorEnv::recv(std::size_t batch_size) {
+  std::vector<AsyncResult> out;
+  out.reserve(batch_size);
+  std::unique_lock<std::mutex> lock(done_mutex_);
+  if (batch_size == 0 || batch_size > in_flight_) {
+    throw std::invalid_argument("AsyncVectorEnv::recv: batch_size " + std::to_string(batch_size) + " with " +
+                                std::to_string(in_flight_) + " environment(s) in flight");
+  }
+  done_ready_.wait(lock, [&] { return done_.size() >= batch_size; });
+  for (std::size_t k = 0; k < batch_size; ++k) {
+    out.push_back(std::move(done_.front()));
+    done_.pop_front();
+    busy_[out.back().env_id] = 0;
+  }
+  in_flight_ -= batch_size;
+  if (error_) {
+    std::exception_ptr e = error_;
+    error_ = nullptr;
+    std::rethrow_exception(e);
+  }
+  return out;
+}
+
+}  // namespace roar::rl
