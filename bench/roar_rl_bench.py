@@ -57,6 +57,21 @@ def python_rate(options: str, num_envs: int, threads: int, seconds: float) -> fl
     return steps * num_envs / (time.perf_counter() - started)
 
 
+def async_rate(options: str, num_envs: int, threads: int, seconds: float) -> float:
+    """EnvPool's asynchronous batching: half the environments per recv(), sent back at once."""
+    batch = max(1, num_envs // 2)
+    envs = roar_rl.VectorEnv("roar_sprint", options, num_envs=num_envs, num_threads=threads, batch_size=batch)
+    envs.reset(seed=1)
+    envs.send(zero_action(num_envs), np.arange(num_envs))
+    action = zero_action(batch)
+    steps, started = 0, time.perf_counter()
+    while time.perf_counter() - started < seconds:
+        obs, _, _, _, infos = envs.recv()
+        envs.send(chase(obs, action), np.array(infos["env_id"]))
+        steps += batch
+    return steps / (time.perf_counter() - started)
+
+
 def cpp_rate(camera: bool, threads: int, seconds: float) -> float:
     done = subprocess.run([str(ROOT / "devel" / "lib" / "roar_ros" / "roar_bench"),
                            f"--benchmark_filter=RlEnvSteps/camera:{int(camera)}/threads:{threads}/",
@@ -97,6 +112,8 @@ if __name__ == "__main__":
             cpp = cpp_rate(camera, threads, args.seconds)
             py = python_rate(options, envs, threads, args.seconds)
             procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
+            asynchronous = async_rate(options, envs, threads, args.seconds) if envs > 1 else float("nan")
             print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
-                  f"({py / cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py / procs:4.2f})",
+                  f"({py / cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py / procs:4.2f}); "
+                  f"asynchronous, batches of {max(1, envs // 2)}: {asynchronous:8.0f} ({asynchronous / procs:4.2f})",
                   flush=True)

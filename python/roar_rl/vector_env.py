@@ -74,13 +74,23 @@ class VectorEnv:
     environment axis, written in place: they are overwritten by the next step (copy what you keep). An
     environment whose episode ended starts its next at once (autoreset): its row then holds the new
     episode's first observation, infos["final_observation"] the last one of the ended episode (same layout,
-    valid where infos["_final_observation"] is True). Environment i is reset with seed + i."""
+    valid where infos["_final_observation"] is True). Environment i is reset with seed + i.
+
+    With batch_size (EnvPool's asynchronous batching): send(actions, env_ids) queues one action per listed
+    environment and recv() returns the first batch_size environments to be done, as (observations, rewards,
+    terminations, truncations, infos) of batch_size rows, infos["env_id"] saying whose each row is; send the
+    next actions to those ids. No thread waits for the slowest environment. reset() resets every
+    environment and returns their first observations by id; step() is send to all then recv (batch_size
+    must then be num_envs; rows come in the order the environments were done, see infos["env_id"])."""
 
     def __init__(self, map_name: str = "roar_sprint", env_options: str = "state", num_envs: int = 4,
-                 num_threads: typing.Optional[int] = None, model: str = "sedan", seed: int = 0):
+                 num_threads: typing.Optional[int] = None, model: str = "sedan", seed: int = 0,
+                 batch_size: typing.Optional[int] = None):
         threads = num_threads if num_threads is not None else min(num_envs, os.cpu_count() or 1)
-        self._core = _core.VectorEnv(_map_folder(map_name), _options_path(env_options), model, str(ROOT / "urdf"),
-                                     str(ROOT / "config" / "vehicles"), int(num_envs), int(threads))
+        where = (_map_folder(map_name), _options_path(env_options), model, str(ROOT / "urdf"),
+                 str(ROOT / "config" / "vehicles"), int(num_envs), int(threads))
+        self.batch_size = None if batch_size is None else int(batch_size)
+        self._core = _core.VectorEnv(*where) if batch_size is None else _core.AsyncVectorEnv(*where, int(batch_size))
         self.num_envs = self._core.num_envs
         self.num_threads = threads
         self.single_action_space = space_of(self._core.action_space())
@@ -101,9 +111,33 @@ class VectorEnv:
     def step(self, actions):
         if not self._started:
             raise RuntimeError("VectorEnv.step before reset")
+        if self.batch_size is not None:
+            if self.batch_size != self.num_envs:
+                raise RuntimeError(f"VectorEnv.step needs batch_size = num_envs ({self.num_envs}), not "
+                                   f"{self.batch_size}: use send() and recv()")
+            self.send(actions, np.arange(self.num_envs))
+            return self.recv()
         observations, rewards, terminations, truncations, infos, final, mask = self._core.step(actions)
         infos["final_observation"] = final  # infos is the module's own dict, filled in place like the arrays
         infos["_final_observation"] = mask
+        return observations, rewards, terminations, truncations, infos
+
+    def send(self, actions, env_ids) -> None:
+        """Asynchronous mode: one action per environment of env_ids (a row each, in that order)."""
+        if self.batch_size is None:
+            raise RuntimeError("VectorEnv.send needs batch_size (asynchronous mode)")
+        if not self._started:
+            raise RuntimeError("VectorEnv.send before reset")
+        self._core.send(actions, np.asarray(env_ids, dtype=np.int64))
+
+    def recv(self):
+        """Asynchronous mode: the first batch_size environments to be done; infos["env_id"] says whose."""
+        if self.batch_size is None:
+            raise RuntimeError("VectorEnv.recv needs batch_size (asynchronous mode)")
+        observations, rewards, terminations, truncations, infos, final, mask, env_ids = self._core.recv()
+        infos["final_observation"] = final
+        infos["_final_observation"] = mask
+        infos["env_id"] = env_ids
         return observations, rewards, terminations, truncations, infos
 
     def close(self):

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "roar/rl/async_vector_env.h"
 #include "roar/rl/env_options.h"
 #include "roar/rl/policy.h"
 #include "roar/rl/vector_env.h"
@@ -172,18 +173,74 @@ struct Infos {
   }
 };
 
+// Actions from Python, a dict of arrays (or one array) with a leading axis of `rows`, read into Values
+// whose tree keeps its shape from call to call (each leaf's Value found once).
+class BatchedActions {
+ public:
+  BatchedActions(const rl::Space& space, std::size_t capacity) {
+    leavesOf(space, {}, &leaves_);
+    actions_ = std::vector<rl::Value>(capacity, rl::zeros(space));
+    for (std::size_t i = 0; i < capacity; ++i) {
+      for (const auto& leaf : leaves_) {
+        values_.push_back(space.kind == rl::Space::Kind::kDict ? &valueAt(actions_[i], leaf) : &actions_[i]);
+      }
+    }
+  }
+
+  // The first `rows` actions, read from `actions`; throws KeyError/ValueError naming the entry.
+  const std::vector<rl::Value>& read(const py::object& actions, std::size_t rows) {
+    for (const auto& leaf : leaves_) {
+      py::object entry = actions;
+      std::string where = "actions";
+      for (const auto& key : leaf.path) {
+        where += "['" + key + "']";
+        if (!py::isinstance<py::dict>(entry) || !entry.cast<py::dict>().contains(key)) {
+          throw py::key_error(where + " is missing: an action is a dict of arrays with a leading axis of " +
+                              std::to_string(rows) + " environments");
+        }
+        entry = entry.cast<py::dict>()[py::str(key)];
+      }
+      const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(entry);
+      if (!array || static_cast<std::size_t>(array.size()) != rows * leaf.elements) {
+        throw py::value_error(where + " must hold " + std::to_string(rows) + " x " + std::to_string(leaf.elements) +
+                              " numbers (one row per environment)");
+      }
+      const double* data = array.data();
+      const std::size_t l = static_cast<std::size_t>(&leaf - leaves_.data());
+      for (std::size_t i = 0; i < rows; ++i) {
+        values_[i * leaves_.size() + l]->numbers.assign(data + i * leaf.elements, data + (i + 1) * leaf.elements);
+      }
+    }
+    if (rows == actions_.size()) return actions_;
+    some_.assign(actions_.begin(), actions_.begin() + static_cast<std::ptrdiff_t>(rows));
+    return some_;
+  }
+
+ private:
+  std::vector<Leaf> leaves_;
+  std::vector<rl::Value> actions_, some_;
+  std::vector<rl::Value*> values_;  // env-major, one per action leaf
+};
+
+std::vector<std::unique_ptr<rl::RacingEnv>> makeEnvs(const std::string& map_folder, const std::string& options_path,
+                                                     const std::string& model, const std::string& urdf_dir,
+                                                     const std::string& vehicle_dir, int num_envs, int num_threads) {
+  if (num_envs < 1 || num_envs > 4096) throw py::value_error("num_envs must be in [1, 4096], got " + std::to_string(num_envs));
+  if (num_threads < 1 || num_threads > 1024) throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
+  const track::Track track = track::loadMapFolder(map_folder);
+  const sim::VehicleParams car = sim::loadVehicleModel(model, urdf_dir, vehicle_dir);
+  const rl::EnvOptions options = rl::readEnvOptions(options_path);
+  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+  for (int i = 0; i < num_envs; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, options));
+  return envs;
+}
+
 class PyVectorEnv {
  public:
   PyVectorEnv(const std::string& map_folder, const std::string& options_path, const std::string& model,
               const std::string& urdf_dir, const std::string& vehicle_dir, int num_envs, int num_threads) {
-    if (num_envs < 1 || num_envs > 4096) throw py::value_error("num_envs must be in [1, 4096], got " + std::to_string(num_envs));
-    if (num_threads < 1 || num_threads > 1024) throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
-    const track::Track track = track::loadMapFolder(map_folder);
-    const sim::VehicleParams car = sim::loadVehicleModel(model, urdf_dir, vehicle_dir);
-    const rl::EnvOptions options = rl::readEnvOptions(options_path);
-    std::vector<std::unique_ptr<rl::RacingEnv>> envs;
-    for (int i = 0; i < num_envs; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, options));
-    env_ = std::make_unique<rl::VectorEnv>(std::move(envs), num_threads);
+    env_ = std::make_unique<rl::VectorEnv>(
+        makeEnvs(map_folder, options_path, model, urdf_dir, vehicle_dir, num_envs, num_threads), num_threads);
     const std::size_t n = env_->size();
     observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
     final_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
@@ -192,15 +249,7 @@ class PyVectorEnv {
     terminations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
     truncations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
     final_mask_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
-    leavesOf(env_->actionSpace(), {}, &action_leaves_);
-    actions_ = std::vector<rl::Value>(n, rl::zeros(env_->actionSpace()));
-    // Each action leaf's Value, found once (the action trees keep their shape from step to step).
-    for (std::size_t i = 0; i < n; ++i) {
-      for (const auto& leaf : action_leaves_) {
-        action_values_.push_back(env_->actionSpace().kind == rl::Space::Kind::kDict ? &valueAt(actions_[i], leaf)
-                                                                                    : &actions_[i]);
-      }
-    }
+    actions_ = std::make_unique<BatchedActions>(env_->actionSpace(), n);
   }
 
   std::size_t numEnvs() const { return env_->size(); }
@@ -222,34 +271,12 @@ class PyVectorEnv {
 
   py::tuple step(const py::object& actions) {
     const std::size_t n = env_->size();
-    for (const auto& leaf : action_leaves_) {
-      py::object entry = actions;
-      std::string where = "actions";
-      for (const auto& key : leaf.path) {
-        where += "['" + key + "']";
-        if (!py::isinstance<py::dict>(entry) || !entry.cast<py::dict>().contains(key)) {
-          throw py::key_error(where + " is missing: an action is a dict of arrays with a leading axis of " +
-                              std::to_string(n) + " environments");
-        }
-        entry = entry.cast<py::dict>()[py::str(key)];
-      }
-      const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(entry);
-      if (!array || static_cast<std::size_t>(array.size()) != n * leaf.elements) {
-        throw py::value_error(where + " must hold " + std::to_string(n) + " x " + std::to_string(leaf.elements) +
-                              " numbers (one row per environment)");
-      }
-      const double* data = array.data();
-      const std::size_t l = static_cast<std::size_t>(&leaf - action_leaves_.data());
-      for (std::size_t i = 0; i < n; ++i) {
-        action_values_[i * action_leaves_.size() + l]->numbers.assign(data + i * leaf.elements,
-                                                                      data + (i + 1) * leaf.elements);
-      }
-    }
+    const std::vector<rl::Value>& values = actions_->read(actions, n);
     // VectorEnv::step checks every action first (naming actions[i] and the field) and steps nothing then.
     const rl::VectorStepResult* result = nullptr;
     {
       py::gil_scoped_release released;
-      result = &env_->step(actions_);
+      result = &env_->step(values);
     }
     auto rewards = rewards_.mutable_unchecked<1>();
     auto terminated = terminations_.mutable_unchecked<1>();
@@ -275,9 +302,106 @@ class PyVectorEnv {
   std::unique_ptr<Infos> infos_;
   py::array_t<double> rewards_;
   py::array_t<bool> terminations_, truncations_, final_mask_;
-  std::vector<Leaf> action_leaves_;
-  std::vector<rl::Value> actions_;
-  std::vector<rl::Value*> action_values_;  // env-major, one per action leaf
+  std::unique_ptr<BatchedActions> actions_;
+};
+
+// EnvPool's asynchronous batching (rl::AsyncVectorEnv): send() actions to chosen environments, recv()
+// the first batch_size done, in buffers of batch_size rows with the environments' ids.
+class PyAsyncVectorEnv {
+ public:
+  PyAsyncVectorEnv(const std::string& map_folder, const std::string& options_path, const std::string& model,
+                   const std::string& urdf_dir, const std::string& vehicle_dir, int num_envs, int num_threads,
+                   int batch_size) {
+    if (batch_size < 1 || batch_size > num_envs) {
+      throw py::value_error("batch_size must be in [1, num_envs = " + std::to_string(num_envs) + "], got " +
+                            std::to_string(batch_size));
+    }
+    env_ = std::make_unique<rl::AsyncVectorEnv>(
+        makeEnvs(map_folder, options_path, model, urdf_dir, vehicle_dir, num_envs, num_threads), num_threads);
+    batch_ = static_cast<std::size_t>(batch_size);
+    const std::size_t n = env_->size();
+    observations_ = std::make_unique<Batch>(env_->observationSpace(), batch_);
+    final_observations_ = std::make_unique<Batch>(env_->observationSpace(), batch_);
+    infos_ = std::make_unique<Infos>(batch_);
+    first_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
+    first_infos_ = std::make_unique<Infos>(n);
+    rewards_ = py::array_t<double>(static_cast<py::ssize_t>(batch_));
+    terminations_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
+    truncations_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
+    final_mask_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
+    env_ids_ = py::array_t<std::int64_t>(static_cast<py::ssize_t>(batch_));
+    actions_ = std::make_unique<BatchedActions>(env_->actionSpace(), n);
+  }
+
+  std::size_t numEnvs() const { return env_->size(); }
+  std::size_t batchSize() const { return batch_; }
+  py::dict actionSpace() const { return describe(env_->actionSpace()); }
+  py::dict observationSpace() const { return describe(env_->observationSpace()); }
+
+  // Every environment reset (environment i with seed + i): their first observations and infos, by id.
+  py::tuple reset(std::uint64_t seed) {
+    std::vector<rl::AsyncResult> results;
+    {
+      py::gil_scoped_release released;
+      while (env_->inFlight() > 0) env_->recv(env_->inFlight());  // results nobody asked for: dropped
+      env_->reset(seed);
+      results = env_->recv(env_->size());
+    }
+    for (const auto& r : results) {
+      first_observations_->write(r.env_id, r.step.observation);
+      first_infos_->write(r.env_id, r.step.info);
+    }
+    return py::make_tuple(first_observations_->view, first_infos_->view);
+  }
+
+  void send(const py::object& actions, const py::object& env_ids) {
+    const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(env_ids);
+    if (!ids || ids.ndim() != 1) throw py::value_error("env_ids must be a 1-d array of environment ids");
+    std::vector<std::size_t> list;
+    for (py::ssize_t k = 0; k < ids.size(); ++k) {
+      if (ids.data()[k] < 0) throw py::value_error("env_ids[" + std::to_string(k) + "] is negative");
+      list.push_back(static_cast<std::size_t>(ids.data()[k]));
+    }
+    const std::vector<rl::Value>& values = actions_->read(actions, list.size());
+    py::gil_scoped_release released;
+    env_->send(values, list);
+  }
+
+  py::tuple recv() {
+    std::vector<rl::AsyncResult> results;
+    {
+      py::gil_scoped_release released;
+      results = env_->recv(batch_);
+    }
+    auto rewards = rewards_.mutable_unchecked<1>();
+    auto terminated = terminations_.mutable_unchecked<1>();
+    auto truncated = truncations_.mutable_unchecked<1>();
+    auto final_mask = final_mask_.mutable_unchecked<1>();
+    auto ids = env_ids_.mutable_unchecked<1>();
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      const rl::AsyncResult& r = results[k];
+      observations_->write(k, r.step.observation);
+      infos_->write(k, r.step.info);
+      rewards(k) = r.step.reward;
+      terminated(k) = r.step.terminated;
+      truncated(k) = r.step.truncated;
+      final_mask(k) = r.final_observation.has_value();
+      if (final_mask(k)) final_observations_->write(k, *r.final_observation);
+      ids(k) = static_cast<std::int64_t>(r.env_id);
+    }
+    return py::make_tuple(observations_->view, rewards_, terminations_, truncations_, infos_->view,
+                          final_observations_->view, final_mask_, env_ids_);
+  }
+
+ private:
+  std::unique_ptr<rl::AsyncVectorEnv> env_;
+  std::size_t batch_ = 1;
+  std::unique_ptr<Batch> observations_, final_observations_, first_observations_;
+  std::unique_ptr<Infos> infos_, first_infos_;
+  py::array_t<double> rewards_;
+  py::array_t<bool> terminations_, truncations_, final_mask_;
+  py::array_t<std::int64_t> env_ids_;
+  std::unique_ptr<BatchedActions> actions_;
 };
 
 // The policy file format of rl_train and policy_driver (MlpPolicy): its input normalisation for the
@@ -325,4 +449,16 @@ PYBIND11_MODULE(roar_rl_core, m) {
       .def("observation_space", &PyVectorEnv::observationSpace)
       .def("reset", &PyVectorEnv::reset, py::arg("seed"))
       .def("step", &PyVectorEnv::step, py::arg("actions"));
+  py::class_<PyAsyncVectorEnv>(m, "AsyncVectorEnv")
+      .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, const std::string&,
+                    int, int, int>(),
+           py::arg("map_folder"), py::arg("options_path"), py::arg("model"), py::arg("urdf_dir"),
+           py::arg("vehicle_dir"), py::arg("num_envs"), py::arg("num_threads"), py::arg("batch_size"))
+      .def_property_readonly("num_envs", &PyAsyncVectorEnv::numEnvs)
+      .def_property_readonly("batch_size", &PyAsyncVectorEnv::batchSize)
+      .def("action_space", &PyAsyncVectorEnv::actionSpace)
+      .def("observation_space", &PyAsyncVectorEnv::observationSpace)
+      .def("reset", &PyAsyncVectorEnv::reset, py::arg("seed"))
+      .def("send", &PyAsyncVectorEnv::send, py::arg("actions"), py::arg("env_ids"))
+      .def("recv", &PyAsyncVectorEnv::recv);
 }

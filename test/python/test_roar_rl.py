@@ -112,3 +112,47 @@ def test_bad_actions_and_arguments_are_named(envs):
         roar_rl.VectorEnv("roar_sprint", "no_such_options", num_envs=1)
     with pytest.raises(ValueError, match="num_envs"):
         roar_rl.VectorEnv("roar_sprint", "state", num_envs=0)
+
+
+def test_asynchronous_batches_give_each_environment_the_same_episode():
+    """EnvPool's way: recv() returns the first batch_size environments done; each environment, stepped
+    whenever its batch comes back, runs the same episode as in the synchronous VectorEnv."""
+    n = 4
+    sync = roar_rl.VectorEnv("roar_sprint", "state", num_envs=n, num_threads=1)
+    obs, _ = sync.reset(seed=5)
+    expected = {i: [] for i in range(n)}
+    for k in range(40):
+        _, rewards, *_ = sync.step(full_throttle(n, steer=0.1))
+        for i in range(n):
+            expected[i].append(float(rewards[i]))
+
+    env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=n, num_threads=2, batch_size=2)
+    first, _ = env.reset(seed=5)
+    assert flat(first)["/speed"].shape[0] == n
+    got = {i: [] for i in range(n)}
+    env.send(full_throttle(n, steer=0.1), np.arange(n))
+    in_flight = n
+    while in_flight:
+        _, rewards, terminations, truncations, infos = env.recv()
+        ids = np.array(infos["env_id"])
+        assert len(ids) == 2 and len(set(ids.tolist())) == 2
+        in_flight -= 2
+        again = []
+        for row_index, i in enumerate(ids):
+            got[int(i)].append(float(rewards[row_index]))
+            if len(got[int(i)]) < 40:
+                again.append(int(i))
+        if again:
+            env.send(full_throttle(len(again), steer=0.1), np.array(again))
+            in_flight += len(again)
+    assert got == expected
+
+    with pytest.raises(RuntimeError, match="batch_size = num_envs"):
+        env.step(full_throttle(n))
+    with pytest.raises(ValueError, match="batch_size must be in"):
+        roar_rl.VectorEnv("roar_sprint", "state", num_envs=2, batch_size=3)
+    env.send(full_throttle(1), [0])
+    with pytest.raises(ValueError, match="environment 0 is still stepping"):
+        env.send(full_throttle(1), [0])
+    with pytest.raises(ValueError, match="batch_size 2 with 1 environment"):
+        env.recv()
