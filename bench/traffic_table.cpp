@@ -63,6 +63,15 @@ struct Totals {
   int pace_order = 0, pace_order_races = 0, late_passes = 0;
   std::vector<double> catch_to_pass, passing_share;
   double traffic_time = 0.0, race_seconds = 0.0;
+
+  void add(const Totals& t) {
+    races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
+    contacts += t.contacts, at_fault += t.at_fault, track_limits += t.track_limits, barrier += t.barrier;
+    pace_order += t.pace_order, pace_order_races += t.pace_order_races, late_passes += t.late_passes;
+    traffic_time += t.traffic_time, race_seconds += t.race_seconds;
+    catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
+    passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
+  }
 };
 
 double median(std::vector<double> v) {
@@ -169,20 +178,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       }
       printRow(map, kind, t);
       std::fflush(stdout);
-      all.races += t.races;
-      all.attempts += t.attempts;
-      all.completed += t.completed;
-      all.aborted += t.aborted;
-      all.contacts += t.contacts;
-      all.at_fault += t.at_fault;
-      all.track_limits += t.track_limits;
-      all.barrier += t.barrier;
-      all.late_passes += t.late_passes;
-      all.pace_order += t.pace_order;
-      all.pace_order_races += t.pace_order_races;
-      all.race_seconds += t.race_seconds;
-      all.catch_to_pass.insert(all.catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
-      all.passing_share.insert(all.passing_share.end(), t.passing_share.begin(), t.passing_share.end());
+      all.add(t);
     }
   }
   printRow("all", "", all);

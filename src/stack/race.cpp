@@ -174,13 +174,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
       if (bin < e.result.lap_speeds.size()) e.result.lap_speeds[bin] = state.forward_speed;
 
-      const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
-      control::TrackerInput in;
-      in.position = state.pose.position.head<2>();
-      in.yaw = std::atan2(forward.y(), forward.x());
-      in.speed = state.forward_speed;
-      in.yaw_rate = state.body_angular_velocity.z();
-      world.setControl(name, e.tracker.update(in));
+      world.setControl(name, e.tracker.update(trackerInputOf(state)));
     }
     world.step();
     const double time = world.time();

@@ -19,6 +19,16 @@ control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::T
   return base;
 }
 
+control::TrackerInput trackerInputOf(const sim::VehicleState& state) {
+  const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
+  control::TrackerInput in;
+  in.position = state.pose.position.head<2>();
+  in.yaw = std::atan2(forward.y(), forward.x());
+  in.speed = state.forward_speed;
+  in.yaw_rate = state.body_angular_velocity.z();
+  return in;
+}
+
 TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle, const TimeTrialOptions& options) {
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
   control::TrajectoryTracker tracker(trackerFor(vehicle, options.tracker), limits);
@@ -36,14 +46,7 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
   bool touching = false;
   // One untimed out-lap from the grid, then the timed flying laps.
   while (world.time() < time_limit && timer.lapsCompleted() < options.laps + 1) {
-    const sim::VehicleState state = world.vehicleState("ego");
-    const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
-    control::TrackerInput in;
-    in.position = state.pose.position.head<2>();
-    in.yaw = std::atan2(forward.y(), forward.x());
-    in.speed = state.forward_speed;
-    in.yaw_rate = state.body_angular_velocity.z();
-    world.setControl("ego", tracker.update(in));
+    world.setControl("ego", tracker.update(trackerInputOf(world.vehicleState("ego"))));
     world.step();
     if (timer.lapsCompleted() >= 1) {  // tracking error over the flying laps
       result.max_lateral_error = std::max(result.max_lateral_error, std::abs(tracker.lateralError()));

@@ -7,6 +7,7 @@
 #include "roar/control/trajectory_tracker.h"
 #include "roar/planning/trajectory.h"
 #include "roar/sim/vehicle_params.h"
+#include "roar/sim/world.h"
 #include "roar/track/track.h"
 
 namespace roar::stack {
@@ -37,5 +38,8 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
 
 // The tracker options the vehicle implies: its wheelbase and maximum steering angle over `base`.
 control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base = {});
+
+// What the tracker needs of a car's simulated state: base_link's position, heading, forward speed, yaw rate.
+control::TrackerInput trackerInputOf(const sim::VehicleState& state);
 
 }  // namespace roar::stack
