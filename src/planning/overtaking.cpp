@@ -176,53 +176,11 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   return p;
 }
 
-bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others,
-                              double* progress, double margin_share) const {
-  const auto& pts = plan.points;
+double OvertakePlanner::driveAlong(const Trajectory& plan, double s0, double v0, const MotionVisitor& visit) const {
   // The car's own motion along the plan: from its speed now (not the plan's: a car held up behind another
   // is slower than its plan there), no faster than the plan, accelerating at most as the engine can.
-  double t = 0.0, v = std::clamp(v0, 0.0, pts.empty() ? 0.0 : sampleAt(plan, s0).speed);
-  double s = s0, last_check = -1e9;
-  bool clear = true;
-  const double length = options_.car_length + options_.longitudinal_margin;
-  const double width = options_.car_width + margin_share * options_.lateral_margin;
-  const double d0 = pts.empty() ? 0.0 : sampleAt(plan, s0).offset - sampleAt(line_, s0).offset;
-  for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
-    if (pts[k + 1].s <= s0) continue;
-    const double s_next = pts[k + 1].s;
-    const double ds = s_next - std::max(s, pts[k].s);
-    const double v_next = std::min(pts[k + 1].speed,
-                                   std::sqrt(v * v + 2.0 * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass() * ds));
-    t += ds / std::max(0.5, 0.5 * (v + v_next));
-    v = v_next;
-    s = s_next;
-    if (s - last_check < options_.sample_step) continue;
-    last_check = s;
-    if (t < 0.3) continue;  // too soon to change anything
-    const double d = pts[k + 1].offset - sampleAt(line_, s).offset;
-    for (const auto& o : others) {
-      // A car behind needs room to brake too: moving across into its lane in front of it keeps
-      // rejoin_time at speed (staying in the lane one is already in, ahead of it, is its to mind).
-      const double ahead_of_it = (s - s0) - o.at(t);
-      const bool moved_across = std::abs(d0 - o.lateral) >= width;
-      const double keep_ahead = length + (moved_across ? options_.rejoin_time * v : 0.0);
-      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - lateralAt(o, o.at(t))) < width) {
-        clear = false;
-        break;
-      }
-    }
-    if (!clear) break;
-  }
-  *progress = s - s0;
-  return clear;
-}
-
-double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const {
-  // The car along the plan as clearOf drives it, until it is clear ahead of the leader.
   const auto& pts = plan.points;
   double t = 0.0, v = std::clamp(v0, 0.0, pts.empty() ? 0.0 : sampleAt(plan, s0).speed), s = s0;
-  // As far ahead as clearOf asks of a car moving across in front of another, and a little more.
-  const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
     if (pts[k + 1].s <= s0) continue;
     const double ds = pts[k + 1].s - std::max(s, pts[k].s);
@@ -231,9 +189,51 @@ double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double
     t += ds / std::max(0.5, 0.5 * (v + v_next));
     v = v_next;
     s = pts[k + 1].s;
-    if ((s - s0) - leader.at(t) > clear_ahead + options_.rejoin_time * v) return s;
+    if (!visit(k + 1, t, s, v)) break;
   }
-  return std::numeric_limits<double>::infinity();
+  return s;
+}
+
+bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others,
+                              double* progress, double margin_share) const {
+  const auto& pts = plan.points;
+  double last_check = -1e9;
+  bool clear = true;
+  const double length = options_.car_length + options_.longitudinal_margin;
+  const double width = options_.car_width + margin_share * options_.lateral_margin;
+  const double d0 = pts.empty() ? 0.0 : sampleAt(plan, s0).offset - sampleAt(line_, s0).offset;
+  const double s = driveAlong(plan, s0, v0, [&](std::size_t k, double t, double s_now, double v) {
+    if (s_now - last_check < options_.sample_step) return true;
+    last_check = s_now;
+    if (t < 0.3) return true;  // too soon to change anything
+    const double d = pts[k].offset - sampleAt(line_, s_now).offset;
+    for (const auto& o : others) {
+      // A car behind needs room to brake too: moving across into its lane in front of it keeps
+      // rejoin_time at speed (staying in the lane one is already in, ahead of it, is its to mind).
+      const double ahead_of_it = (s_now - s0) - o.at(t);
+      const bool moved_across = std::abs(d0 - o.lateral) >= width;
+      const double keep_ahead = length + (moved_across ? options_.rejoin_time * v : 0.0);
+      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - lateralAt(o, o.at(t))) < width) {
+        clear = false;
+        return false;
+      }
+    }
+    return true;
+  });
+  *progress = s - s0;
+  return clear;
+}
+
+double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const {
+  // As far ahead as clearOf asks of a car moving across in front of another, and a little more.
+  const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
+  double at = std::numeric_limits<double>::infinity();
+  driveAlong(plan, s0, v0, [&](std::size_t, double t, double s, double v) {
+    if ((s - s0) - leader.at(t) <= clear_ahead + options_.rejoin_time * v) return true;
+    at = s;
+    return false;
+  });
+  return at;
 }
 
 Trajectory OvertakePlanner::plan(const std::string& car, double s, double lateral, double speed,
@@ -259,6 +259,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
   std::vector<Prediction> predicted;
   for (const auto& o : others) predicted.push_back(predict(o, s));
+  const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
   RaceDecision& memory = decisions_[car];
   Abort& abort = aborts_[car];
   if (abort.plans_left > 0) --abort.plans_left;
@@ -288,7 +289,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
     if (d.mode == RaceMode::kPass && leader) {
       // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
-      const double back_s = passCompleteAt(c.window, s, speed, predict(*leader, s));
+      const double back_s = passCompleteAt(c.window, s, speed, leader_prediction);
       if (std::isfinite(back_s)) c.window = shifted(base, d.ramp_s, d.ramp_from, d.offset, back_s);
     }
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
@@ -361,7 +362,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {
     // Behind the leader as it is predicted to go, not at the speed it has now.
-    const double leader_travel = predict(*leader, s).at(options_.horizon);
+    const double leader_travel = leader_prediction.at(options_.horizon);
     follow.decision.progress = std::min(follow.decision.progress, leader_travel - options_.follow_gap);
   }
 

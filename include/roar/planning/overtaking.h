@@ -8,6 +8,7 @@
 // is complete (the passed car behind), or aborts to following when its side closes. A car that has
 // another alongside holds its lateral place instead of moving back onto the line into it (racecraft:
 // leave a car's width).
+#include <functional>
 #include <limits>
 #include <map>
 #include <string>
@@ -125,6 +126,10 @@ class OvertakePlanner {
   // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
   double plannedLateral(const TrafficCar& car, double s) const;
   double plannedLateral(const Trajectory* plan, double now, double s) const;
+  // Drives a plan from speed v0 at s0 as far as the horizon: visit(point index, t, s, v) at each point
+  // passed, until it returns false. Returns the s reached.
+  using MotionVisitor = std::function<bool(std::size_t, double, double, double)>;
+  double driveAlong(const Trajectory& plan, double s0, double v0, const MotionVisitor& visit) const;
   // Whether a plan, driven from speed v0 at s0, keeps clear of every car alongside or ahead over the
   // horizon (by lateral_margin beside them, scaled by margin_share); sets its progress.
   bool clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others, double* progress,
