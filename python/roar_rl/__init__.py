@@ -5,4 +5,4 @@
     obs, infos = envs.reset(seed=0)
     obs, rewards, terminations, truncations, infos = envs.step(envs.action_space.sample())
 """
-from .vector_env import VectorEnv, available_env_options, available_maps  # noqa: F401
+from .vector_env import VectorEnv, available_env_options, available_maps, batch_space  # noqa: F401
