@@ -59,13 +59,6 @@ double interpolateWrapped(const std::vector<double>& xs, const std::vector<doubl
   return ys[a] + f * (ys[b] - ys[a]);
 }
 
-// Forward distance from b to a round a lap of `length`, in [-length / 2, length / 2).
-double ahead(double a, double b, double length) {
-  double d = a - b;
-  d -= std::floor(d / length + 0.5) * length;
-  return d;
-}
-
 }  // namespace
 
 double OvertakePlanner::roomLeft(double s) const { return interpolateWrapped(room_s_, room_left_, line_.length, s); }
@@ -82,7 +75,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
   for (auto& p : pts) {
-    double shift = from + (to - from) * smoothStep(ahead(p.s, ramp_s, line_.length) / shift_length);
+    double shift = from + (to - from) * smoothStep(aheadOnLap(p.s, ramp_s, line_.length) / shift_length);
     if (std::isfinite(back_s) && p.s > back_s) shift -= to * smoothStep((p.s - back_s) / shift_length);
     const double d = std::clamp(shift, -(roomRight(p.s) - half), roomLeft(p.s) - half);
     p.position += d * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
@@ -165,7 +158,7 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   if (plan != plans_.end()) p.plan = &plan->second;
   const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
   const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
-  double along = ahead(other.s, s0, line_.length);
+  double along = aheadOnLap(other.s, s0, line_.length);
   const int steps = static_cast<int>(std::ceil(options_.horizon / kPredictionStep)) + 1;
   p.ahead.reserve(static_cast<std::size_t>(steps) + 1);
   p.ahead.push_back(along);
@@ -248,7 +241,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   bool alongside = false;
   for (const auto& o : traffic) {
     if (o.name == car) continue;
-    const double rel = ahead(o.s, s, L);
+    const double rel = aheadOnLap(o.s, s, L);
     if (rel < -(options_.car_length + options_.longitudinal_margin + options_.rejoin_time * speed) || rel > ahead_m) continue;
     others.push_back(o);
     if (std::abs(rel) < options_.car_length + options_.longitudinal_margin) alongside = true;
@@ -434,7 +427,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
   const TrafficCar* nearest = nullptr;
   double nearest_rel = 0.0;
   for (const auto& o : others) {
-    const double rel = ahead(o.s, s, line_.length);
+    const double rel = aheadOnLap(o.s, s, line_.length);
     if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
     // In the path now, or moving into it over the next two seconds by its own plan.
     bool in_path = false;

@@ -188,6 +188,11 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
   pts.back().acceleration = 0.0;
 }
 
+double aheadOnLap(double a, double b, double length) {
+  const double d = a - b;
+  return d - std::floor(d / length + 0.5) * length;
+}
+
 void scaleSpeeds(Trajectory* trajectory, double pace) {
   if (pace == 1.0) return;
   for (auto& p : trajectory->points) {

@@ -9,6 +9,7 @@
 #include <array>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -173,6 +174,39 @@ struct Infos {
   }
 };
 
+// The arrays a step (or a recv) returns, `rows` of them, owned by the module and written in place.
+struct StepBuffers {
+  std::unique_ptr<Batch> observations, final_observations;
+  std::unique_ptr<Infos> infos;
+  py::array_t<double> rewards;
+  py::array_t<bool> terminations, truncations, final_mask;
+
+  StepBuffers(const rl::Space& observation_space, std::size_t rows)
+      : observations(std::make_unique<Batch>(observation_space, rows)),
+        final_observations(std::make_unique<Batch>(observation_space, rows)),
+        infos(std::make_unique<Infos>(rows)),
+        rewards(static_cast<py::ssize_t>(rows)),
+        terminations(static_cast<py::ssize_t>(rows)),
+        truncations(static_cast<py::ssize_t>(rows)),
+        final_mask(static_cast<py::ssize_t>(rows)) {}
+
+  void write(std::size_t row, const rl::StepResult& r, const std::optional<rl::Value>& final_observation) {
+    observations->write(row, r.observation);
+    infos->write(row, r.info);
+    rewards.mutable_at(row) = r.reward;
+    terminations.mutable_at(row) = r.terminated;
+    truncations.mutable_at(row) = r.truncated;
+    final_mask.mutable_at(row) = final_observation.has_value();
+    if (final_observation) final_observations->write(row, *final_observation);
+  }
+
+  // (observations, rewards, terminations, truncations, infos, final observations, final mask)
+  py::tuple views() const {
+    return py::make_tuple(observations->view, rewards, terminations, truncations, infos->view,
+                          final_observations->view, final_mask);
+  }
+};
+
 // Actions from Python, a dict of arrays (or one array) with a leading axis of `rows`, read into Values
 // whose tree keeps its shape from call to call (each leaf's Value found once).
 class BatchedActions {
@@ -242,13 +276,7 @@ class PyVectorEnv {
     env_ = std::make_unique<rl::VectorEnv>(
         makeEnvs(map_folder, options_path, model, urdf_dir, vehicle_dir, num_envs, num_threads), num_threads);
     const std::size_t n = env_->size();
-    observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
-    final_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
-    infos_ = std::make_unique<Infos>(n);
-    rewards_ = py::array_t<double>(static_cast<py::ssize_t>(n));
-    terminations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
-    truncations_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
-    final_mask_ = py::array_t<bool>(static_cast<py::ssize_t>(n));
+    out_ = std::make_unique<StepBuffers>(env_->observationSpace(), n);
     actions_ = std::make_unique<BatchedActions>(env_->actionSpace(), n);
   }
 
@@ -263,10 +291,10 @@ class PyVectorEnv {
       results = env_->reset(seed);
     }
     for (std::size_t i = 0; i < results.size(); ++i) {
-      observations_->write(i, results[i].observation);
-      infos_->write(i, results[i].info);
+      out_->observations->write(i, results[i].observation);
+      out_->infos->write(i, results[i].info);
     }
-    return py::make_tuple(observations_->view, infos_->view);
+    return py::make_tuple(out_->observations->view, out_->infos->view);
   }
 
   py::tuple step(const py::object& actions) {
@@ -278,30 +306,13 @@ class PyVectorEnv {
       py::gil_scoped_release released;
       result = &env_->step(values);
     }
-    auto rewards = rewards_.mutable_unchecked<1>();
-    auto terminated = terminations_.mutable_unchecked<1>();
-    auto truncated = truncations_.mutable_unchecked<1>();
-    auto final_mask = final_mask_.mutable_unchecked<1>();
-    for (std::size_t i = 0; i < n; ++i) {
-      const rl::StepResult& r = result->steps[i];
-      observations_->write(i, r.observation);
-      infos_->write(i, r.info);
-      rewards(i) = r.reward;
-      terminated(i) = r.terminated;
-      truncated(i) = r.truncated;
-      final_mask(i) = result->final_observations[i].has_value();
-      if (final_mask(i)) final_observations_->write(i, *result->final_observations[i]);
-    }
-    return py::make_tuple(observations_->view, rewards_, terminations_, truncations_, infos_->view,
-                          final_observations_->view, final_mask_);
+    for (std::size_t i = 0; i < n; ++i) out_->write(i, result->steps[i], result->final_observations[i]);
+    return out_->views();
   }
 
  private:
   std::unique_ptr<rl::VectorEnv> env_;
-  std::unique_ptr<Batch> observations_, final_observations_;
-  std::unique_ptr<Infos> infos_;
-  py::array_t<double> rewards_;
-  py::array_t<bool> terminations_, truncations_, final_mask_;
+  std::unique_ptr<StepBuffers> out_;
   std::unique_ptr<BatchedActions> actions_;
 };
 
@@ -320,15 +331,9 @@ class PyAsyncVectorEnv {
         makeEnvs(map_folder, options_path, model, urdf_dir, vehicle_dir, num_envs, num_threads), num_threads);
     batch_ = static_cast<std::size_t>(batch_size);
     const std::size_t n = env_->size();
-    observations_ = std::make_unique<Batch>(env_->observationSpace(), batch_);
-    final_observations_ = std::make_unique<Batch>(env_->observationSpace(), batch_);
-    infos_ = std::make_unique<Infos>(batch_);
+    out_ = std::make_unique<StepBuffers>(env_->observationSpace(), batch_);
     first_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
     first_infos_ = std::make_unique<Infos>(n);
-    rewards_ = py::array_t<double>(static_cast<py::ssize_t>(batch_));
-    terminations_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
-    truncations_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
-    final_mask_ = py::array_t<bool>(static_cast<py::ssize_t>(batch_));
     env_ids_ = py::array_t<std::int64_t>(static_cast<py::ssize_t>(batch_));
     actions_ = std::make_unique<BatchedActions>(env_->actionSpace(), n);
   }
@@ -373,33 +378,21 @@ class PyAsyncVectorEnv {
       py::gil_scoped_release released;
       results = env_->recv(batch_);
     }
-    auto rewards = rewards_.mutable_unchecked<1>();
-    auto terminated = terminations_.mutable_unchecked<1>();
-    auto truncated = truncations_.mutable_unchecked<1>();
-    auto final_mask = final_mask_.mutable_unchecked<1>();
     auto ids = env_ids_.mutable_unchecked<1>();
     for (std::size_t k = 0; k < results.size(); ++k) {
-      const rl::AsyncResult& r = results[k];
-      observations_->write(k, r.step.observation);
-      infos_->write(k, r.step.info);
-      rewards(k) = r.step.reward;
-      terminated(k) = r.step.terminated;
-      truncated(k) = r.step.truncated;
-      final_mask(k) = r.final_observation.has_value();
-      if (final_mask(k)) final_observations_->write(k, *r.final_observation);
-      ids(k) = static_cast<std::int64_t>(r.env_id);
+      out_->write(k, results[k].step, results[k].final_observation);
+      ids(k) = static_cast<std::int64_t>(results[k].env_id);
     }
-    return py::make_tuple(observations_->view, rewards_, terminations_, truncations_, infos_->view,
-                          final_observations_->view, final_mask_, env_ids_);
+    return py::make_tuple(out_->observations->view, out_->rewards, out_->terminations, out_->truncations,
+                          out_->infos->view, out_->final_observations->view, out_->final_mask, env_ids_);
   }
 
  private:
   std::unique_ptr<rl::AsyncVectorEnv> env_;
   std::size_t batch_ = 1;
-  std::unique_ptr<Batch> observations_, final_observations_, first_observations_;
-  std::unique_ptr<Infos> infos_, first_infos_;
-  py::array_t<double> rewards_;
-  py::array_t<bool> terminations_, truncations_, final_mask_;
+  std::unique_ptr<StepBuffers> out_;
+  std::unique_ptr<Batch> first_observations_;
+  std::unique_ptr<Infos> first_infos_;
   py::array_t<std::int64_t> env_ids_;
   std::unique_ptr<BatchedActions> actions_;
 };

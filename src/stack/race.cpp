@@ -14,12 +14,6 @@ namespace roar::stack {
 
 namespace {
 
-// Forward distance from b to a round a lap of `length`, in [-length / 2, length / 2).
-double aheadOnLap(double a, double b, double length) {
-  const double d = a - b;
-  return d - std::floor(d / length + 0.5) * length;
-}
-
 // What the race keeps of each car between ticks.
 struct Entrant {
   RaceCar spec;
@@ -114,7 +108,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   // attempt that follows.
   const double car_length = vehicle.chassis.box_size.x();
   auto gapAhead = [&](const std::string& a, const std::string& b) {  // a ahead of b (m, along the line)
-    return aheadOnLap(field.onLine(a).s, field.onLine(b).s, line.length);
+    return planning::aheadOnLap(field.onLine(a).s, field.onLine(b).s, line.length);
   };
   auto closePass = [&](Entrant& e, double time) {
     PassAttempt& pass = result.passes[static_cast<std::size_t>(e.open_pass)];

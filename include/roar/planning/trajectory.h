@@ -72,6 +72,9 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
                   const VehicleLimits& limits);
 
+// How far a is ahead of b round a lap of `length` (both line s), in [-length / 2, length / 2).
+double aheadOnLap(double a, double b, double length);
+
 // The trajectory's speeds times `pace`, its accelerations times pace squared (the same path driven at a
 // share of the speed) and its times divided by it.
 void scaleSpeeds(Trajectory* trajectory, double pace);
