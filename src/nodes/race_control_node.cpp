@@ -93,6 +93,8 @@ roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
     s.barrier_contacts = car.barrier_contacts;
     s.car_contacts = car.car_contacts;
     s.track_limit_violations = car.track_limit_violations;
+    s.time_in_traffic = car.time_in_traffic;
+    s.time_lost_in_traffic = race.timeLostInTraffic(standing.name);
     s.finished = car.finished;
     msg.cars.push_back(s);
   }
@@ -354,11 +356,12 @@ int main(int argc, char** argv) {
       const race::CarRecord& car = node.race().car(standing.name);
       const auto best = car.timer.bestLap();
       std::printf("  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
-                  "car contacts %d, track limits %d\n",
+                  "car contacts %d, track limits %d, in traffic %.1f s (lost %.1f s)\n",
                   standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
                   car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
                   best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
-                  car.car_contacts, car.track_limit_violations);
+                  car.car_contacts, car.track_limit_violations, car.time_in_traffic,
+                  node.race().timeLostInTraffic(standing.name));
     }
     if (!options.output_dir.empty()) {
       const race::RaceOutcome outcome = complete  ? race::RaceOutcome::kFinished

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -68,6 +69,20 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
     car.finished = true;
     car.finish_time = lap->finish_time;
   }
+  if (car.timer.started() && !car.recent.empty() && time > car.recent.back().first) {
+    // Judged at the car's previous position, whose moment every other car's positions have most likely
+    // reached by now (odometry of different cars arrives in any order).
+    const auto [before, covered] = car.recent.back();
+    const double speed = (car.timer.distanceCovered() - covered) / (time - before);
+    if (inTraffic(car, before, covered, speed)) {
+      car.time_in_traffic += time - before;
+      car.traffic_this_lap += time - before;
+    }
+  }
+  if (lap) {
+    car.lap_traffic.push_back(car.traffic_this_lap);
+    car.traffic_this_lap = 0.0;
+  }
   if (car.timer.started()) {
     car.recent.emplace_back(time, car.timer.distanceCovered());
     while (car.recent.size() > 2 && car.recent.front().first < time - 10.0) car.recent.pop_front();
@@ -89,6 +104,33 @@ double RaceControl::raceTime(const std::string& name) const {
   const CarRecord& car = cars_.at(name);
   const double start = std::isnan(start_time_) ? 0.0 : start_time_;
   return (car.finished ? car.finish_time : car.last_time) - start + car.penalties;
+}
+
+bool RaceControl::inTraffic(const CarRecord& car, double time, double covered, double speed) const {
+  const double reach = rules_.car_length + rules_.traffic_gap * std::max(0.0, speed);
+  for (const auto& [name, other] : cars_) {
+    if (&other == &car || other.finished || !other.retired.empty()) continue;
+    const auto theirs = distanceAt(other, time);
+    if (!theirs) continue;
+    const double ahead = *theirs - covered - std::floor((*theirs - covered) / track_.length()) * track_.length();
+    if (ahead < reach) return true;
+  }
+  return false;
+}
+
+double RaceControl::timeLostInTraffic(const std::string& name) const {
+  const CarRecord& car = cars_.at(name);
+  const auto& laps = car.timer.laps();
+  double best_clean = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < laps.size() && k < car.lap_traffic.size(); ++k) {
+    if (car.lap_traffic[k] == 0.0) best_clean = std::min(best_clean, laps[k].lap_time);
+  }
+  if (!std::isfinite(best_clean)) return std::numeric_limits<double>::quiet_NaN();
+  double lost = 0.0;
+  for (std::size_t k = 1; k < laps.size() && k < car.lap_traffic.size(); ++k) {
+    if (car.lap_traffic[k] > 0.0) lost += std::max(0.0, laps[k].lap_time - best_clean);
+  }
+  return lost;
 }
 
 std::optional<double> RaceControl::distanceAt(const CarRecord& car, double time) {
@@ -252,6 +294,9 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
          << "\n    track_limit_violations: " << car.track_limit_violations << "\n    penalties_s: " << car.penalties
          << "\n    race_time_s: " << race.raceTime(name) << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
     if (auto best = timer.bestLap()) yaml << "\n    best_lap_s: " << *best;
+    yaml << "\n    time_in_traffic_s: " << car.time_in_traffic;
+    const double lost = race.timeLostInTraffic(name);
+    if (std::isfinite(lost)) yaml << "\n    time_lost_in_traffic_s: " << lost;
     yaml << "\n    laps:\n";
     for (const auto& lap : timer.laps()) {
       yaml << "      - {lap: " << lap.lap << ", time_s: " << lap.lap_time << ", sectors_s: [";

@@ -140,18 +140,20 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
   }
 
   std::ofstream md(dir + "/laps.md");
-  md << "# " << track.info().name << ": " << race.rules().laps << " laps\n\n| position | car | laps | best lap (s) | penalties (s) |";
+  md << "# " << track.info().name << ": " << race.rules().laps << " laps\n\n| position | car | laps | best lap (s) | penalties (s) | in traffic (s) | lost in traffic (s) |";
   int most = 0;
   for (const auto& [name, car] : race.cars()) most = std::max(most, car.timer.lapsCompleted());
   for (int k = 1; k <= most; ++k) md << " lap " << k << " (s) |";
-  md << "\n| --- | --- | --- | --- | --- |";
+  md << "\n| --- | --- | --- | --- | --- | --- | --- |";
   for (int k = 1; k <= most; ++k) md << " --- |";
   md << "\n";
   for (const auto& standing : race.standings()) {
     const auto& car = race.car(standing.name);
     const auto best = car.timer.bestLap();
+    const double lost = race.timeLostInTraffic(standing.name);
     md << "| " << standing.position << " | " << standing.name << " | " << car.timer.lapsCompleted() << " | "
-       << (best ? format("%.3f", *best) : "-") << " | " << format("%.1f", car.penalties) << " |";
+       << (best ? format("%.3f", *best) : "-") << " | " << format("%.1f", car.penalties) << " | "
+       << format("%.1f", car.time_in_traffic) << " | " << (std::isfinite(lost) ? format("%.1f", lost) : "-") << " |";
     for (int k = 0; k < most; ++k) {
       md << " " << (k < car.timer.lapsCompleted() ? format("%.3f", car.timer.laps()[k].lap_time) : "-") << " |";
     }

@@ -65,12 +65,21 @@ class RaceResults(unittest.TestCase):
                 self.assertLess(lap["time_s"], max_lap_of.get(car["name"], max_lap), car["name"])
                 self.assertAlmostEqual(sum(lap["sectors_s"]), lap["time_s"], places=6)
             self.assertAlmostEqual(car["best_lap_s"], min(lap["time_s"] for lap in car["laps"]), places=6)
+            self.assertGreaterEqual(car["time_in_traffic_s"], 0.0, car["name"])
+        # Every car that passed another was in traffic behind it first, and race_control said so.
+        passers = {o["passer"] for o in results.get("overtakes", [])}
+        for car in results["cars"]:
+            if car["name"] in passers:
+                self.assertGreater(car["time_in_traffic_s"], 0.0, car["name"])
         with open(os.path.join(os.path.dirname(path), "sectors.csv")) as f:
             self.assertEqual(len(f.read().splitlines()), 1 + len(cars) * laps * 3)
         # race_control published the race as it went.
         self.assertTrue(STATUS, "no /race_status")
         self.assertEqual(sorted(c.name for c in STATUS[-1].cars), sorted(cars))
         self.assertGreaterEqual(max(c.laps_completed for s in STATUS for c in s.cars), 1)
+        final = {c.name: c for c in STATUS[-1].cars}
+        for car in results["cars"]:
+            self.assertAlmostEqual(final[car["name"]].time_in_traffic, car["time_in_traffic_s"], delta=0.5)
 
 
 if __name__ == "__main__":

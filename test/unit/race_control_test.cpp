@@ -104,6 +104,50 @@ TEST(RaceControl, ARetiredCarIsNotWaitedForAndClassifiedLast) {
   EXPECT_EQ(race::outcomeName(race::RaceOutcome::kAborted), std::string("aborted"));
 }
 
+TEST(RaceControl, TimeInTrafficAndTheLapTimeItCost) {
+  // The 628 m circle: `runner` laps at 20 m/s; on its second lap it catches `blocker` (15 m/s, started
+  // 200 m ahead), is held 10 m behind it for 10 s, then goes by.
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 4;
+  race::RaceControl race(track, rules, {"runner", "blocker"});
+  const double dt = 0.05;
+  double runner = -5.0, blocker = 195.0, held = 0.0;
+  for (double t = 0.0; t < 200.0 && !race.finished(); t += dt) {
+    const double gap = blocker - runner;
+    const bool behind = gap > 0.0 && gap <= 10.0 && held < 10.0;
+    held += behind ? dt : 0.0;
+    runner += (behind ? 15.0 : 20.0) * dt;
+    blocker += 15.0 * dt;
+    race.updatePosition("runner", t, onCircle(runner));
+    race.updatePosition("blocker", t, onCircle(blocker));
+  }
+  ASSERT_TRUE(race.finished());
+  const auto& r = race.car("runner");
+  ASSERT_EQ(r.lap_traffic.size(), 4u);
+  EXPECT_EQ(r.lap_traffic[0], 0.0);
+  EXPECT_GT(r.lap_traffic[1], 10.0) << "held 10 s, and closing in before";
+  EXPECT_EQ(r.lap_traffic[2], 0.0);
+  EXPECT_EQ(r.lap_traffic[3], 0.0);
+  // Closing from a car and a second (24.7 m) to 10 m at 5 m/s, 10 s held, then 10 m to alongside at
+  // 5 m/s: about 15 s.
+  EXPECT_NEAR(r.time_in_traffic, 14.9, 0.3);
+  // 10 s at 15 instead of 20 m/s: 50 m, 2.5 s at 20 m/s.
+  EXPECT_NEAR(race.timeLostInTraffic("runner"), 2.5, 0.1);
+  EXPECT_GT(race.car("blocker").time_in_traffic, 0.0) << "the runner just ahead of it once by";
+  EXPECT_NEAR(race.timeLostInTraffic("blocker"), 0.0, 0.06) << "a car ahead that pulls away costs nothing";
+  race::RaceControl fresh(track, rules, {"a"});
+  EXPECT_TRUE(std::isnan(fresh.timeLostInTraffic("a"))) << "no clean lap to compare with yet";
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_traffic_results").string();
+  race::writeResults(dir, race, race::RaceOutcome::kFinished);
+  const YAML::Node results = YAML::LoadFile(dir + "/results.yaml");
+  for (const auto& car : results["cars"]) {
+    const auto name = car["name"].as<std::string>();
+    EXPECT_NEAR(car["time_in_traffic_s"].as<double>(), race.car(name).time_in_traffic, 1e-6);
+    EXPECT_NEAR(car["time_lost_in_traffic_s"].as<double>(), race.timeLostInTraffic(name), 1e-6);
+  }
+}
+
 TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
   const auto track = test::circleTrack(100.0);  // 6 m either side
   race::RaceRules rules;

@@ -28,6 +28,9 @@ struct RaceRules {
   double contact_merge = 0.5;         // s: contacts closer together than this are one incident
   double overtake_hysteresis = 3.0;   // m one car must be ahead of the other for a change of order to count
   double car_length = 4.7;            // m, for judging who was at fault in a contact between cars
+  // A car is in traffic while another car (of any lap) is on the road ahead of it within a car's length
+  // plus this many seconds at its speed.
+  double traffic_gap = 1.0;           // s
 };
 
 struct Incident {
@@ -58,6 +61,9 @@ struct CarRecord {
   double last_contact = -1e9;
   bool off_track = false;
   std::vector<double> passage;  // s at which the car first covered each 10 m since its first crossing
+  double time_in_traffic = 0.0;      // s in traffic (RaceRules::traffic_gap) since the start
+  std::vector<double> lap_traffic;   // s in traffic in each completed lap
+  double traffic_this_lap = 0.0;     // s in traffic in the lap under way
   // (time, distance covered) over the last seconds: where the car was when another car's position of the
   // same moment is judged (odometry of different cars arrives in any order).
   std::deque<std::pair<double, double>> recent;
@@ -109,6 +115,9 @@ class RaceControl {
   double startTime() const { return start_time_; }
   // s from the start signal to the car's finish (or its last position), penalties included.
   double raceTime(const std::string& name) const;
+  // Time lost in traffic: over the laps after the first (the start is traffic for everyone), each lap
+  // with time in traffic against the car's best lap without any; NaN while it has no such clean lap.
+  double timeLostInTraffic(const std::string& name) const;
   // Every pass so far, in order (lapping a car is not counted as a pass).
   const std::vector<Overtake>& overtakes() const { return overtakes_; }
   const RaceRules& rules() const { return rules_; }
@@ -117,6 +126,9 @@ class RaceControl {
  private:
   CarRecord& record(const std::string& name);
   void detectOvertakes(const std::string& name, double time);
+  // Whether another car was on the road just ahead of `car` at `time` (when it had covered `covered` m
+  // at `speed` m/s).
+  bool inTraffic(const CarRecord& car, double time, double covered, double speed) const;
   static std::optional<double> distanceAt(const CarRecord& car, double time);
   Incident makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty);
 
