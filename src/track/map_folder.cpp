@@ -84,6 +84,10 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
         throw MapError(path + ":" + std::to_string(line_no) + ": point repeats the previous one");
       }
     }
+    if (file.points.size() >= kMaxCentreLinePoints) {
+      throw MapError(path + ":" + std::to_string(line_no) + ": more than " + std::to_string(kMaxCentreLinePoints) +
+                     " centre-line points");
+    }
     CentreLinePoint point{v[0], v[1], v[2], v[3]};
     // Optional columns beyond TUMFTM's four: elevation and banking.
     for (std::size_t k = 4; k < std::min<std::size_t>(fields.size(), 6); ++k) {
@@ -97,6 +101,8 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     if (std::abs(point.banking) >= M_PI / 4) {
       throw MapError(path + ":" + std::to_string(line_no) + ": banking_rad must be within (-pi/4, pi/4)");
     }
+    const std::string problem = centreLinePointProblem(point);
+    if (!problem.empty()) throw MapError(path + ":" + std::to_string(line_no) + ": " + problem);
     file.points.push_back(point);
     file.lines.push_back(line_no);
   }

@@ -1,6 +1,7 @@
 #include "roar/track/npz.h"
 
 #include <zip.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdint>
@@ -11,6 +12,10 @@
 namespace roar::track {
 
 namespace {
+
+// Waypoint files hold thousands of points: a million rows of three is far beyond any circuit.
+constexpr std::size_t kMaxNpyValues = std::size_t{1} << 22;
+constexpr std::size_t kNpyHeaderRead = 4096;  // bytes read to find an array's size (numpy writes 128)
 
 struct ZipCloser {
   void operator()(zip_t* z) const {
@@ -84,6 +89,40 @@ NpyArray parseNpy(const std::vector<std::uint8_t>& bytes, const std::string& whe
   return array;
 }
 
+// Bytes a .npy takes (header and data), from its header alone (`head`: at least its first
+// kNpyHeaderRead bytes, or the whole entry if shorter); throws NpzError past kMaxNpyValues.
+std::size_t npySize(const std::vector<std::uint8_t>& head, const std::string& where) {
+  if (head.size() < 12 || std::memcmp(head.data(), "\x93NUMPY", 6) != 0) throw NpzError(where + ": not a .npy array");
+  const int major = head[6];
+  const std::size_t header_len = major == 1 ? (head[8] | (head[9] << 8))
+                                            : (head[8] | (head[9] << 8) | (head[10] << 16) |
+                                               (static_cast<std::size_t>(head[11]) << 24));
+  const std::size_t offset = major == 1 ? 10 : 12;
+  if (offset + header_len > head.size()) {
+    throw NpzError(where + ": .npy header of " + std::to_string(header_len) + " bytes (at most " +
+                   std::to_string(kNpyHeaderRead - offset) + " read)");
+  }
+  const std::string header(head.begin() + static_cast<long>(offset), head.begin() + static_cast<long>(offset + header_len));
+  std::smatch m;
+  if (!std::regex_search(header, m, std::regex("'descr':\\s*'[<>|=]?[fi](\\d)'"))) {
+    throw NpzError(where + ": unsupported dtype (float32/64 and int32/64 only): " + header);
+  }
+  const std::size_t width = std::stoul(m[1]);
+  if (!std::regex_search(header, m, std::regex("'shape':\\s*\\(([^)]*)\\)"))) throw NpzError(where + ": no shape in the header");
+  const std::string dims = m[1];
+  std::size_t count = 1;
+  const std::regex number("\\d+");
+  for (std::sregex_iterator it(dims.begin(), dims.end(), number), end; it != end; ++it) {
+    const std::string digits = it->str();
+    const std::size_t d = digits.size() > 12 ? kMaxNpyValues + 1 : std::stoul(digits);
+    if (d > kMaxNpyValues || (d > 0 && count > kMaxNpyValues / d)) {
+      throw NpzError(where + ": shape (" + dims + ") is more than " + std::to_string(kMaxNpyValues) + " values");
+    }
+    count *= d;
+  }
+  return offset + header_len + count * width;
+}
+
 std::vector<std::uint8_t> toNpy(const NpyArray& a) {
   std::string shape;
   for (std::size_t d : a.shape) shape += std::to_string(d) + ", ";
@@ -123,13 +162,30 @@ std::map<std::string, NpyArray> readNpz(const std::string& path) {
     if (name.size() < 4 || name.substr(name.size() - 4) != ".npy") continue;
     std::unique_ptr<zip_file_t, FileCloser> file(zip_fopen_index(archive.get(), static_cast<zip_uint64_t>(i), 0));
     if (!file) throw NpzError(path + ": cannot open array '" + name + "': " + zip_strerror(archive.get()));
-    std::vector<std::uint8_t> bytes(st.size);
-    const zip_int64_t got = zip_fread(file.get(), bytes.data(), st.size);
-    if (got < 0 || static_cast<zip_uint64_t>(got) != st.size) {
-      throw NpzError(path + ": array '" + name + "' is truncated or corrupt: " + zip_file_strerror(file.get()));
+    const std::string where = path + ": array '" + name.substr(0, name.size() - 4) + "'";
+    // The archive's own figure for the entry's size is not trusted with memory: the .npy header is read
+    // first, and the entry must be exactly as large as the array it declares (which has a limit).
+    std::vector<std::uint8_t> bytes(std::min<zip_uint64_t>(st.size, kNpyHeaderRead));
+    auto read = [&](std::size_t from) {
+      const zip_int64_t got = zip_fread(file.get(), bytes.data() + from, bytes.size() - from);
+      if (got < 0 || static_cast<std::size_t>(got) != bytes.size() - from) {
+        throw NpzError(where + " is truncated or corrupt: " + zip_file_strerror(file.get()));
+      }
+    };
+    read(0);
+    const std::size_t declared = npySize(bytes, where);
+    if (declared != st.size) {
+      throw NpzError(where + ": the archive says " + std::to_string(st.size) + " bytes, its header " +
+                     std::to_string(declared));
+    }
+    const std::size_t header = bytes.size();
+    bytes.resize(declared);
+    read(header);
+    if ((st.valid & ZIP_STAT_CRC) == 0 || crc32(0L, bytes.data(), static_cast<uInt>(bytes.size())) != st.crc) {
+      throw NpzError(where + " is corrupt: its CRC-32 does not match the archive's");
     }
     name.resize(name.size() - 4);
-    arrays[name] = parseNpy(bytes, path + ": array '" + name + "'");
+    arrays[name] = parseNpy(bytes, where);
   }
   return arrays;
 }

@@ -1,5 +1,7 @@
 #include "roar/track/track.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,9 +15,33 @@ double wrapAngle(double a) {
   return a - M_PI;
 }
 
+std::string centreLinePointProblem(const CentreLinePoint& p) {
+  char buf[160];
+  auto outside = [&](const char* column, double v, double lo, double hi) {
+    if (v >= lo && v <= hi) return false;
+    std::snprintf(buf, sizeof buf, "column %s = %g is outside [%g, %g]", column, v, lo, hi);
+    return true;
+  };
+  if (outside("x_m", p.x, -kMaxCoordinate, kMaxCoordinate) || outside("y_m", p.y, -kMaxCoordinate, kMaxCoordinate) ||
+      outside("w_tr_right_m", p.width_right, 1e-3, kMaxEdgeDistance) ||
+      outside("w_tr_left_m", p.width_left, 1e-3, kMaxEdgeDistance) || outside("z_m", p.z, -kMaxElevation, kMaxElevation) ||
+      outside("banking_rad", p.banking, -kMaxBanking, kMaxBanking)) {
+    return buf;
+  }
+  return "";
+}
+
 Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std::move(points)), info_(std::move(info)) {
   const std::size_t n = points_.size();
   if (n < 3) throw std::invalid_argument("a track needs at least 3 centre-line points, got " + std::to_string(n));
+  if (n > kMaxCentreLinePoints) {
+    throw std::invalid_argument("a track has at most " + std::to_string(kMaxCentreLinePoints) + " centre-line points, got " +
+                                std::to_string(n));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string problem = centreLinePointProblem(points_[i]);
+    if (!problem.empty()) throw std::invalid_argument("centre-line point " + std::to_string(i) + ": " + problem);
+  }
   s_.resize(n);
   heading_.resize(n);
   curvature_.resize(n);

@@ -136,6 +136,38 @@ TEST(MapFolder, NegativeWidthAndNaN) {
   EXPECT_NE(msg.find(text + ":2: column y_m is not a number"), std::string::npos) << msg;
 }
 
+TEST(MapFolder, ValuesOutsidePhysicalRangesAreRefusedByColumn) {
+  // Finite is not enough: a map scaled by 1e300 once loaded as a circuit "inf m" long.
+  TempDir dir;
+  const struct {
+    const char* line;
+    const char* expected;
+  } cases[] = {
+      {"100,1e300,5,5", "column y_m = 1e+300 is outside [-1e+06, 1e+06]"},
+      {"2e6,0,5,5", "column x_m = 2e+06 is outside"},
+      {"100,0,500,5", "column w_tr_right_m = 500 is outside [0.001, 100]"},
+      {"100,0,5,1e-30", "column w_tr_left_m = 1e-30 is outside"},
+      {"100,0,5,5,1e5", "column z_m = 100000 is outside"},
+      {"100,0,5,5,0,1.2", "banking_rad must be within (-pi/4, pi/4)"},
+  };
+  for (const auto& c : cases) {
+    const auto path = dir.write("r.csv", std::string("0,0,5,5\n") + c.line + "\n100,100,5,5\n");
+    const auto msg = errorOf([&] { track::readCentreLineCsv(path); });
+    EXPECT_NE(msg.find(path + ":2: " + c.expected), std::string::npos) << c.line << ": " << msg;
+  }
+  // The Track itself checks what other readers give it (waypoint files), and counts its points.
+  std::vector<track::CentreLinePoint> far = {{0, 0, 5, 5}, {1e300, 0, 5, 5}, {0, 100, 5, 5}};
+  EXPECT_NE(errorOf([&] { track::Track(far, {}); }).find("centre-line point 1: column x_m = 1e+300"), std::string::npos);
+  std::string many;
+  for (std::size_t k = 0; k <= track::kMaxCentreLinePoints; ++k) {
+    const double a = 2 * M_PI * static_cast<double>(k) / (track::kMaxCentreLinePoints + 1.0);
+    many += std::to_string(30000 * std::cos(a)) + "," + std::to_string(30000 * std::sin(a)) + ",5,5\n";
+  }
+  const auto huge = dir.write("huge.csv", many);
+  const auto msg = errorOf([&] { track::readCentreLineCsv(huge); });
+  EXPECT_NE(msg.find(huge + ":200001: more than 200000 centre-line points"), std::string::npos) << msg;
+}
+
 TEST(MapFolder, SelfIntersectingEdgeIsRefused) {
   TempDir dir;
   // A figure eight: the centre line (and so both edges) crosses itself.

@@ -144,6 +144,58 @@ TEST(Waypoints, MalformedNpzIsAClearError) {
   EXPECT_NE(msg.find("array 'locations' row 3 is not finite"), std::string::npos) << msg;
 }
 
+TEST(Waypoints, EveryBitFlipIsRefusedOrHarmless) {
+  // numpy refuses every corrupted archive (zip's CRC-32); so do we: a flipped bit anywhere in the file is
+  // either refused or changes nothing that is read (zip metadata numpy ignores too).
+  TempDir dir;
+  const std::string good = dir.file("good.npz");
+  track::NpyArray loc{{8, 3}, {}}, rot{{8, 3}, std::vector<double>(24, 0.25)};
+  for (int i = 0; i < 24; ++i) loc.data.push_back(1000.0 + 7.3 * i);
+  track::writeNpz(good, {{"locations", loc}, {"rotations", rot}});
+  std::ifstream in(good, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  int refused = 0, harmless = 0;
+  for (std::size_t k = 0; k < bytes.size(); ++k) {
+    std::string flipped = bytes;
+    flipped[k] = static_cast<char>(flipped[k] ^ 0x10);
+    const std::string path = dir.file("flip.npz");
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << flipped;
+    try {
+      const auto arrays = track::readNpz(path);
+      ASSERT_EQ(arrays.at("locations").data, loc.data) << "byte " << k << ": read, with other coordinates";
+      ASSERT_EQ(arrays.at("rotations").data, rot.data) << "byte " << k;
+      ++harmless;
+    } catch (const track::NpzError&) {
+      ++refused;
+    } catch (const std::out_of_range&) {
+      ++refused;  // an array's name changed: the reader of waypoints names the missing one
+    }
+  }
+  EXPECT_GT(refused, static_cast<int>(bytes.size()) / 2) << harmless << " harmless";
+}
+
+TEST(Waypoints, AnArchiveCannotClaimMoreMemoryThanItsArrays) {
+  if (std::system("/usr/bin/python3 -c 'import zipfile' 2>/dev/null") != 0) GTEST_SKIP() << "no /usr/bin/python3";
+  TempDir dir;
+  // Hand-made .npy entries (Python's zipfile, stored): a header that declares 3e8 values with 48 bytes of
+  // data, and one that declares 12 values with 48 bytes.
+  const std::string script = dir.file("craft.py");
+  std::ofstream(script) << R"(import sys, zipfile, struct
+def npy(shape):
+    h = "{'descr': '<f8', 'fortran_order': False, 'shape': %s, }" % shape
+    h += ' ' * (117 - len(h)) + '\n'
+    return b'\x93NUMPY\x01\x00' + struct.pack('<H', len(h)) + h.encode() + bytes(48)
+for name, shape in (('huge', '(100000000, 3)'), ('short', '(4, 3)')):
+    with zipfile.ZipFile(sys.argv[1] + '/' + name + '.npz', 'w') as z:
+        z.writestr('locations.npy', npy(shape))
+)";
+  ASSERT_EQ(std::system(("/usr/bin/python3 " + script + " " + dir.path.string()).c_str()), 0);
+  auto msg = errorOf([&] { track::readNpz(dir.file("huge.npz")); });
+  EXPECT_NE(msg.find("array 'locations': shape (100000000, 3) is more than"), std::string::npos) << msg;
+  msg = errorOf([&] { track::readNpz(dir.file("short.npz")); });
+  EXPECT_NE(msg.find("array 'locations': the archive says"), std::string::npos) << msg;
+}
+
 // ROAR_PY's own files, from ../shared when present (the project's other tests make their own files).
 TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   const std::string dir = test::sourceDir() + "/../shared/fixtures/roar_py";

@@ -20,6 +20,16 @@ struct CentreLinePoint {
   double banking = 0.0;      // rad, roll of the road surface: positive raises the left edge (optional banking_rad)
 };
 
+// Physical ranges of a centre line, which every map reader and the Track itself check: beyond them a
+// file is broken (or scaled wrong), not a circuit.
+inline constexpr std::size_t kMaxCentreLinePoints = 200000;  // a 200 km course at 1 m
+inline constexpr double kMaxCoordinate = 1e6;                // m from the map's origin, x and y
+inline constexpr double kMaxElevation = 1e4;                 // m, |z|
+inline constexpr double kMaxEdgeDistance = 100.0;            // m from the centre line to an edge
+inline constexpr double kMaxBanking = 0.785398;              // rad, 45 degrees (Daytona's steepest is 31)
+// Empty when the point is within those ranges, else what is not (the column, its value and its range).
+std::string centreLinePointProblem(const CentreLinePoint& point);
+
 struct GeoOrigin {
   double latitude = 0.0;   // degrees
   double longitude = 0.0;  // degrees
