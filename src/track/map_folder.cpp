@@ -246,10 +246,15 @@ void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::s
 
 void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint>& points, const TrackInfo& info) {
   const Track track(points, info);  // validates before anything is written
-  checkEdges(track, folder + "/centerline.csv", {});
+  // An existing map keeps its track.yaml, so the centre line goes to the file that track.yaml names.
+  const fs::path yaml = fs::path(folder) / "track.yaml";
+  std::string centreline = "centerline.csv";
+  if (fs::exists(yaml)) readTrackYaml(yaml.string(), &centreline);
+  const std::string csv = (fs::path(folder) / centreline).string();
+  checkEdges(track, csv, {});
   fs::create_directories(folder);
-  writeCentreLineCsv(folder + "/centerline.csv", points);
-  if (!fs::exists(fs::path(folder) / "track.yaml")) writeTrackYaml(folder + "/track.yaml", info);
+  writeCentreLineCsv(csv, points);
+  if (!fs::exists(yaml)) writeTrackYaml(yaml.string(), info);
 }
 
 std::vector<CentreLinePoint> readPointList(const std::string& path, double width) {

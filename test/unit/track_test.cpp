@@ -308,6 +308,23 @@ TEST(MapFolder, WrittenMapsLoadBackAndBadPointListsAreRefused) {
   EXPECT_FALSE(fs::exists(dir.str() + "/eight"));
 }
 
+TEST(MapFolder, RewritingAMapWritesTheCentreLineItsTrackYamlNames) {
+  // track_tool resample once wrote centerline.csv beside a track.yaml naming another file: no effect.
+  TempDir dir;
+  const std::string folder = dir.str() + "/named";
+  const auto track = test::circleTrack(80.0);
+  track::writeMapFolder(folder, track.points(), track.info());
+  fs::rename(folder + "/centerline.csv", folder + "/other.csv");
+  std::ifstream in(folder + "/track.yaml");
+  std::string yaml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  yaml.replace(yaml.find("centerline.csv"), std::string("centerline.csv").size(), "other.csv");
+  dir.write("named/track.yaml", yaml);
+  const auto half = track::resampleClosed(track.points(), 2.0 * track.length() / track.size());
+  track::writeMapFolder(folder, half, track.info());
+  EXPECT_FALSE(fs::exists(folder + "/centerline.csv"));
+  EXPECT_EQ(track::loadMapFolder(folder).size(), half.size());
+}
+
 TEST(MapFolder, ACentreLineThatDoesNotCloseIsRefused) {
   TempDir dir;
   std::string csv;

@@ -32,7 +32,8 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
 TrackInfo readTrackYaml(const std::string& path, std::string* centreline = nullptr);
 void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::string& centreline = "centerline.csv");
 
-// Writes `<folder>/centerline.csv` and `<folder>/track.yaml` (created if missing), checked like loadMapFolder.
+// Writes the centre line (to the file an existing track.yaml names; centerline.csv for a new map) and
+// `<folder>/track.yaml` if missing, checked like loadMapFolder.
 void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint>& points, const TrackInfo& info);
 
 // A closed centre line from a file of points `x,y` (or `x y`), one per line, `#` comments; constant width.
