@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 
 #include "roar/race/race_control.h"
@@ -66,6 +67,11 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   o.max_sim_time = readDouble(nh, "max_sim_time", 0.0, 0.0, 1e7);
   o.sim_silence = readDouble(nh, "sim_silence", o.sim_silence, 1.0, 3600.0);
   o.output_dir = readString(nh, "output_dir", "");
+  // One spelling of the folder in what is printed and written ("a/../b/" is "b").
+  if (!o.output_dir.empty()) {
+    o.output_dir = std::filesystem::absolute(o.output_dir).lexically_normal().string();
+    if (o.output_dir.size() > 1 && o.output_dir.back() == '/') o.output_dir.pop_back();
+  }
   return o;
 }
 
