@@ -1,5 +1,6 @@
 """The habits of a ROS user work on the package: rosrun finds every executable (the devel space is not
 under <package>/build/, which rosrun skips)."""
+import os
 import subprocess
 
 import pytest
@@ -21,3 +22,17 @@ def test_rosrun_finds_the_python_programs():
     done = subprocess.run(["rosrun", "--prefix", "echo", "roar_ros", "roar_py_competition.py"], capture_output=True,
                           text=True, timeout=60)
     assert done.returncode == 0 and done.stdout.strip().endswith("roar_py_competition.py"), done.stdout + done.stderr
+
+
+def test_a_relative_output_dir_is_where_roslaunch_runs(tmp_path):
+    """race.launch output_dir:=res/../x writes to <where roslaunch ran>/x (results and bag), not under the
+    nodes' working folder."""
+    done = subprocess.run(["roslaunch", "--dump-params", "roar_ros", "race.launch", "output_dir:=res/../x", "record:=true"],
+                          capture_output=True, text=True, cwd=tmp_path, env={**os.environ, "PWD": str(tmp_path)},
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert f"/race_control/output_dir: {tmp_path}/res/../x" in done.stdout, done.stdout
+    args = subprocess.run(["roslaunch", "--args", "recorder", "roar_ros", "race.launch", "output_dir:=res/../x",
+                           "record:=true"], capture_output=True, text=True, cwd=tmp_path,
+                          env={**os.environ, "PWD": str(tmp_path)}, timeout=60)
+    assert f"record_race {tmp_path}/res/../x " in args.stdout, args.stdout
