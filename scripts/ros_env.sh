@@ -11,3 +11,9 @@ export ROS_PACKAGE_PATH="$root${ROS_PACKAGE_PATH:+:$ROS_PACKAGE_PATH}"
 export ROS_HOME="$root/build/ros_home"
 export ROS_LOG_DIR="$root/build/ros_log"
 mkdir -p "$ROS_HOME" "$ROS_LOG_DIR"
+# Loopback unless the user asks for a network (ROS_IP or ROS_HOSTNAME of their own): ROS 1 has no
+# authentication, and anyone who reaches the master can spawn, step or kill (README, "Security").
+if [ -z "${ROS_IP:-}" ] && [ -z "${ROS_HOSTNAME:-}" ]; then
+  export ROS_IP=127.0.0.1
+  export ROS_MASTER_URI="${ROS_MASTER_URI:-http://127.0.0.1:11311}"
+fi
