@@ -12,15 +12,32 @@ FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const Veh
   if (options_.overtaking) overtaker_ = std::make_unique<OvertakePlanner>(track, line_, limits_, options_.overtake);
 }
 
-void FieldPlanner::locate(const std::string& car, const Eigen::Vector2d& position, double speed) {
+void FieldPlanner::locate(const std::string& car, const Eigen::Vector2d& position, double speed, double time) {
   Place& place = cars_[car];
+  const double lateral_before = place.on_line.lateral;
   place.on_line = project(line_, position, place.hint);
+  // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in).
+  const double dt = time - place.time;
+  if (dt > 1e-6 && dt < 1.0) {
+    const double moving = (place.on_line.lateral - lateral_before) / dt;
+    place.lateral_speed += 0.3 * (moving - place.lateral_speed);
+  } else {
+    place.lateral_speed = 0.0;
+  }
+  place.time = time;
   place.hint = static_cast<long>(place.on_line.segment);
-  place.speed = speed;
   // Smoothed over about 20 odometry messages (a second at 20 Hz): a car braking behind another for a
-  // moment is not taken for a slow one.
+  // moment is not taken for a slow one. A car gaining speed shows what its engine can do, not its pace:
+  // it lowers no estimate (a car is taken for a full-pace one until it shows otherwise, so that a field
+  // accelerating away from the grid is not taken for a slow one).
   const double share = speed / std::max(1.0, sampleAt(line_, place.on_line.s).speed);
-  place.line_share = place.line_share > 0 ? place.line_share + 0.05 * (share - place.line_share) : share;
+  const bool gaining = speed > place.speed;
+  place.speed = speed;
+  if (place.line_share <= 0.0) {
+    place.line_share = speed > 5.0 ? share : 1.0;  // at rest (on the grid): not yet known, taken as full pace
+  } else if (!gaining || share > place.line_share) {
+    place.line_share += 0.05 * (share - place.line_share);
+  }
 }
 
 void FieldPlanner::setPace(const std::string& car, double pace) {
@@ -36,7 +53,7 @@ Trajectory FieldPlanner::window(const std::string& car) {
   const double pace = pace_it == pace_.end() ? 1.0 : pace_it->second;
   if (overtaker_) {
     std::vector<TrafficCar> traffic;
-    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share});
+    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share, other.lateral_speed});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

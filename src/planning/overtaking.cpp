@@ -74,12 +74,15 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
       std::max(options_.min_shift_length, stretch * options_.shift_time * sampleAt(line_, ramp_s).speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
+  std::vector<double> off_line;  // m each point is moved off the racing line
+  off_line.reserve(pts.size());
   for (auto& p : pts) {
     double shift = from + (to - from) * smoothStep(aheadOnLap(p.s, ramp_s, line_.length) / shift_length);
     if (std::isfinite(back_s) && p.s > back_s) shift -= to * smoothStep((p.s - back_s) / shift_length);
     const double d = std::clamp(shift, -(roomRight(p.s) - half), roomLeft(p.s) - half);
     p.position += d * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
     p.offset += d;
+    off_line.push_back(std::abs(d));
   }
   const std::size_t n = pts.size();
   if (n < 3) return out;
@@ -99,13 +102,16 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   curvature[n - 1] = curvature[n - 2];
   SpeedProfileOptions profile_options;
   profile_options.start_speed = -1.0;
-  // Off the racing line the car is moving sideways as well: it is planned with a share of the grip.
+  // Off the racing line the car is moving sideways as well: it is planned there with a share of the grip
+  // (the whole grip back where the path is on the line again: a pass's window after it).
   VehicleLimits offline = limits_;
   offline.friction *= options_.offline_grip;
-  const SpeedProfile profile = computeSpeedProfile(step, curvature, offline, false, profile_options);
+  const SpeedProfile on_grip = computeSpeedProfile(step, curvature, limits_, false, profile_options);
+  const SpeedProfile off_grip = computeSpeedProfile(step, curvature, offline, false, profile_options);
   for (std::size_t k = 0; k < n; ++k) {
     pts[k].curvature = curvature[k];
-    pts[k].speed = std::min(pts[k].speed, profile.speed[k]);
+    const double off = off_line[k] > 0.05 ? 1.0 : 0.0;
+    pts[k].speed = std::min(pts[k].speed, on_grip.speed[k] + off * (off_grip.speed[k] - on_grip.speed[k]));
   }
   for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the cap made
     const double a = decelerationAt(offline, pts[k + 1].speed, pts[k + 1].curvature);
@@ -141,29 +147,43 @@ double OvertakePlanner::plannedLateral(const Trajectory* plan, double now, doubl
   return sampleAt(*plan, s).offset - sampleAt(line_, s).offset;
 }
 
-double OvertakePlanner::plannedLateral(const TrafficCar& car, double s) const {
+const Trajectory* OvertakePlanner::trustedPlan(const TrafficCar& car) const {
+  // A car's plan predicts it only while it drives it: one that is elsewhere than its plan says (another
+  // driver at the wheel, a car swerving) is predicted by where it is.
   const auto it = plans_.find(car.name);
-  return plannedLateral(it == plans_.end() ? nullptr : &it->second, car.lateral, s);
+  if (it == plans_.end()) return nullptr;
+  return std::abs(plannedLateral(&it->second, car.lateral, car.s) - car.lateral) <= options_.plan_trust ? &it->second
+                                                                                                       : nullptr;
 }
 
-double OvertakePlanner::lateralAt(const Prediction& p, double along) const {
-  return plannedLateral(p.plan, p.lateral, p.s + (along - p.ahead.front()));
+double OvertakePlanner::plannedLateral(const TrafficCar& car, double s) const {
+  return plannedLateral(trustedPlan(car), car.lateral, s);
+}
+
+double OvertakePlanner::lateralAt(const Prediction& p, double t) const {
+  const double drift = p.lateral + p.lateral_speed * std::min(t, options_.lateral_lookahead);
+  return plannedLateral(p.plan, drift, p.s + (p.at(t) - p.ahead.front()));
 }
 
 OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, double s0) const {
   Prediction p;
   p.lateral = other.lateral;
+  p.lateral_speed = other.lateral_speed;
   p.s = other.s;
-  const auto plan = plans_.find(other.name);
-  if (plan != plans_.end()) p.plan = &plan->second;
+  p.plan = trustedPlan(other);
   const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
   const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
   double along = aheadOnLap(other.s, s0, line_.length);
   const int steps = static_cast<int>(std::ceil(options_.horizon / kPredictionStep)) + 1;
   p.ahead.reserve(static_cast<std::size_t>(steps) + 1);
   p.ahead.push_back(along);
+  // From the speed it has now, gaining speed no faster than an engine like ours gives.
+  double v = other.speed;
   for (int k = 0; k < steps; ++k) {
-    along += kPredictionStep * share * sampleAt(line_, s0 + along).speed;
+    const double cap = share * sampleAt(line_, s0 + along).speed;
+    const double v_next = std::min(cap, v + kPredictionStep * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass());
+    along += kPredictionStep * 0.5 * (v + std::max(v_next, 0.0));
+    v = v_next;
     p.ahead.push_back(along);
   }
   return p;
@@ -206,7 +226,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, cons
       const double ahead_of_it = (s_now - s0) - o.at(t);
       const bool moved_across = std::abs(d0 - o.lateral) >= width;
       const double keep_ahead = length + (moved_across ? options_.rejoin_time * v : 0.0);
-      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - lateralAt(o, o.at(t))) < width) {
+      if (ahead_of_it > -length && ahead_of_it < keep_ahead && std::abs(d - lateralAt(o, t)) < width) {
         clear = false;
         return false;
       }
@@ -227,6 +247,15 @@ double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double
     return false;
   });
   return at;
+}
+
+bool OvertakePlanner::drawsAlongside(const Trajectory& plan, double s0, double v0, const Prediction& leader) const {
+  bool alongside = false;
+  driveAlong(plan, s0, v0, [&](std::size_t, double t, double s, double) {
+    alongside = (s - s0) - leader.at(t) > -options_.car_length;
+    return !alongside;
+  });
+  return alongside;
 }
 
 Trajectory OvertakePlanner::plan(const std::string& car, double s, double lateral, double speed,
@@ -300,7 +329,10 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         beside = beside || (p.s > s && std::abs(p.offset - sampleAt(line_, p.s).offset - leader->lateral) >= wide);
         if (beside) patient.window.points[k].speed = p.speed;
       }
-      patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share);
+      // Waiting behind the car off the line is following it there: only worth it if it then draws
+      // alongside within the horizon.
+      patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share) &&
+                      drawsAlongside(patient.window, s, speed, leader_prediction);
       if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
     }
     candidates.push_back(std::move(c));
@@ -337,6 +369,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       if (close && side != near_side && !(passing_leader && memory.side == side)) continue;
       const double to = leader->lateral + side * (options_.car_width + options_.lateral_margin + 0.3);
       if (std::abs(to) > options_.max_pass_offset) continue;  // round a car far off the line: the other side
+      if (side * leader->lateral_speed > 0.5 && !passing_leader) continue;  // not into a door that is closing
       consider(make(RaceMode::kPass, side, leader->name, to));
     }
   }
@@ -360,6 +393,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
 
   const Candidate* chosen = nullptr;
+  if (memory.mode != RaceMode::kPass) headways_.erase(car);  // a pass begun afresh has all its time
   if (memory.mode == RaceMode::kPass) {
     // A committed pass keeps its side while it stays clear and the car passed is still ahead; it is never
     // switched to the other side (that is how cars get squeezed).
@@ -372,10 +406,24 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       }
     }
     const bool still_ahead = leader && leader->name == memory.other;
+    // A pass that makes no headway on the car from further back than following it (its gap closing by a
+    // metre within stall_time) is given up: off the line and no nearer, it only loses time. Close behind,
+    // waiting for room beside the car is part of the pass.
+    Headway& headway = headways_[car];
+    if (still_ahead) {
+      if (headway.other != memory.other || leader_gap < headway.best_gap - 1.0) headway = {memory.other, leader_gap, 0.0};
+      if (leader_gap > options_.follow_gap + options_.car_length) headway.stalled += options_.plan_period;
+      if (headway.stalled > options_.stall_time) chosen = nullptr;
+    }
+    const bool stalled = still_ahead && headway.stalled > options_.stall_time;
+    // The car passed moving across towards this one's side while this one is still behind it: the door is
+    // closing, and a pass that chases it sideways asks more than the car can do. Given up at once.
+    const bool cutting_in = still_ahead && leader_gap > options_.car_length && memory.side * leader->lateral_speed > 0.5;
+    if (cutting_in) chosen = nullptr;
     // One plan's doubt is not an abort: predictions jitter with the odometry's timing, and the guard keeps
     // the car off the back of anyone in its path meanwhile.
     int& doubts = doubts_[car];
-    if (!chosen && still_ahead && ++doubts < options_.abort_plans) {
+    if (!chosen && still_ahead && !stalled && !cutting_in && ++doubts < options_.abort_plans) {
       for (const auto& c : candidates) {
         if (c.decision.mode == RaceMode::kPass && c.decision.side == memory.side && c.decision.other == memory.other) {
           chosen = &c;
@@ -434,7 +482,8 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     for (double tau : {0.0, 1.0, 2.0}) {
       const double at = rel + tau * o.speed;
       const double d = sampleAt(*window, s + at).offset - sampleAt(line_, s + at).offset;
-      const double theirs = tau == 0.0 ? o.lateral : plannedLateral(o, o.s + tau * o.speed);
+      const double drift = o.lateral + o.lateral_speed * std::min(tau, options_.lateral_lookahead);
+      const double theirs = tau == 0.0 ? o.lateral : plannedLateral(trustedPlan(o), drift, o.s + tau * o.speed);
       in_path = in_path || std::abs(d - theirs) < options_.car_width + options_.guard_lateral;
     }
     if (!in_path) continue;

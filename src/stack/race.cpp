@@ -122,7 +122,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     std::map<std::string, sim::VehicleState> states;
     for (auto& e : entrants) {
       const sim::VehicleState state = world.vehicleState(e.spec.name);
-      field.locate(e.spec.name, state.pose.position.head<2>(), state.forward_speed);
+      field.locate(e.spec.name, state.pose.position.head<2>(), state.forward_speed, world.time());
       states[e.spec.name] = state;
     }
     const double now = world.time();

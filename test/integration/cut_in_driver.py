@@ -7,6 +7,7 @@ by aborting (no contact) and still get by; race_control's results are checked at
 import math
 import os
 import sys
+import threading
 import time
 import unittest
 
@@ -65,13 +66,20 @@ class CutIn(unittest.TestCase):
         state = {"lateral": 0.0, "target": 0.0, "until": -1.0, "last": None}
         control = rospy.Publisher("/swerver/control", VehicleControl, queue_size=10)
 
+        ego_seen = threading.Condition()
+
         def on_ego(odom):
             p = odom.pose.pose.position
-            ego["odom"] = odom
-            ego["place"] = line.project(p.x, p.y)
+            with ego_seen:
+                ego["odom"] = odom
+                ego["place"] = line.project(p.x, p.y)
+                ego_seen.notify_all()
 
         def drive(odom):
             t = odom.header.stamp.to_sec()
+            # ego as it is at this very tick, whichever odometry arrived first: the script runs alike every time.
+            with ego_seen:
+                ego_seen.wait_for(lambda: "odom" in ego and ego["odom"].header.stamp >= odom.header.stamp, timeout=1.0)
             p = odom.pose.pose.position
             v = odom.twist.twist.linear.x
             k, s, lateral = line.project(p.x, p.y)

@@ -91,6 +91,45 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
   EXPECT_GE(std::abs(at.offset - planning::sampleAt(f.line, s + 80.0).offset), o.car_width + o.lateral_margin - 1e-6);
 }
 
+TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
+  // The cut-in: a pass on the slow car's side is under way; the slow car starts moving across towards that
+  // side. The passer falls in behind at the next plan (no plans of doubt), and starts no pass on that
+  // side while the car is moving across.
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  planning::TrafficCar slow{"slow", s + 25.0, 0.0, 0.6 * v};
+  planner.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+  const auto pass = planner.decision("ego");
+  ASSERT_EQ(pass.mode, RaceMode::kPass);
+  slow.lateral_speed = 3.0 * pass.side;  // m/s towards the passer's side
+  slow.s += 0.05 * slow.speed;
+  planner.plan("ego", s + 0.05 * v, 0.1 * pass.side, v, {slow}, 10.0, 250.0);
+  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kFollow) << planning::raceModeName(planner.decision("ego").mode);
+  // A fresh planner seeing the car already moving across passes it on the other side, if at all.
+  planning::OvertakePlanner fresh(f.track, f.line, f.limits, {});
+  fresh.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+  if (fresh.decision("ego").mode == RaceMode::kPass) EXPECT_EQ(fresh.decision("ego").side, -pass.side);
+}
+
+TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
+  // Both cars planned here: the slow car's plan is the racing line. When it is 2 m off that line (someone
+  // else at its wheel), the guard takes it where it is: in the passer's path 1.5 m left of the line.
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  const planning::TrafficCar slow_on_line{"slow", s + 14.0, 0.0, 0.5 * v};
+  const planning::TrafficCar ego{"ego", s, 1.5, v};
+  planner.plan("slow", slow_on_line.s, 0.0, slow_on_line.speed, {slow_on_line, ego}, 10.0, 250.0);
+  planning::TrafficCar slow_off_plan = slow_on_line;
+  slow_off_plan.lateral = 2.0;
+  const auto window = planner.plan("ego", s, 1.5, v, {slow_off_plan, ego}, 10.0, 250.0);
+  // Whatever ego chose, it is no faster where the slow car is than following it allows.
+  EXPECT_LE(planning::sampleAt(window, slow_off_plan.s - 6.0).speed, slow_off_plan.speed + 3.0);
+}
+
 TEST(Overtaking, ACarAlongsideIsNotSqueezed) {
   auto& f = fixture();
   planning::OvertakePlanner planner(f.track, f.line, f.limits, {});

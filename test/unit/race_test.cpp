@@ -72,11 +72,13 @@ TEST(ContactFault, TwoCarsSqueezingAlikeIsARacingIncident) {
 }
 
 TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
-  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
+  planning::FieldOptions options;
+  options.overtaking = false;
+  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, options);
   const double s = 100.0;
-  field.locate("ego", onLineAt(s), 20.0);
-  field.locate("slow", onLineAt(s + 30.0), 10.0);
-  field.locate("aside", onLineAt(s + 15.0, 6.0), 5.0);  // off the line: not in the way
+  field.locate("ego", onLineAt(s), 20.0, 0.0);
+  field.locate("slow", onLineAt(s + 30.0), 10.0, 0.0);
+  field.locate("aside", onLineAt(s + 15.0, 6.0), 5.0, 0.0);  // off the line: not in the way
   const auto window = field.window("ego");
   EXPECT_EQ(field.decision("ego").mode, RaceMode::kFollow);
   EXPECT_EQ(field.decision("ego").other, "slow");
@@ -89,7 +91,7 @@ TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
 
 TEST(FieldPlanner, APaceBelowOneScalesTheWindowsSpeeds) {
   planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
-  field.locate("ego", onLineAt(300.0), 20.0);
+  field.locate("ego", onLineAt(300.0), 20.0, 0.0);
   const auto full = field.window("ego");
   field.setPace("ego", 0.9);
   const auto slow = field.window("ego");

@@ -6,6 +6,7 @@
 // in one place that gtest reaches.
 #include <Eigen/Core>
 #include <map>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -30,9 +31,9 @@ class FieldPlanner {
   // line: the closed racing trajectory of `track`, planned with `limits`.
   FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, FieldOptions options);
 
-  // Where `car` is now: base_link's position and its forward speed (m/s). A car first seen is searched
-  // for on the whole line, then near its last place.
-  void locate(const std::string& car, const Eigen::Vector2d& position, double speed);
+  // Where `car` is at `time` (s): base_link's position and its forward speed (m/s). A car first seen is
+  // searched for on the whole line, then near its last place.
+  void locate(const std::string& car, const Eigen::Vector2d& position, double speed, double time);
   bool located(const std::string& car) const { return cars_.count(car) > 0; }
   void forget(const std::string& car) { cars_.erase(car); }
   // The share of the line's speeds the car is planned at (0 < pace <= 1; 1: the line's own).
@@ -56,6 +57,8 @@ class FieldPlanner {
     TrajectoryProjection on_line;
     double speed = 0.0;
     double line_share = 0.0;  // its speed over the line's, smoothed (OvertakePlanner's prediction)
+    double time = std::numeric_limits<double>::quiet_NaN();  // s of the last position
+    double lateral_speed = 0.0;  // m/s leftwards across the line, smoothed
   };
   // Without overtaking: the nearest car ahead on the line within the window, if one is in the way.
   void followCarAhead(const std::string& car, const Place& place, Trajectory* window, RaceDecision* decision) const;

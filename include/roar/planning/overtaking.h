@@ -29,6 +29,7 @@ struct TrafficCar {
   // Its recent speed as a share of the racing line's where it was (smoothed over a second or so); 0:
   // unknown, the share of this moment is taken. How fast it is predicted to go on.
   double line_share = 0.0;
+  double lateral_speed = 0.0;  // m/s leftwards across the racing line (smoothed); 0: unknown or none
 };
 
 struct OvertakeOptions {
@@ -51,13 +52,19 @@ struct OvertakeOptions {
   double engage_time = 2.0;          // s
   double min_pass_speed = 8.0;       // m/s the car must be doing to start a pass (not from the grid)
   int abort_plans = 3;               // plans in a row a committed pass must look blocked or not worth it to be given up
+  double stall_time = 3.0;           // s a committed pass may go without gaining a metre on the car before it is given up
+  double plan_period = 0.05;         // s between plans (the odometry's period)
   int retry_plans = 60;              // plans (ticks) after an aborted pass before another on the same car
   // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
   double guard_lateral = 0.4;        // m
   double guard_time = 0.25;          // s
   double max_pass_offset = 5.0;      // m from the racing line a pass may go
-  double offline_grip = 0.8;         // share of the plan's grip a path off the racing line is planned with
+  double offline_grip = 0.8;         // share of the plan's grip a path off the racing line is planned with where it is off it
+  // s over which a car without a plan to go by is predicted to go on moving sideways as it is.
+  double lateral_lookahead = 1.0;
+  // m a car may be off its own last plan (sideways) for that plan to be taken as its prediction.
+  double plan_trust = 0.75;
   double rejoin_time = 0.5;          // s at speed kept ahead of a car behind when moving across in front of it
 };
 
@@ -113,18 +120,24 @@ class OvertakePlanner {
   struct Prediction {
     std::vector<double> ahead;
     double lateral = 0.0;
+    double lateral_speed = 0.0;        // m/s, kept for lateral_lookahead when it has no plan to go by
     const Trajectory* plan = nullptr;  // its last window, if it is one of ours
     double s = 0.0;                    // its line s now
     double at(double t) const;
   };
-  // Metres left of the racing line the predicted car is when `along` metres ahead of the planning car.
-  double lateralAt(const Prediction& p, double along) const;
+  // Metres left of the racing line the predicted car is `t` seconds on.
+  double lateralAt(const Prediction& p, double t) const;
   Prediction predict(const TrafficCar& other, double s0) const;
   // Where (window s) a car driving `plan` is first clear ahead of `leader`; infinite when not in the horizon.
   double passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const;
+  // Whether a car driving `plan` from speed v0 at s0 draws alongside `leader` (its nose past the other's
+  // tail) within the horizon.
+  bool drawsAlongside(const Trajectory& plan, double s0, double v0, const Prediction& leader) const;
   void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const;
   // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
   double plannedLateral(const TrafficCar& car, double s) const;
+  // The car's last window while it is where that window has it (within plan_trust); else none.
+  const Trajectory* trustedPlan(const TrafficCar& car) const;
   double plannedLateral(const Trajectory* plan, double now, double s) const;
   // Drives a plan from speed v0 at s0 as far as the horizon: visit(point index, t, s, v) at each point
   // passed, until it returns false. Returns the s reached.
@@ -145,9 +158,15 @@ class OvertakePlanner {
     int plans_left = 0;
   };
   std::map<std::string, Abort> aborts_;
-  std::map<std::string, double> holds_;
+  std::map<std::string, double> holds_;  // the lateral place (m) a car holds while another is alongside
+  struct Headway {
+    std::string other;  // the car being passed
+    double best_gap = 0.0;  // m, the nearest the pass has come to it
+    double stalled = 0.0;   // s since it last came a metre nearer
+  };
+  std::map<std::string, Headway> headways_;
   std::map<std::string, int> doubts_;  // plans in a row a committed pass has looked blocked
-  std::map<std::string, Trajectory> plans_;  // each car's last window  // the lateral place (m) a car holds while another is alongside
+  std::map<std::string, Trajectory> plans_;  // each car's last window
 };
 
 }  // namespace roar::planning
