@@ -112,8 +112,12 @@ if __name__ == "__main__":
             cpp = cpp_rate(camera, threads, args.seconds)
             py = python_rate(options, envs, threads, args.seconds)
             procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
-            asynchronous = async_rate(options, envs, threads, args.seconds) if envs > 1 else float("nan")
+            # Asynchronous: two environments a worker thread, half of them a batch (the caller's Python works on
+            # one batch while the workers step the other). Its workers spin for work only with a core each
+            # besides the caller's.
+            async_envs = 2 * threads
+            asynchronous = async_rate(options, async_envs, threads, args.seconds)
             print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
                   f"({py / cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py / procs:4.2f}); "
-                  f"asynchronous, batches of {max(1, envs // 2)}: {asynchronous:8.0f} ({asynchronous / procs:4.2f})",
-                  flush=True)
+                  f"asynchronous, {async_envs} envs in batches of {threads}: {asynchronous:8.0f} "
+                  f"({asynchronous / procs:4.2f})", flush=True)

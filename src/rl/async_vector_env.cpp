@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "roar/rl/spin_wait.h"
+
 namespace roar::rl {
 
 AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads)
@@ -15,6 +17,9 @@ AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int
     }
   }
   const int n = std::min<int>(threads, static_cast<int>(envs_.size()));
+  // Spinning pays only with a core for every spinning thread (the workers and the caller's): on fewer,
+  // a spinning thread takes the core from the one it waits for.
+  spin_ = static_cast<unsigned>(n) + 1 <= std::thread::hardware_concurrency();
   for (int t = 0; t < n; ++t) inboxes_.push_back(std::make_unique<Inbox>());
   for (int t = 0; t < n; ++t) threads_.emplace_back([this, t] { work(t); });
 }
@@ -37,12 +42,14 @@ void AsyncVectorEnv::work(int thread) {
   Inbox& inbox = *inboxes_[static_cast<std::size_t>(thread)];
   for (;;) {
     Job job;
+    if (spin_) spinFor([&] { return inbox.queued.load(std::memory_order_acquire) > 0 || stopping_; });
     {
       std::unique_lock<std::mutex> lock(inbox.mutex);
       inbox.ready.wait(lock, [&] { return stopping_ || !inbox.jobs.empty(); });
       if (inbox.jobs.empty()) return;  // stopping
       job = std::move(inbox.jobs.front());
       inbox.jobs.pop_front();
+      inbox.queued.fetch_sub(1, std::memory_order_acq_rel);
     }
     AsyncResult result;
     result.env_id = job.env_id;
@@ -67,6 +74,7 @@ void AsyncVectorEnv::work(int thread) {
       std::lock_guard<std::mutex> lock(done_mutex_);
       if (error && !error_) error_ = error;
       done_.push_back(std::move(result));
+      done_count_.store(done_.size(), std::memory_order_release);
     }
     done_ready_.notify_one();
   }
@@ -79,6 +87,7 @@ void AsyncVectorEnv::reset(std::uint64_t seed) {
     Inbox& inbox = *inboxes_[i % inboxes_.size()];
     std::lock_guard<std::mutex> lock(inbox.mutex);
     inbox.jobs.push_back({i, Value{}, seed + i});
+    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
   }
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
@@ -111,6 +120,7 @@ void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<s
     Inbox& inbox = *inboxes_[env_ids[k] % inboxes_.size()];
     std::lock_guard<std::mutex> lock(inbox.mutex);
     inbox.jobs.push_back({env_ids[k], actions[k], std::nullopt});
+    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
   }
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
@@ -122,17 +132,22 @@ void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<s
 std::vector<AsyncResult> AsyncVectorEnv::recv(std::size_t batch_size) {
   std::vector<AsyncResult> out;
   out.reserve(batch_size);
-  std::unique_lock<std::mutex> lock(done_mutex_);
-  if (batch_size == 0 || batch_size > in_flight_) {
-    throw std::invalid_argument("AsyncVectorEnv::recv: batch_size " + std::to_string(batch_size) + " with " +
-                                std::to_string(in_flight_) + " environment(s) in flight");
+  {
+    std::lock_guard<std::mutex> lock(done_mutex_);
+    if (batch_size == 0 || batch_size > in_flight_) {
+      throw std::invalid_argument("AsyncVectorEnv::recv: batch_size " + std::to_string(batch_size) + " with " +
+                                  std::to_string(in_flight_) + " environment(s) in flight");
+    }
   }
+  if (spin_) spinFor([&] { return done_count_.load(std::memory_order_acquire) >= batch_size; });
+  std::unique_lock<std::mutex> lock(done_mutex_);
   done_ready_.wait(lock, [&] { return done_.size() >= batch_size; });
   for (std::size_t k = 0; k < batch_size; ++k) {
     out.push_back(std::move(done_.front()));
     done_.pop_front();
     busy_[out.back().env_id] = 0;
   }
+  done_count_.store(done_.size(), std::memory_order_release);
   in_flight_ -= batch_size;
   if (error_) {
     std::exception_ptr e = error_;

@@ -1,23 +1,10 @@
 #include "roar/rl/worker_pool.h"
 
-#include <chrono>
 #include <stdexcept>
 
+#include "roar/rl/spin_wait.h"
+
 namespace roar::rl {
-
-namespace {
-// How long an idle worker spins for the next job before it sleeps: a little more than a step's gap.
-constexpr auto kSpin = std::chrono::microseconds(200);
-
-// Tells the core this is a spin loop (frees the pipeline for the sibling thread, saves power).
-inline void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#else
-  std::this_thread::yield();
-#endif
-}
-}  // namespace
 
 WorkerPool::WorkerPool(int threads) {
   if (threads < 1) throw std::invalid_argument("WorkerPool needs at least one thread");
@@ -48,11 +35,7 @@ void WorkerPool::runShare(int share) {
 void WorkerPool::work(int share) {
   std::uint64_t seen = 0;
   for (;;) {
-    const auto spin_until = std::chrono::steady_clock::now() + kSpin;
-    for (unsigned spins = 0; generation_.load(std::memory_order_acquire) == seen && !stopping_; ++spins) {
-      relax();
-      if (spins % 256 == 255 && std::chrono::steady_clock::now() >= spin_until) break;  // the clock is dearer than a spin
-    }
+    spinFor([&] { return generation_.load(std::memory_order_acquire) != seen || stopping_; });
     if (generation_.load(std::memory_order_acquire) == seen) {
       std::unique_lock<std::mutex> lock(mutex_);
       start_.wait(lock, [&] { return stopping_ || generation_.load(std::memory_order_acquire) != seen; });

@@ -61,6 +61,7 @@ class AsyncVectorEnv {
     std::mutex mutex;
     std::condition_variable ready;
     std::deque<Job> jobs;
+    std::atomic<std::size_t> queued{0};  // jobs.size(), read without the lock by the thread spinning for work
   };
   void work(int thread);
 
@@ -71,9 +72,11 @@ class AsyncVectorEnv {
   mutable std::mutex done_mutex_;
   std::condition_variable done_ready_;
   std::deque<AsyncResult> done_;
+  std::atomic<std::size_t> done_count_{0};  // done_.size(), read without the lock by recv() spinning
   std::exception_ptr error_;
   std::size_t in_flight_ = 0;
   std::atomic<bool> stopping_{false};
+  bool spin_ = false;  // waiting threads spin before they sleep (a core for each of them)
 };
 
 }  // namespace roar::rl
