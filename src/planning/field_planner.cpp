@@ -15,7 +15,13 @@ FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const Veh
 void FieldPlanner::locate(const std::string& car, const Eigen::Vector2d& position, double speed, double time) {
   Place& place = cars_[car];
   const double lateral_before = place.on_line.lateral;
+  const bool first = place.hint < 0;
+  const double s_before = place.on_line.s;
   place.on_line = project(line_, position, place.hint);
+  // Distance round the laps, so that a car a lap up is told from one just behind (blue flags).
+  if (!progress_origin_) progress_origin_ = place.on_line.s;
+  place.progress = first ? aheadOnLap(place.on_line.s, *progress_origin_, line_.length)
+                         : place.progress + aheadOnLap(place.on_line.s, s_before, line_.length);
   // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in).
   const double dt = time - place.time;
   if (dt > 1e-6 && dt < 1.0) {
@@ -53,7 +59,8 @@ Trajectory FieldPlanner::window(const std::string& car) {
   const double pace = pace_it == pace_.end() ? 1.0 : pace_it->second;
   if (overtaker_) {
     std::vector<TrafficCar> traffic;
-    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share, other.lateral_speed});
+    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share, other.lateral_speed,
+                         other.progress - place.progress > 0.5 * line_.length});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

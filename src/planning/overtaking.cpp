@@ -24,6 +24,7 @@ const char* raceModeName(RaceMode mode) {
     case RaceMode::kFollow: return "follow";
     case RaceMode::kPass: return "pass";
     case RaceMode::kHold: return "hold";
+    case RaceMode::kYield: return "yield";
   }
   return "unknown";
 }
@@ -295,7 +296,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // A move the car is already making goes on from where it began; a new one starts here.
   auto make = [&](RaceMode mode, int side, const std::string& other, double to) {
     RaceDecision d{mode, side, other, to, 0.0, s, lateral};
-    const bool same_move = mode == RaceMode::kPass
+    const bool same_move = mode == RaceMode::kPass || mode == RaceMode::kYield
                                ? memory.mode == mode && memory.side == side && memory.other == other
                                : (memory.mode == mode || memory.mode == RaceMode::kFollow) && memory.side == 0;
     // A pass goes on to wherever the car passed now is (the ramp is never restarted: a ramp begun afresh
@@ -337,6 +338,40 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
     candidates.push_back(std::move(c));
   };
+  // Blue flags: a car a lap up closing from behind is let by. The car moves aside (the side with more room,
+  // kept until it has been lapped) at its own pace, where that is clear of everyone.
+  if (options_.blue_flags) {
+    const TrafficCar* blue = nullptr;
+    double blue_rel = -std::numeric_limits<double>::infinity();
+    for (const auto& o : traffic) {
+      if (o.name == car || !o.lapping) continue;
+      const double rel = aheadOnLap(o.s, s, L);
+      if (rel < 0 && -rel < options_.car_length + options_.blue_flag_time * std::max(o.speed, 1.0) && rel > blue_rel) {
+        blue = &o;
+        blue_rel = rel;
+      }
+    }
+    if (!blue) yields_.erase(car);
+    if (blue) {
+      // One side for the whole of being lapped: never across the lapping car's way.
+      auto side_it = yields_.find(car);
+      if (side_it == yields_.end() || side_it->second.first != blue->name) {
+        side_it = yields_.insert_or_assign(car, std::make_pair(blue->name, roomLeft(s) >= roomRight(s) ? +1 : -1)).first;
+      }
+      const int side = side_it->second.second;
+      const bool yielding = memory.mode == RaceMode::kYield && memory.other == blue->name && memory.side == side;
+      const RaceDecision d =
+          make(RaceMode::kYield, side, blue->name, side * (options_.car_width + options_.lateral_margin + 0.3));
+      Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
+      if (clearOf(c.window, s, speed, predicted, &c.decision.progress, yielding ? 0.5 : 1.0)) {
+        guard(&c.window, s, speed, others);
+        memory = c.decision;
+        holds_.erase(car);
+        plans_[car] = c.window;
+        return c.window;
+      }
+    }
+  }
   // Alone on the line (nobody near, no move under way): the racing line's window as it is, so that a car
   // racing alone drives exactly as without this planner, its tracking error notwithstanding.
   if (others.empty() && memory.mode == RaceMode::kRacingLine && memory.ramp_from == 0.0) {

@@ -130,6 +130,34 @@ TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
   EXPECT_LE(planning::sampleAt(window, slow_off_plan.s - 6.0).speed, slow_off_plan.speed + 3.0);
 }
 
+TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
+  auto& f = fixture();
+  const double s = straightStart(f.line);
+  const double v = 0.6 * planning::sampleAt(f.line, s).speed;
+  const planning::TrafficCar leader{"leader", s - 30.0, 0.0, v + 10.0, 0.0, 0.0, true};  // a lap up, closing
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const auto plan = planner.plan("lapped", s, 0.0, v, {leader}, 10.0, 250.0);
+  const auto d = planner.decision("lapped");
+  ASSERT_EQ(d.mode, RaceMode::kYield) << planning::raceModeName(d.mode);
+  EXPECT_EQ(d.other, "leader");
+  EXPECT_EQ(d.side, planner.roomLeft(s) >= planner.roomRight(s) ? 1 : -1) << "to the side with more room";
+  const planning::OvertakeOptions o;
+  double furthest = 0.0;  // the move is a smooth one over 2.5 s at speed
+  for (const auto& p : plan.points) furthest = std::max(furthest, std::abs(p.offset - planning::sampleAt(f.line, p.s).offset));
+  EXPECT_GE(furthest, o.car_width + o.lateral_margin - 0.3) << "out of the racing line by a car's width and air";
+  // The same car racing for position (not a lap up), or with blue flags off, is not let by.
+  planning::TrafficCar racing = leader;
+  racing.lapping = false;
+  planning::OvertakePlanner other(f.track, f.line, f.limits, {});
+  other.plan("lapped", s, 0.0, v, {racing}, 10.0, 250.0);
+  EXPECT_NE(other.decision("lapped").mode, RaceMode::kYield);
+  planning::OvertakeOptions no_flags;
+  no_flags.blue_flags = false;
+  planning::OvertakePlanner flagless(f.track, f.line, f.limits, no_flags);
+  flagless.plan("lapped", s, 0.0, v, {leader}, 10.0, 250.0);
+  EXPECT_NE(flagless.decision("lapped").mode, RaceMode::kYield);
+}
+
 TEST(Overtaking, ACarAlongsideIsNotSqueezed) {
   auto& f = fixture();
   planning::OvertakePlanner planner(f.track, f.line, f.limits, {});

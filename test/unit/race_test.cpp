@@ -89,6 +89,24 @@ TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
   EXPECT_EQ(field.decision("slow").mode, RaceMode::kRacingLine);
 }
 
+TEST(FieldPlanner, ACarALapUpIsToldFromOneJustBehind) {
+  // `fast` goes once round the lap (in steps the planner can follow) and comes up behind `slow` again:
+  // slow lets it by (blue flag). Behind it on the same lap, it would be racing for position.
+  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
+  const double L = sprint().line.length, s = 300.0;
+  field.locate("slow", onLineAt(s), 20.0, 0.0);
+  field.locate("fast", onLineAt(s - 40.0), 40.0, 0.0);
+  field.window("slow");
+  EXPECT_NE(field.decision("slow").mode, RaceMode::kYield) << "the same lap: racing";
+  double t = 0.0;
+  for (double covered = 10.0; covered <= L; covered += 10.0) field.locate("fast", onLineAt(s - 40.0 + covered), 40.0, t += 0.25);
+  field.locate("fast", onLineAt(s - 40.0), 40.0, t += 0.25);
+  field.locate("slow", onLineAt(s), 20.0, t);
+  field.window("slow");
+  EXPECT_EQ(field.decision("slow").mode, RaceMode::kYield);
+  EXPECT_EQ(field.decision("slow").other, "fast");
+}
+
 TEST(FieldPlanner, APaceBelowOneScalesTheWindowsSpeeds) {
   planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
   field.locate("ego", onLineAt(300.0), 20.0, 0.0);

@@ -8,6 +8,7 @@
 #include <map>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "roar/planning/overtaking.h"
@@ -59,6 +60,7 @@ class FieldPlanner {
     double line_share = 0.0;  // its speed over the line's, smoothed (OvertakePlanner's prediction)
     double time = std::numeric_limits<double>::quiet_NaN();  // s of the last position
     double lateral_speed = 0.0;  // m/s leftwards across the line, smoothed
+    double progress = 0.0;       // m round the laps since it was first seen (from the first car's place then)
   };
   // Without overtaking: the nearest car ahead on the line within the window, if one is in the way.
   void followCarAhead(const std::string& car, const Place& place, Trajectory* window, RaceDecision* decision) const;
@@ -66,6 +68,7 @@ class FieldPlanner {
   Trajectory line_;
   VehicleLimits limits_;
   FieldOptions options_;
+  std::optional<double> progress_origin_;  // line s every car's progress is counted from
   std::unique_ptr<OvertakePlanner> overtaker_;
   std::map<std::string, Place> cars_;
   std::map<std::string, double> pace_;

@@ -30,6 +30,7 @@ struct TrafficCar {
   // unknown, the share of this moment is taken. How fast it is predicted to go on.
   double line_share = 0.0;
   double lateral_speed = 0.0;  // m/s leftwards across the racing line (smoothed); 0: unknown or none
+  bool lapping = false;        // a lap or more ahead of the car planned for in the race (a blue flag for it)
 };
 
 struct OvertakeOptions {
@@ -65,10 +66,14 @@ struct OvertakeOptions {
   double lateral_lookahead = 1.0;
   // m a car may be off its own last plan (sideways) for that plan to be taken as its prediction.
   double plan_trust = 0.75;
-  double rejoin_time = 0.5;          // s at speed kept ahead of a car behind when moving across in front of it
+  double rejoin_time = 0.5;
+  // Blue flags: a car about to be lapped (a car a lap up within this many seconds behind, at its speed)
+  // moves aside, to the side with more room, and keeps its pace until it has been lapped.
+  bool blue_flags = true;
+  double blue_flag_time = 3.0;       // s          // s at speed kept ahead of a car behind when moving across in front of it
 };
 
-enum class RaceMode { kRacingLine, kFollow, kPass, kHold };
+enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield };
 const char* raceModeName(RaceMode mode);
 
 struct RaceDecision {
@@ -165,6 +170,7 @@ class OvertakePlanner {
     double stalled = 0.0;   // s since it last came a metre nearer
   };
   std::map<std::string, Headway> headways_;
+  std::map<std::string, std::pair<std::string, int>> yields_;  // the car letting another by: which, and on which side
   std::map<std::string, int> doubts_;  // plans in a row a committed pass has looked blocked
   std::map<std::string, Trajectory> plans_;  // each car's last window
 };
