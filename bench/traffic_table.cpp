@@ -211,6 +211,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     o->retry_plans = static_cast<int>(value);
   } else if (name == "abort_plans") {
     o->abort_plans = static_cast<int>(value);
+  } else if (name == "blue_flags") {
+    o->blue_flags = value != 0.0;
   } else {
     throw std::invalid_argument("--overtake: no option '" + name + "'");
   }

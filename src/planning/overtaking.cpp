@@ -343,10 +343,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   if (options_.blue_flags) {
     const TrafficCar* blue = nullptr;
     double blue_rel = -std::numeric_limits<double>::infinity();
+    const auto yielding_to = yields_.find(car);
     for (const auto& o : traffic) {
       if (o.name == car || !o.lapping) continue;
       const double rel = aheadOnLap(o.s, s, L);
-      if (rel < 0 && -rel < options_.car_length + options_.blue_flag_time * std::max(o.speed, 1.0) && rel > blue_rel) {
+      const bool closing = rel < 0 && -rel < options_.car_length + options_.blue_flag_time * std::max(o.speed, 1.0);
+      // Let by means clear ahead: aside until the car is as far ahead as a pass leaves the car passed.
+      const bool going_by = yielding_to != yields_.end() && yielding_to->second.first == o.name && rel >= 0 &&
+                            rel < options_.car_length + options_.longitudinal_margin + 2.0 +
+                                      options_.rejoin_time * std::max(speed, o.speed);
+      if ((closing || going_by) && rel > blue_rel) {
         blue = &o;
         blue_rel = rel;
       }

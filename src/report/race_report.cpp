@@ -47,7 +47,8 @@ void renderPlot(const std::string& png_path, const std::string& title, const std
   y_hi += margin;
   if (y_lo < 0) y_lo -= margin;
   cv::Mat image(height_px, width_px, CV_8UC3, cv::Scalar(30, 30, 30));
-  const int left = 80, right = 20, top = 50, bottom = 60;
+  // The legend has a row of its own under the x axis's label: it covers no curve.
+  const int left = 80, right = 20, top = 50, legend_row = 30, bottom = 60 + legend_row;
   auto px = [&](double x, double y) {
     return cv::Point(left + static_cast<int>((x - x_lo) / (x_hi - x_lo) * (width_px - left - right)),
                      height_px - bottom - static_cast<int>((y - y_lo) / (y_hi - y_lo) * (height_px - top - bottom)));
@@ -63,17 +64,19 @@ void renderPlot(const std::string& png_path, const std::string& title, const std
     cv::putText(image, format("%.0f", y), px(x_lo, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
   }
   cv::putText(image, title, {left, 26}, cv::FONT_HERSHEY_SIMPLEX, 0.8, text, 2, cv::LINE_AA);
-  cv::putText(image, x_label, {width_px / 2 - 60, height_px - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.6, text, 1, cv::LINE_AA);
+  cv::putText(image, x_label, {width_px / 2 - 60, height_px - 15 - legend_row}, cv::FONT_HERSHEY_SIMPLEX, 0.6, text, 1,
+              cv::LINE_AA);
   cv::putText(image, y_label, {8, top - 6}, cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
-  int legend_y = top + 20;
+  int legend_x = left;
+  const int legend_y = height_px - 12;
   for (const auto& s : series) {
     const cv::Scalar colour(s.bgr.x(), s.bgr.y(), s.bgr.z());
     std::vector<cv::Point> pts;
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) pts.push_back(px(s.x[i], s.y[i]));
     if (pts.size() > 1) cv::polylines(image, pts, false, colour, 2, cv::LINE_AA);
-    cv::line(image, {width_px - 430, legend_y - 5}, {width_px - 400, legend_y - 5}, colour, 3);
-    cv::putText(image, s.label, {width_px - 390, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, text, 1, cv::LINE_AA);
-    legend_y += 24;
+    cv::line(image, {legend_x, legend_y - 5}, {legend_x + 30, legend_y - 5}, colour, 3);
+    cv::putText(image, s.label, {legend_x + 38, legend_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, text, 1, cv::LINE_AA);
+    legend_x += 70 + 11 * static_cast<int>(s.label.size());
   }
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the plot");
 }

@@ -8,6 +8,10 @@
 
 namespace roar::track {
 
+namespace {
+constexpr std::size_t kMaxListedMarks = 40;  // the rest are counted
+}  // namespace
+
 void renderTrackPreview(const Track& track, const std::string& png_path, int width_px,
                         const std::vector<ValuedPath>& paths, const std::string& value_name,
                         const std::vector<MapMark>& marks) {
@@ -20,8 +24,12 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   lo.array() -= margin;
   hi.array() += margin;
   const double scale = width_px / (hi.x() - lo.x());
-  const int height_px = static_cast<int>((hi.y() - lo.y()) * scale) + 60;
-  cv::Mat image(height_px, width_px, CV_8UC3, cv::Scalar(70, 130, 60));  // grass (BGR)
+  const int map_bottom = static_cast<int>((hi.y() - lo.y()) * scale) + 60;
+  // Below the map, a band for the legend (the scale, or each car's colour) and the marks' list: nothing
+  // drawn there covers a path.
+  const std::size_t listed = std::min<std::size_t>(marks.size(), kMaxListedMarks);
+  const int band = (paths.empty() ? 0 : 44) + (marks.empty() ? 0 : 22 * static_cast<int>(listed + 1));
+  cv::Mat image(map_bottom + band, width_px, CV_8UC3, cv::Scalar(70, 130, 60));  // grass (BGR)
   auto px = [&](const Eigen::Vector2d& p) {
     return cv::Point(static_cast<int>((p.x() - lo.x()) * scale), static_cast<int>((hi.y() - p.y()) * scale) + 60);
   };
@@ -61,11 +69,12 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   std::snprintf(title, sizeof(title), "%s  %.0f m  %d sectors  (100 m = %d px)", track.info().name.c_str(),
                 track.length(), sectors, static_cast<int>(100 * scale));
   cv::putText(image, title, cv::Point(12, 38), cv::FONT_HERSHEY_SIMPLEX, 0.9, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
-  if (!paths.empty()) {
+  const cv::Scalar white(255, 255, 255);
+  int band_y = map_bottom + 28;
+  if (paths.size() == 1) {
+    // One car: coloured by its value (speed), with the scale.
     double v_lo = 1e300, v_hi = -1e300;
-    for (const auto& path : paths) {
-      for (double v : path.values) v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
-    }
+    for (double v : paths.front().values) v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
     if (!(v_hi > v_lo)) v_hi = v_lo + 1.0;
     cv::Mat ramp(1, 256, CV_8UC1), colours;
     for (int k = 0; k < 256; ++k) ramp.at<uchar>(0, k) = static_cast<uchar>(k);
@@ -75,31 +84,48 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
       const cv::Vec3b c = colours.at<cv::Vec3b>(0, k);
       return cv::Scalar(c[0], c[1], c[2]);
     };
-    for (const auto& path : paths) {
-      for (std::size_t i = 0; i + 1 < path.points.size(); ++i) {
-        cv::line(image, px(path.points[i]), px(path.points[i + 1]), colourOf(path.values[i]), 3, cv::LINE_AA);
-      }
+    const auto& path = paths.front();
+    for (std::size_t i = 0; i + 1 < path.points.size(); ++i) {
+      cv::line(image, px(path.points[i]), px(path.points[i + 1]), colourOf(path.values[i]), 3, cv::LINE_AA);
     }
-    // The scale, bottom left.
-    const int x0 = 20, y0 = image.rows - 40, w = 300;
-    for (int k = 0; k < w; ++k) cv::line(image, {x0 + k, y0}, {x0 + k, y0 + 16}, colourOf(v_lo + (v_hi - v_lo) * k / w));
-    char label[96];
-    std::snprintf(label, sizeof(label), "%s %.1f .. %.1f", value_name.c_str(), v_lo, v_hi);
-    cv::putText(image, label, {x0, y0 - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+    char label[160];
+    std::snprintf(label, sizeof(label), "%s: %s %.1f .. %.1f", path.label.c_str(), value_name.c_str(), v_lo, v_hi);
+    cv::putText(image, label, {20, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 1, cv::LINE_AA);
+    const int x0 = 40 + 11 * static_cast<int>(std::string(label).size()), w = 300;
+    for (int k = 0; k < w; ++k) cv::line(image, {x0 + k, band_y - 14}, {x0 + k, band_y + 2}, colourOf(v_lo + (v_hi - v_lo) * k / w));
+    band_y += 22;
+  } else if (!paths.empty()) {
+    // Several cars: each its own colour (the speeds are in each car's speed plot), named in the legend.
+    static const cv::Scalar kPalette[] = {{255, 140, 30}, {14, 127, 255}, {40, 39, 214}, {189, 103, 148}, {230, 220, 40},
+                                          {194, 119, 227}, {0, 215, 255},  {245, 245, 245}, {75, 86, 140}, {34, 189, 188}};
+    constexpr std::size_t kColours = sizeof(kPalette) / sizeof(kPalette[0]);
+    int x = 20;
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+      const cv::Scalar colour = kPalette[k % kColours];
+      const auto& path = paths[k];
+      for (std::size_t i = 0; i + 1 < path.points.size(); ++i) {
+        cv::line(image, px(path.points[i]), px(path.points[i + 1]), colour, 2, cv::LINE_AA);
+      }
+      cv::line(image, {x, band_y - 6}, {x + 30, band_y - 6}, colour, 4, cv::LINE_AA);
+      cv::putText(image, path.label, {x + 38, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 1, cv::LINE_AA);
+      x += 60 + 12 * static_cast<int>(path.label.size());
+    }
+    band_y += 22;
   }
-  // Marks: a numbered ring on the map, the numbers listed top right (labels on the map would overlap).
-  int list_y = 70;
+  // Marks: a numbered ring on the map, listed with their numbers in the band below it.
   for (std::size_t k = 0; k < marks.size(); ++k) {
     const cv::Point at = px(marks[k].position);
     const std::string number = std::to_string(k + 1);
-    cv::circle(image, at, 11, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
-    cv::putText(image, number, at + cv::Point(13, -10), cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 2,
-                cv::LINE_AA);
-    if (list_y < image.rows - 80) {
-      cv::putText(image, number + "  " + marks[k].label, {image.cols - 330, list_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55,
-                  cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
-      list_y += 22;
+    cv::circle(image, at, 11, white, 2, cv::LINE_AA);
+    cv::putText(image, number, at + cv::Point(13, -10), cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 2, cv::LINE_AA);
+    if (k < listed) {
+      cv::putText(image, number + "  " + marks[k].label, {20, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, white, 1, cv::LINE_AA);
+      band_y += 22;
     }
+  }
+  if (marks.size() > listed) {
+    cv::putText(image, "... and " + std::to_string(marks.size() - listed) + " more", {20, band_y},
+                cv::FONT_HERSHEY_SIMPLEX, 0.55, white, 1, cv::LINE_AA);
   }
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the preview image");
 }

@@ -135,7 +135,9 @@ TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   const double s = straightStart(f.line);
   const double v = 0.6 * planning::sampleAt(f.line, s).speed;
   const planning::TrafficCar leader{"leader", s - 30.0, 0.0, v + 10.0, 0.0, 0.0, true};  // a lap up, closing
-  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  planning::OvertakeOptions flags;
+  flags.blue_flags = true;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, flags);
   const auto plan = planner.plan("lapped", s, 0.0, v, {leader}, 10.0, 250.0);
   const auto d = planner.decision("lapped");
   ASSERT_EQ(d.mode, RaceMode::kYield) << planning::raceModeName(d.mode);
@@ -148,12 +150,10 @@ TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   // The same car racing for position (not a lap up), or with blue flags off, is not let by.
   planning::TrafficCar racing = leader;
   racing.lapping = false;
-  planning::OvertakePlanner other(f.track, f.line, f.limits, {});
+  planning::OvertakePlanner other(f.track, f.line, f.limits, flags);
   other.plan("lapped", s, 0.0, v, {racing}, 10.0, 250.0);
   EXPECT_NE(other.decision("lapped").mode, RaceMode::kYield);
-  planning::OvertakeOptions no_flags;
-  no_flags.blue_flags = false;
-  planning::OvertakePlanner flagless(f.track, f.line, f.limits, no_flags);
+  planning::OvertakePlanner flagless(f.track, f.line, f.limits, {});  // off by default
   flagless.plan("lapped", s, 0.0, v, {leader}, 10.0, 250.0);
   EXPECT_NE(flagless.decision("lapped").mode, RaceMode::kYield);
 }

@@ -1,6 +1,8 @@
 #include "roar/race/race_control.h"
+#include "roar/report/race_report.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
@@ -291,4 +293,36 @@ TEST(RaceControl, OvertakesAreJudgedAtTheSameMomentWhateverOrderPositionsArriveI
   }
   ASSERT_EQ(race.overtakes().size(), 2u) << "c passes a and b; a and b, side by side, swap nothing";
   for (const auto& o : race.overtakes()) EXPECT_EQ(o.passer, "c");
+}
+
+TEST(RaceReport, EachCarHasItsOwnColourAndTheLegendCoversNoPath) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 1;
+  race::RaceControl race(track, rules, {"a", "b"});
+  report::Telemetry telemetry;
+  for (double t = 0.0; t < 40.0; t += 0.05) {
+    race.updatePosition("a", t, onCircle(-5 + 20.0 * t, 2.0));
+    race.updatePosition("b", t, onCircle(-15 + 20.0 * t, -2.0));
+    telemetry["a"].push_back({t, onCircle(-5 + 20.0 * t, 2.0), 20.0});
+    telemetry["b"].push_back({t, onCircle(-15 + 20.0 * t, -2.0), 20.0});
+  }
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_report_colours").string();
+  report::writeRaceReport(dir, race, telemetry, {});
+  const cv::Mat image = cv::imread(dir + "/trajectories.png");
+  ASSERT_FALSE(image.empty());
+  // A circle's map is as high as it is wide, under a 60 px title; the legend's band lies below it.
+  const int map_bottom = image.cols + 60;
+  ASSERT_GT(image.rows, map_bottom + 20);
+  auto count = [&](const cv::Vec3b& bgr, int from_row, int to_row) {
+    int n = 0;
+    for (int r = from_row; r < to_row; ++r)
+      for (int c = 0; c < image.cols; ++c) n += image.at<cv::Vec3b>(r, c) == bgr;
+    return n;
+  };
+  const cv::Vec3b first(255, 140, 30), second(14, 127, 255);  // the palette's first two colours
+  EXPECT_GT(count(first, 0, map_bottom), 500) << "car a's path in its colour";
+  EXPECT_GT(count(second, 0, map_bottom), 500) << "car b's path in its colour";
+  EXPECT_GT(count(first, map_bottom, image.rows), 20) << "car a in the legend, below the map";
+  EXPECT_GT(count(second, map_bottom, image.rows), 20) << "car b in the legend, below the map";
 }

@@ -92,7 +92,9 @@ TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
 TEST(FieldPlanner, ACarALapUpIsToldFromOneJustBehind) {
   // `fast` goes once round the lap (in steps the planner can follow) and comes up behind `slow` again:
   // slow lets it by (blue flag). Behind it on the same lap, it would be racing for position.
-  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, {});
+  planning::FieldOptions options;
+  options.overtake.blue_flags = true;
+  planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, options);
   const double L = sprint().line.length, s = 300.0;
   field.locate("slow", onLineAt(s), 20.0, 0.0);
   field.locate("fast", onLineAt(s - 40.0), 40.0, 0.0);

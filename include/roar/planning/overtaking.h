@@ -68,8 +68,9 @@ struct OvertakeOptions {
   double plan_trust = 0.75;
   double rejoin_time = 0.5;
   // Blue flags: a car about to be lapped (a car a lap up within this many seconds behind, at its speed)
-  // moves aside, to the side with more room, and keeps its pace until it has been lapped.
-  bool blue_flags = true;
+  // moves aside, to the side with more room, and keeps its pace until it has been lapped. Off by default:
+  // see README (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
+  bool blue_flags = false;
   double blue_flag_time = 3.0;       // s          // s at speed kept ahead of a car behind when moving across in front of it
 };
 

@@ -20,8 +20,9 @@ struct MapMark {
 };
 
 // Writes a top-down PNG of the track: grass, barriers, road, centre line, start/finish line, sector lines,
-// the paths coloured from blue (lowest value) to red (highest) with a scale labelled `value_name`, and the
-// marks as white rings with their labels, listed with a number each.
+// the paths (one: coloured from blue, lowest value, to red, highest, with a scale labelled `value_name`;
+// several: each its own colour, named in a legend), and the marks as white rings numbered on the map. The
+// legend and the marks' list sit in a band below the map, where they cover no path.
 // Throws std::runtime_error when the image cannot be written.
 void renderTrackPreview(const Track& track, const std::string& png_path, int width_px = 1200,
                         const std::vector<ValuedPath>& paths = {}, const std::string& value_name = "",
