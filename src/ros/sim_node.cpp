@@ -301,6 +301,15 @@ void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& p
   }
 }
 
+void SimNode::publishIdleClock() {
+  const ros::WallTime now = ros::WallTime::now();
+  if ((now - idle_clock_wall_).toSec() < 0.1) return;
+  idle_clock_wall_ = now;
+  rosgraph_msgs::Clock clock;
+  clock.clock = toRosTime(world_->time());
+  clock_pub_.publish(clock);
+}
+
 void SimNode::publishState() {
   const ros::Time stamp = toRosTime(world_->time());
   rosgraph_msgs::Clock clock;
@@ -463,6 +472,7 @@ void SimNode::run() {
       case SteppingMode::kStep:
         queue->callAvailable(ros::WallDuration(0.01));
         waiting_since = ros::WallTime::now();
+        publishIdleClock();
         break;
       case SteppingMode::kLockstep: {
         queue->callAvailable(ros::WallDuration(0.001));

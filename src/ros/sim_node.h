@@ -103,6 +103,9 @@ class SimNode {
   bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
   void tick();
   void publishState();
+  // In step mode between steps: /clock again at the time it stands at (10 Hz of wall time), so that nodes
+  // and tools on simulated time (rostopic, rviz, a controller's timers) start and do not hang.
+  void publishIdleClock();
   void publishDebugMarkers();
   bool controlsArrived() const;
   roar_ros::VehicleSnapshot snapshot(const std::string& name) const;
@@ -139,6 +142,7 @@ class SimNode {
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::vector<ros::ServiceServer> services_;
   ros::WallTime pace_wall_start_;
+  ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;
 };
 

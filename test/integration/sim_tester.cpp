@@ -67,6 +67,15 @@ TEST(SimNode, PublishesOdometryAndClock) {
   EXPECT_EQ(listener->clock, listener->odom.header.stamp);
 }
 
+TEST(SimNode, BetweenStepsTheClockStandsButIsPublished) {
+  // Tools on simulated time (rostopic echo, rviz) wait for a /clock: in step mode it comes at 10 Hz of
+  // wall time while nobody steps, at the time the world stands at.
+  const auto last = listener->step(1);
+  const int before = listener->clock_count;
+  EXPECT_TRUE(listener->waitFor([&] { return listener->clock_count - before >= 3; }, 3.0)) << "no /clock between steps";
+  EXPECT_EQ(listener->clock, last.stamp) << "time stands still between steps";
+}
+
 TEST(SimNode, StepAdvancesTimeByExactlyNTicks) {
   const auto before = listener->step(1);
   const auto after = listener->step(7);
