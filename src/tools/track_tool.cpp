@@ -19,7 +19,7 @@ namespace {
 int usage() {
   std::cerr
       << "usage: track_tool COMMAND ...\n"
-         "  import SOURCE MAP_FOLDER [--name NAME] [--spacing M] [--width M]\n"
+         "  import SOURCE MAP_FOLDER [--name NAME] [--spacing M] [--width M] [--close-gap]\n"
          "      SOURCE: a TUMFTM centre-line CSV (x_m,y_m,w_tr_right_m,w_tr_left_m), a ROAR_PY waypoint file (.npz),\n"
          "      or a list of x,y points (--width, default 12 m); resampled when --spacing is given\n"
          "  export MAP_FOLDER OUT.npz                 ROAR_PY waypoints (locations, rotations, lane_widths)\n"
@@ -38,6 +38,13 @@ std::string option(int argc, char** argv, const std::string& flag, const std::st
     if (argv[i] == flag) return argv[i + 1];
   }
   return fallback;
+}
+
+bool flag(int argc, char** argv, const std::string& name) {
+  for (int i = 1; i < argc; ++i) {
+    if (argv[i] == name) return true;
+  }
+  return false;
 }
 
 int check(const std::string& folder) {
@@ -85,6 +92,22 @@ int main(int argc, char** argv) {
       TrackInfo info;
       info.name = option(argc, argv, "--name", fs::path(folder).filename().string());
       auto points = importPoints(argv[2], std::stod(option(argc, argv, "--width", "12")));
+      // A loop that stops short of its start: bridged on request, refused naming the source otherwise.
+      const LoopGap gap = loopGap(points);
+      if (gap.open()) {
+        if (!flag(argc, argv, "--close-gap")) {
+          throw MapError(std::string(argv[2]) + ": the loop does not close: its last point is " + std::to_string(gap.gap) +
+                         " m from its first (its points are " + std::to_string(gap.median_step) +
+                         " m apart); --close-gap bridges it with a straight stretch, if the course is a circuit");
+        }
+        if (!gap.bridgeable()) {
+          throw MapError(std::string(argv[2]) + ": the loop cannot be closed: its first point lies " +
+                         std::to_string(-gap.ahead) + " m behind its last, not ahead of it (the course runs on past its "
+                         "start, or is not a loop: roar_ros imports circuits)");
+        }
+        points = closeLoopGap(points);
+        std::cout << argv[2] << ": bridged the " << gap.gap << " m from the last point back to the first with a straight stretch\n";
+      }
       const std::string spacing = option(argc, argv, "--spacing", "");
       if (!spacing.empty()) points = resampleClosed(points, std::stod(spacing));
       writeMapFolder(folder, points, info);

@@ -1,5 +1,6 @@
 #include "roar/track/circuit_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -101,6 +102,38 @@ std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& contr
     }
   }
   return resampleClosed(dense, spacing);
+}
+
+LoopGap loopGap(const std::vector<CentreLinePoint>& points) {
+  LoopGap g;
+  if (points.size() < 2) return g;
+  std::vector<double> steps;
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    steps.push_back(std::hypot(points[i + 1].x - points[i].x, points[i + 1].y - points[i].y));
+  }
+  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
+  g.median_step = steps[steps.size() / 2];
+  g.gap = std::hypot(points.front().x - points.back().x, points.front().y - points.back().y);
+  const auto& last = points.back();
+  const auto& before = points[points.size() - 2];
+  const double step = std::hypot(last.x - before.x, last.y - before.y);
+  if (step > 0) g.ahead = ((points.front().x - last.x) * (last.x - before.x) + (points.front().y - last.y) * (last.y - before.y)) / step;
+  return g;
+}
+
+std::vector<CentreLinePoint> closeLoopGap(const std::vector<CentreLinePoint>& points) {
+  const LoopGap g = loopGap(points);
+  std::vector<CentreLinePoint> out = points;
+  if (points.size() < 2 || !(g.median_step > 0)) return out;
+  const auto pieces = static_cast<int>(std::ceil(g.gap / g.median_step));
+  const CentreLinePoint a = points.back(), b = points.front();
+  for (int k = 1; k < pieces; ++k) {
+    const double f = static_cast<double>(k) / pieces;
+    auto mix = [f](double u, double v) { return u + f * (v - u); };
+    out.push_back({mix(a.x, b.x), mix(a.y, b.y), mix(a.width_right, b.width_right), mix(a.width_left, b.width_left),
+                   mix(a.z, b.z), mix(a.banking, b.banking)});
+  }
+  return out;
 }
 
 }  // namespace roar::track

@@ -251,7 +251,7 @@ void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint
   std::string centreline = "centerline.csv";
   if (fs::exists(yaml)) readTrackYaml(yaml.string(), &centreline);
   const std::string csv = (fs::path(folder) / centreline).string();
-  checkEdges(track, csv, {});
+  checkEdges(track, "the centre line for " + csv + " (nothing written)", {});
   fs::create_directories(folder);
   writeCentreLineCsv(csv, points);
   if (!fs::exists(yaml)) writeTrackYaml(yaml.string(), info);

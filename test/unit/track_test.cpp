@@ -308,6 +308,27 @@ TEST(MapFolder, WrittenMapsLoadBackAndBadPointListsAreRefused) {
   EXPECT_FALSE(fs::exists(dir.str() + "/eight"));
 }
 
+TEST(CircuitBuilder, ALoopThatStopsShortIsBridgedOneThatRunsPastItsStartIsNot) {
+  // A 100 m circle at 2 m steps without its last 40 m: 40 m short of its start.
+  std::vector<track::CentreLinePoint> points;
+  const double length = 2 * M_PI * 100.0;
+  for (double s = 0; s < length - 40.0; s += 2.0) points.push_back({100 * std::cos(s / 100), 100 * std::sin(s / 100), 5, 5});
+  const auto gap = track::loopGap(points);
+  EXPECT_TRUE(gap.open());
+  EXPECT_NEAR(gap.median_step, 2.0, 0.01);
+  EXPECT_TRUE(gap.bridgeable());
+  const auto closed = track::closeLoopGap(points);
+  EXPECT_FALSE(track::loopGap(closed).open());
+  TempDir dir;
+  track::writeMapFolder(dir.str() + "/bridged", closed, {});
+  EXPECT_NEAR(track::loadMapFolder(dir.str() + "/bridged").length(), length, 1.0);
+  // The same circle running 40 m on past its start (its last point beyond the first): no straight closes it.
+  std::vector<track::CentreLinePoint> overlapping;
+  for (double s = 0; s < length + 40.0; s += 2.0) overlapping.push_back({100 * std::cos(s / 100) + 0.01 * s, 100 * std::sin(s / 100), 5, 5});
+  EXPECT_TRUE(track::loopGap(overlapping).open());
+  EXPECT_FALSE(track::loopGap(overlapping).bridgeable());
+}
+
 TEST(MapFolder, RewritingAMapWritesTheCentreLineItsTrackYamlNames) {
   // track_tool resample once wrote centerline.csv beside a track.yaml naming another file: no effect.
   TempDir dir;

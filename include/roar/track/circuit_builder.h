@@ -1,6 +1,7 @@
 #pragma once
 // Builds a smooth closed circuit from a few control points: a centripetal Catmull-Rom spline (no cusps or
 // self-loops between close points), resampled at an even spacing, with widths interpolated along it.
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -22,5 +23,21 @@ std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& contr
 
 // Resamples a closed centre line at an even spacing (the last gap absorbs the remainder).
 std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing);
+
+// The way from a centre line's last point back to its first, against its steps: a loop whose gap is many
+// steps long is not closed (ROAR_PY's BerkMajor waypoints stop 50.7 m short of their start).
+struct LoopGap {
+  double gap = 0.0;          // m from the last point to the first
+  double median_step = 0.0;  // m between consecutive points
+  // m the first point lies ahead of the last along the last step's direction: negative when the course
+  // runs on past its start (overlapping it, or not a loop at all), which no straight stretch can close.
+  double ahead = 0.0;
+  bool open() const { return gap > std::max(20.0, 10.0 * median_step); }
+  bool bridgeable() const { return ahead > 0.5 * gap; }
+};
+LoopGap loopGap(const std::vector<CentreLinePoint>& points);
+// The points with the gap bridged: points every median step on the straight from the last point to the
+// first, widths, elevation and banking interpolated along it.
+std::vector<CentreLinePoint> closeLoopGap(const std::vector<CentreLinePoint>& points);
 
 }  // namespace roar::track
