@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <yaml-cpp/yaml.h>
+
 #include <filesystem>
 #include <fstream>
 
@@ -372,4 +375,40 @@ TEST(Track, ProjectionOnAStraight) {
   EXPECT_NEAR(right.lateral, -4.5, 1e-9);
   EXPECT_FALSE(right.on_track()) << "4 m to the right edge";
   EXPECT_NEAR(track.project({77.0, -3.5}).width_right, 4.0, 1e-9);
+}
+
+TEST(MapFolder, EveryNumberOfTrackYamlAtEveryExtremeIsRefusedByNameOrLoadsFinite) {
+  // Property test (issue 17): each number of a shipped track.yaml set to 0, -1, 1e-30, 1e30, 1e300, NaN and
+  // inf in turn: refused naming the field, or a map whose length, friction and barriers are finite.
+  TempDir dir;
+  const std::string folder = dir.str() + "/sprint";
+  fs::create_directories(folder);
+  fs::copy_file(test::sourceDir() + "/maps/roar_sprint/centerline.csv", folder + "/centerline.csv");
+  const YAML::Node original = YAML::LoadFile(test::sourceDir() + "/maps/roar_sprint/track.yaml");
+  const std::vector<std::pair<std::string, std::string>> fields = {
+      {"origin", "latitude"}, {"origin", "longitude"}, {"origin", "altitude"}, {"", "friction"}, {"", "ground_friction"},
+      {"start_finish", "s"},  {"", "sectors"},         {"", "barrier_offset"}, {"", "barrier_height"}};
+  int refused = 0, loaded = 0;
+  for (const auto& [parent, key] : fields) {
+    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+      YAML::Node doc = YAML::Clone(original);
+      (parent.empty() ? doc[key] : doc[parent][key]) = YAML::Load(extreme);
+      std::ofstream(folder + "/track.yaml") << YAML::Dump(doc) << "\n";
+      std::string error;
+      try {
+        const auto track = track::loadMapFolder(folder);
+        const auto& info = track.info();
+        EXPECT_TRUE(std::isfinite(track.length()) && std::isfinite(info.friction) && std::isfinite(info.barrier_offset) &&
+                    std::isfinite(info.origin.latitude) && std::isfinite(info.start_finish_s))
+            << key << " = " << extreme << " loaded a map with a non-finite value";
+        ++loaded;
+      } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << key << " = " << extreme << ": " << e.what();
+        ++refused;
+      }
+    }
+  }
+  std::printf("track.yaml property test: %zu fields x 7 extremes: %d refused by name, %d loaded finite\n", fields.size(),
+              refused, loaded);
+  EXPECT_GT(refused, 40);
 }

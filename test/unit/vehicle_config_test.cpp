@@ -3,7 +3,12 @@
 #include <filesystem>
 #include <fstream>
 
+#include <yaml-cpp/yaml.h>
+
+#include <cstdio>
+
 #include "roar/sim/vehicle_config.h"
+#include "roar/sim/world.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -121,4 +126,102 @@ TEST(VehicleConfig, ValidateRejectsImplausibleValues) {
   p = test::sedan();
   p.wheels[0].radius = 1e300;
   EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"), std::string::npos);
+}
+
+namespace {
+
+// Every numeric leaf of a YAML document, with its dotted path (sequence items by index).
+void numericLeaves(const YAML::Node& node, const std::string& path, std::vector<std::string>* out) {
+  if (node.IsMap()) {
+    for (const auto& kv : node) numericLeaves(kv.second, (path.empty() ? "" : path + ".") + kv.first.as<std::string>(), out);
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) numericLeaves(node[i], path + "[" + std::to_string(i) + "]", out);
+  } else if (node.IsScalar()) {
+    double v;
+    const std::string text = node.Scalar();
+    if (text != "true" && text != "false" && YAML::convert<double>::decode(node, v)) out->push_back(path);
+  }
+}
+
+// The node at a dotted path of numericLeaves.
+YAML::Node at(YAML::Node root, const std::string& path) {
+  YAML::Node node = root;
+  std::size_t from = 0;
+  while (from < path.size()) {
+    const std::size_t dot = path.find_first_of(".[", from);
+    const std::string part = path.substr(from, dot == std::string::npos ? std::string::npos : dot - from);
+    if (!part.empty()) node.reset(node[part]);
+    if (dot == std::string::npos) break;
+    if (path[dot] == '[') {
+      const std::size_t close = path.find(']', dot);
+      node.reset(node[std::stoul(path.substr(dot + 1, close - dot - 1))]);
+      from = close + 1;
+      if (from < path.size() && path[from] == '.') ++from;
+    } else {
+      from = dot + 1;
+    }
+  }
+  return node;
+}
+
+}  // namespace
+
+TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite) {
+  // Property test (issue 17): each number of sedan.yaml set to 0, -1, 1e-30, 1e30, 1e300, NaN and inf in
+  // turn: the file is refused naming the field, or the car it makes drives 10 s (full throttle, steering)
+  // with a finite state throughout.
+  namespace fs = std::filesystem;
+  const auto dir = fs::temp_directory_path() / ("roar_vc_property_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "urdf");
+  fs::create_directories(dir / "config");
+  fs::copy_file(test::sourceDir() + "/urdf/sedan.urdf", dir / "urdf" / "sedan.urdf", fs::copy_options::overwrite_existing);
+  const YAML::Node original = YAML::LoadFile(test::sourceDir() + "/config/vehicles/sedan.yaml");
+  std::vector<std::string> fields;
+  numericLeaves(original, "", &fields);
+  ASSERT_GT(fields.size(), 40u);
+  const auto track = test::openGround();
+  int refused = 0, drove = 0;
+  for (const auto& field : fields) {
+    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+      YAML::Node doc = YAML::Clone(original);
+      at(doc, field) = YAML::Load(extreme);
+      std::ofstream((dir / "config" / "sedan.yaml").string()) << YAML::Dump(doc) << "\n";
+      sim::VehicleParams params;
+      std::string error;
+      try {
+        params = sim::loadVehicleModel("sedan", (dir / "urdf").string(), (dir / "config").string());
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+      // The leaf's own key (a sequence item is named by its sequence's key).
+      std::string key = field.substr(field.find_last_of('.') + 1);
+      key = key.substr(0, key.find('['));
+      if (!error.empty()) {
+        EXPECT_NE(error.find(key), std::string::npos) << field << " = " << extreme << ": " << error;
+        ++refused;
+        continue;
+      }
+      sim::World world(track, {});
+      sim::Pose pose;
+      pose.position = {0, 0, 0};
+      world.spawnVehicle("ego", params, pose);
+      bool finite = true;
+      for (int tick = 0; tick < 200 && finite; ++tick) {
+        sim::VehicleControl control;
+        control.throttle = 1.0;
+        control.steer = tick > 100 ? 0.3 : 0.0;
+        world.setControl("ego", control);
+        world.step();
+        const auto state = world.vehicleState("ego");
+        finite = state.pose.position.allFinite() && state.linear_velocity.allFinite() && state.pose.position.norm() < 1e5;
+      }
+      EXPECT_TRUE(finite) << field << " = " << extreme << " was accepted and the car's state left the finite";
+      ++drove;
+    }
+  }
+  RecordProperty("refused", refused);
+  RecordProperty("drove", drove);
+  std::printf("vehicle file property test: %zu fields x 7 extremes: %d refused by name, %d accepted and drove finite\n",
+              fields.size(), refused, drove);
+  fs::remove_all(dir);
 }
