@@ -1,0 +1,50 @@
+#!/usr/bin/env python3
+"""rostest: roar_sim is killed with SIGKILL after the first lap. race_control must not call that a race that
+ran out of time: after sim_silence (10 s of wall time) with no odometry and no answer from roar_sim, it
+writes results.yaml with status aborted, keeping the lap already timed."""
+import os
+import signal
+import sys
+import time
+import unittest
+import xmlrpc.client
+
+import rosgraph
+import rospy
+import rostest
+from rosgraph_msgs.msg import Clock
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from race_checker import this_runs_results  # noqa: E402
+
+
+class SimKilled(unittest.TestCase):
+    def test_a_killed_simulator_gives_an_aborted_race(self):
+        latest = {}
+        rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__("clock", m.clock.to_sec()), queue_size=1)
+        deadline = time.time() + 120
+        while latest.get("clock", 0.0) < 70.0:  # Roar Sprint's lap is about 63 s
+            self.assertLess(time.time(), deadline, "the race reaches t = 70 s")
+            time.sleep(0.05)
+        uri = rosgraph.Master("/sim_killed_checker").lookupNode("/roar_sim")
+        code, _, pid = xmlrpc.client.ServerProxy(uri).getPid("/sim_killed_checker")
+        self.assertEqual(code, 1)
+        os.kill(pid, signal.SIGKILL)
+        killed_wall = time.time()
+        path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
+        run_id = rospy.get_param("/run_id")
+        results = None
+        while results is None:
+            self.assertLess(time.time() - killed_wall, 60.0, "race_control wrote results after roar_sim died")
+            time.sleep(0.5)
+            results = this_runs_results(path, run_id)
+        self.assertEqual(results["status"], "aborted")
+        car = results["cars"][0]
+        self.assertEqual(car["name"], "ego")
+        self.assertGreaterEqual(car["laps_completed"], 1, "the lap timed before the simulator died is kept")
+        self.assertFalse(car["finished"])
+
+
+if __name__ == "__main__":
+    rospy.init_node("sim_killed_checker")
+    rostest.rosrun("roar_ros", "sim_killed", SimKilled, sys.argv)
