@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""rostest: the planner is shut down (rosnode kill) at t = 20 s of a lockstep race and a new one started
+2 s of wall time later, with the parameters the first left on the server. The controller keeps the car on
+the road on the last window it had, the new planner's racing line and windows take over, and the race
+finishes with both laps and no contact."""
+import os
+import subprocess
+import sys
+import time
+import unittest
+
+import rosnode
+import rospy
+import rostest
+from rosgraph_msgs.msg import Clock
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from race_checker import this_runs_results  # noqa: E402
+
+
+class PlannerRestart(unittest.TestCase):
+    def test_the_race_resumes_after_the_planner_restarts(self):
+        latest = {}
+        rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__("clock", m.clock.to_sec()), queue_size=1)
+        deadline = time.time() + 120
+        while latest.get("clock", 0.0) < 20.0:
+            self.assertLess(time.time(), deadline, "the race reaches t = 20 s")
+            time.sleep(0.05)
+        killed, _ = rosnode.kill_nodes(["/planner"])
+        self.assertEqual(killed, ["/planner"])
+        time.sleep(2.0)
+        planner = subprocess.Popen(["rosrun", "roar_ros", "planner", "__name:=planner"],
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
+            run_id = rospy.get_param("/run_id")
+            results = None
+            while results is None:
+                self.assertLess(time.time() - deadline, 150.0, "the race finished after the planner came back")
+                time.sleep(0.5)
+                results = this_runs_results(path, run_id)
+            self.assertEqual(results["status"], "finished")
+            car = results["cars"][0]
+            self.assertEqual(car["laps_completed"], 2)
+            self.assertEqual(car["barrier_contacts"], 0)
+            self.assertEqual(car["track_limit_violations"], 0)
+        finally:
+            planner.terminate()
+            planner.wait(timeout=10)
+
+
+if __name__ == "__main__":
+    rospy.init_node("planner_restart_checker")
+    rostest.rosrun("roar_ros", "planner_restart", PlannerRestart, sys.argv)
