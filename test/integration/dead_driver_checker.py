@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""rostest: the controller is killed with SIGKILL in the middle of a lockstep race. roar_sim takes the
+"""rostest: the controller is killed with SIGKILL (or, with ~kill: rosnode, shut down as `rosnode kill` does)
+in the middle of a lockstep race. roar_sim takes the
 driver as lost (its publisher gone, or after lockstep_timeout; once, not every tick) and the race goes on at
 full speed; the car, left at speed, is brought to a stop on the road without touching the barrier, and
 race_control retires it ("driver lost"): the race, every car finished or retired, ends as finished."""
@@ -10,6 +11,7 @@ import unittest
 import xmlrpc.client
 
 import rosgraph
+import rosnode
 import rospy
 import rostest
 import yaml
@@ -35,10 +37,15 @@ class DeadDriver(unittest.TestCase):
         speed = latest["odom"].twist.twist.linear.x
         self.assertGreater(speed, 15.0, "the car is at speed when its driver dies")
 
-        uri = rosgraph.Master("/dead_driver_checker").lookupNode("/controller")
-        code, _, pid = xmlrpc.client.ServerProxy(uri).getPid("/dead_driver_checker")
-        self.assertEqual(code, 1)
-        os.kill(pid, signal.SIGKILL)
+        if rospy.get_param("~kill", "sigkill") == "rosnode":
+            # Shut down as `rosnode kill` does: the node unregisters its publishers on the way out.
+            killed, _ = rosnode.kill_nodes(["/controller"])
+            self.assertEqual(killed, ["/controller"])
+        else:
+            uri = rosgraph.Master("/dead_driver_checker").lookupNode("/controller")
+            code, _, pid = xmlrpc.client.ServerProxy(uri).getPid("/dead_driver_checker")
+            self.assertEqual(code, 1)
+            os.kill(pid, signal.SIGKILL)
         killed_at, killed_wall = latest["clock"], time.time()
 
         # Before: every tick waited the full 5 s lockstep_timeout (0.05 s of race per 5 s). Now one wait, then
