@@ -165,7 +165,7 @@ bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::Att
     auto it = io_.find(req.vehicle);
     if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + req.vehicle + "'");
     if (req.sensor_yaml.size() > 100000) throw std::invalid_argument("sensor_yaml is longer than 100000 characters");
-    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor");
+    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor's sensor_yaml");
     if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
     it->second.sensors->attach(specs.front(), world_->time());
     publishStaticTransforms();

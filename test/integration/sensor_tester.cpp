@@ -153,6 +153,31 @@ TEST(Sensors, AttachAndDetachAtRunTime) {
   EXPECT_FALSE(detach.response.success);
 }
 
+TEST(Sensors, HostileAttachRequestsAreRefusedByNameAndTheSimulatorLivesOn) {
+  // Anyone who reaches the master can call attach_sensor: mounts at 1e38 once aborted roar_sim in Embree.
+  const std::vector<std::pair<std::string, std::string>> hostile = {
+      {"{name: far, type: camera_rgb, x: 1e38}", "x: 1e+38 is outside"},
+      {"{name: far, type: lidar, z: 1e300}", "z: 1e+300 is outside"},
+      {"{name: huge, type: camera_rgb, image_width: 8192, image_height: 8192}", "image_width"},
+      {"{name: blind, type: camera_rgb, fov: .nan}", "fov"},
+      {"{name: fast, type: lidar, rate: 1e9}", "rate"},
+      {"{name: odd, type: radar}", "type"},
+      {"{name: broken, type: camera_rgb, x: [", "sensor_yaml"},
+      {"", "sensor_yaml"},
+      {"{name: '" + std::string(100000, 'a') + "', type: gnss}", "sensor_yaml is longer than"},
+  };
+  for (const auto& [yaml, expected] : hostile) {
+    roar_ros::AttachSensor attach;
+    attach.request.vehicle = "ego";
+    attach.request.sensor_yaml = yaml;
+    ASSERT_TRUE(ros::service::call("/roar_sim/attach_sensor", attach)) << "roar_sim answered " << yaml.substr(0, 80);
+    EXPECT_FALSE(attach.response.success) << yaml.substr(0, 80);
+    EXPECT_NE(attach.response.message.find(expected), std::string::npos)
+        << yaml.substr(0, 80) << ": " << attach.response.message.substr(0, 300);
+  }
+  step(2);  // still stepping
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "sensor_tester");
