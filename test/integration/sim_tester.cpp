@@ -4,6 +4,7 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
+#include <rosgraph_msgs/Log.h>
 #include <roar_ros/DestroyVehicle.h>
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/SpawnVehicle.h>
@@ -12,6 +13,7 @@
 #include <roar_ros/VehicleStatus.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "ros_test_support.h"
@@ -135,6 +137,40 @@ TEST(SimNode, NonFiniteControlNeverReachesThePhysics) {
   listener->step(1);
   EXPECT_EQ(listener->status.applied_control.throttle, 1.0f) << "clamped";
   EXPECT_EQ(listener->status.applied_control.steer, -1.0f);
+}
+
+TEST(SimNode, AFloodOfBadControlsLeavesNoNaNAndFewLogLines) {
+  // 2,000 bad controls (NaN, inf, huge) as fast as they can be sent, stepping between: the car's state stays
+  // finite and roar_sim's warnings about them are throttled in wall time (a few lines, not thousands).
+  ros::NodeHandle nh;
+  int warnings = 0;
+  auto rosout = nh.subscribe<rosgraph_msgs::Log>("/rosout", 1000, [&](const rosgraph_msgs::Log::ConstPtr& m) {
+    if (m->name == "/roar_sim" && m->msg.find("rejected") != std::string::npos) ++warnings;
+  });
+  ASSERT_TRUE(listener->waitFor([&] { return listener->control_pub.getNumSubscribers() > 0 && rosout.getNumPublishers() > 0; }));
+  const float kBad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                        -std::numeric_limits<float>::infinity()};
+  const auto started = ros::WallTime::now();
+  for (int k = 0; k < 2000; ++k) {
+    roar_ros::VehicleControl bad;
+    bad.throttle = kBad[k % 3];
+    bad.steer = kBad[(k + 1) % 3];
+    bad.brake = kBad[(k + 2) % 3];
+    listener->control_pub.publish(bad);
+    if (k % 200 == 199) {
+      listener->step(1);
+      ros::WallDuration(0.2).sleep();  // over two wall seconds: past the previous test's warning's throttle
+    }
+  }
+  const double seconds = (ros::WallTime::now() - started).toSec();
+  listener->step(1);
+  ros::WallDuration(0.5).sleep();
+  listener->waitFor([] { return false; }, 0.5);  // let the log lines in
+  EXPECT_TRUE(std::isfinite(listener->odom.pose.pose.position.x) && std::isfinite(listener->odom.twist.twist.linear.x));
+  EXPECT_TRUE(std::isfinite(listener->status.applied_control.throttle));
+  EXPECT_GT(warnings, 0) << "the bad controls are reported";
+  EXPECT_LE(warnings, 2 + static_cast<int>(seconds)) << "once a wall second at most, over " << seconds << " s";
+  std::printf("bad-control flood: 2000 controls over %.1f s of wall time, %d warning lines\n", seconds, warnings);
 }
 
 TEST(SimNode, SpawnDestroyAndResetServices) {
