@@ -1,6 +1,7 @@
 #include "roar/track/map_folder.h"
 
 #include "roar/config/yaml_section.h"
+#include "roar/track/circuit_builder.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -133,12 +134,9 @@ void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoi
 void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines) {
   const std::size_t n = track.size();
   // Closure: the way back from the last point to the first is no longer than the other steps.
-  std::vector<double> steps;
-  for (std::size_t i = 0; i + 1 < n; ++i) steps.push_back((track.position(i + 1) - track.position(i)).norm());
-  std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
-  const double gap = (track.position(0) - track.position(n - 1)).norm();
-  if (gap > std::max(20.0, 10.0 * steps[steps.size() / 2])) {
-    throw MapError(path + ": the centre line does not close: its last point is " + std::to_string(gap) +
+  const LoopGap gap = loopGap(track.points());
+  if (gap.open()) {
+    throw MapError(path + ": the centre line does not close: its last point is " + std::to_string(gap.gap) +
                    " m from its first (a circuit's last point should be about one step from the first)");
   }
   std::vector<Eigen::Vector2d> left(n), right(n);
