@@ -338,6 +338,13 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
     candidates.push_back(std::move(c));
   };
+  // What is chosen goes under the guard and is remembered: the decision, and the window others predict it by.
+  auto commit = [&](Trajectory window, const RaceDecision& decision) {
+    guard(&window, s, speed, others);
+    memory = decision;
+    plans_[car] = window;
+    return window;
+  };
   // Blue flags: a car a lap up closing from behind is let by. The car moves aside (the side with more room,
   // kept until it has been lapped) at its own pace, where that is clear of everyone.
   if (options_.blue_flags) {
@@ -370,11 +377,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
           make(RaceMode::kYield, side, blue->name, side * (options_.car_width + options_.lateral_margin + 0.3));
       Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
       if (clearOf(c.window, s, speed, predicted, &c.decision.progress, yielding ? 0.5 : 1.0)) {
-        guard(&c.window, s, speed, others);
-        memory = c.decision;
         holds_.erase(car);
-        plans_[car] = c.window;
-        return c.window;
+        return commit(std::move(c.window), c.decision);
       }
     }
   }
@@ -502,11 +506,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   } else {
     holds_.erase(car);
   }
-  Trajectory window = chosen->window;
-  guard(&window, s, speed, others);
-  memory = chosen->decision;
-  plans_[car] = window;
-  return window;
+  return commit(chosen->window, chosen->decision);
 }
 
 void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const {
