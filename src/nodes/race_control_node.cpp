@@ -361,13 +361,15 @@ int main(int argc, char** argv) {
     for (const auto& standing : node.race().standings()) {
       const race::CarRecord& car = node.race().car(standing.name);
       const auto best = car.timer.bestLap();
+      const double lost = node.race().timeLostInTraffic(standing.name);
+      char lost_text[32] = "no clean lap to compare";
+      if (std::isfinite(lost)) std::snprintf(lost_text, sizeof lost_text, "lost %.1f s", lost);
       std::printf("  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
-                  "car contacts %d, track limits %d, in traffic %.1f s (lost %.1f s)\n",
+                  "car contacts %d, track limits %d, in traffic %.1f s (%s)\n",
                   standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
                   car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
                   best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
-                  car.car_contacts, car.track_limit_violations, car.time_in_traffic,
-                  node.race().timeLostInTraffic(standing.name));
+                  car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);
     }
     if (!options.output_dir.empty()) {
       const race::RaceOutcome outcome = complete  ? race::RaceOutcome::kFinished
