@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
 
 namespace roar::rl {
@@ -132,35 +133,48 @@ MlpPolicy MlpPolicy::load(const std::string& path) {
   if (!root.IsMap() || !root["format"] || root["format"].as<std::string>("") != kFormat) {
     fail(std::string("not a policy file (format must be '") + kFormat + "')");
   }
-  if (root["action"].as<std::string>("") != "steer_pedal") fail("action: only steer_pedal policies are known");
+  // The one strict reader: a key it does not know is refused naming the nearest one.
+  config::YamlSection<PolicyError> file(root, "", path);
+  file.require<std::string>("format");
+  if (file.require<std::string>("action") != "steer_pedal") fail("action: only steer_pedal policies are known");
+  const YAML::Node observation_node = file.raw("observation");
+  const auto hidden = file.require<std::vector<int>>("hidden");
+  const auto mean = file.require<std::vector<double>>("mean");
+  const auto spread = file.require<std::vector<double>>("spread");
+  const auto params = file.require<std::vector<double>>("params");
+  file.finish();
   MlpPolicy policy;
   try {
     YAML::Emitter observation;
-    observation << root["observation"];
+    observation << observation_node;
     const ObservationOptions options = parseObservationOptions(observation.c_str(), path);
-    policy = MlpPolicy(options, root["hidden"].as<std::vector<int>>());
-    const auto mean = root["mean"].as<std::vector<float>>();
-    const auto spread = root["spread"].as<std::vector<float>>();
-    const auto params = root["params"].as<std::vector<float>>();
-    if (mean.size() != policy.mean_.size() || spread.size() != policy.spread_.size()) {
-      fail("mean and spread need " + std::to_string(policy.mean_.size()) + " numbers for this observation");
-    }
-    if (params.size() != policy.params_.size()) {
-      fail("params: " + std::to_string(params.size()) + " numbers, the network needs " + std::to_string(policy.params_.size()));
-    }
-    auto finite = [](float v) { return std::isfinite(v); };
-    if (!std::all_of(mean.begin(), mean.end(), finite) || !std::all_of(params.begin(), params.end(), finite) ||
-        !std::all_of(spread.begin(), spread.end(), [](float v) { return std::isfinite(v) && v > 0; })) {
-      fail("mean, spread and params must be finite numbers, the spreads positive");
-    }
-    policy.mean_ = mean;
-    policy.spread_ = spread;
-    policy.params_ = params;
-  } catch (const YAML::Exception& e) {
-    fail(std::string("malformed: ") + e.what());
+    policy = MlpPolicy(options, hidden);
   } catch (const EnvConfigError& e) {
     throw PolicyError(e.what());
+  } catch (const PolicyError& e) {
+    fail(std::string("hidden: ") + e.what());
   }
+  if (mean.size() != policy.mean_.size() || spread.size() != policy.spread_.size()) {
+    fail("mean and spread need " + std::to_string(policy.mean_.size()) + " numbers for this observation");
+  }
+  if (params.size() != policy.params_.size()) {
+    fail("params: " + std::to_string(params.size()) + " numbers, the network needs " + std::to_string(policy.params_.size()));
+  }
+  // Finite as floats too (1e300 is a finite double), the spreads positive.
+  auto as_floats = [&](const std::vector<double>& v, const char* key, bool positive) {
+    std::vector<float> out;
+    for (double x : v) {
+      const float f = static_cast<float>(x);
+      if (!std::isfinite(f) || (positive && !(f > 0))) {
+        fail(std::string(key) + ": " + std::to_string(x) + (positive ? " is not a positive float" : " is not a finite float"));
+      }
+      out.push_back(f);
+    }
+    return out;
+  };
+  policy.mean_ = as_floats(mean, "mean", false);
+  policy.spread_ = as_floats(spread, "spread", true);
+  policy.params_ = as_floats(params, "params", false);
   return policy;
 }
 

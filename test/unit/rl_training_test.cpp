@@ -74,6 +74,23 @@ TEST(RlPolicy, BrokenFilesAreNamed) {
             std::string::npos);
   EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load("/nonexistent/policy.yaml"); }).find("/nonexistent/policy.yaml"),
             std::string::npos);
+  // The one strict reader: a misspelt or foreign key is refused, and so is a number no float holds.
+  std::string misspelt = text;
+  misspelt.replace(misspelt.find("spread:"), 7, "sprad:");
+  const std::string m = test::errorOf([&] { rl::MlpPolicy::load(write("misspelt.yaml", misspelt)); });
+  EXPECT_NE(m.find("misspelt.yaml: spread: is missing (is 'sprad' a misspelling of it?)"), std::string::npos) << m;
+  const std::string f = test::errorOf([&] { rl::MlpPolicy::load(write("foreign.yaml", text + "learning_rate: 0.1\n")); });
+  EXPECT_NE(f.find("foreign.yaml: learning_rate: is not a known key"), std::string::npos) << f;
+  std::string huge = text;  // the first parameter replaced by 1e300, the count kept
+  const std::size_t first = huge.find("params: [") + 9;
+  huge.replace(first, huge.find(',', first) - first, "1e300");
+  const std::string h = test::errorOf([&] { rl::MlpPolicy::load(write("huge.yaml", huge)); });
+  EXPECT_NE(h.find("huge.yaml: params: "), std::string::npos) << h;
+  EXPECT_NE(h.find("is not a finite float"), std::string::npos) << h;
+  std::string zero_layer = text;
+  zero_layer.replace(zero_layer.find("hidden: [4]"), 11, "hidden: [0]");
+  const std::string z = test::errorOf([&] { rl::MlpPolicy::load(write("zero.yaml", zero_layer)); });
+  EXPECT_NE(z.find("zero.yaml: hidden: a hidden layer needs 1 to 4096 units, not 0"), std::string::npos) << z;
 }
 
 TEST(RlEvolution, AShortRunOnASmallTrackImprovesTheReturn) {
