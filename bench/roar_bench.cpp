@@ -27,6 +27,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include "roar/sensors/camera.h"
 #include "roar/sensors/sensor_rig.h"
@@ -38,6 +39,7 @@
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
+#include "scaling_table.h"
 #include "traffic_table.h"
 
 using namespace roar;
@@ -299,7 +301,9 @@ int main(int argc, char** argv) {
   double grip_use = stack::TimeTrialOptions().grip_use;
   control::LateralMethod lateral = control::TrackerOptions().lateral;
   bool minimum_time = false, yardstick = true;
-  bool race = true, benchmarks = true, traffic = false, verbose = false;
+  bool race = true, benchmarks = true, traffic = false, verbose = false, scaling = false;
+  int max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  double scaling_seconds = 3.0;
   int seeds = 3, traffic_laps = 3;
   std::string only_map;
   planning::OvertakeOptions overtake;
@@ -330,6 +334,13 @@ int main(int argc, char** argv) {
       only_map = argv[i] + 6;
     } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
       bench::setOvertakeOption(&overtake, argv[i] + 11);
+    } else if (std::strcmp(argv[i], "--scaling") == 0) {
+      scaling = true;
+      race = benchmarks = false;
+    } else if (std::strncmp(argv[i], "--max-threads=", 14) == 0) {
+      max_threads = std::max(1, std::atoi(argv[i] + 14));
+    } else if (std::strncmp(argv[i], "--seconds=", 10) == 0) {
+      scaling_seconds = std::max(0.5, std::atof(argv[i] + 10));
     } else if (std::strcmp(argv[i], "--verbose") == 0) {
       verbose = true;
     } else {
@@ -343,6 +354,12 @@ int main(int argc, char** argv) {
     benchmark::Shutdown();
   }
   if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
+  if (scaling) {
+    const track::Track sprint = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
+    const sim::VehicleParams car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+    bench::printScalingTable([&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); },
+                             chaseAction, max_threads, scaling_seconds);
+  }
   if (traffic) {
     bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,
                              traffic_laps, overtake, only_map, verbose);
