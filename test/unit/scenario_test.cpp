@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -116,4 +118,48 @@ TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {
   auto close = window;
   planning::followBehind(&close, 0.0, 5.0, 10.0, 12.0, limits);
   EXPECT_LT(close.points[0].speed, 10.0);
+}
+
+TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
+  // Property test (issue 17): each number of a two-car scenario set to 0, -1, 1e-30, 1e30, 1e300, NaN and inf
+  // in turn: refused naming the field, or a scenario whose numbers are finite and physical.
+  const std::vector<std::pair<std::string, std::string>> fields = {
+      {"laps", "laps: 2"},
+      {"spawn_point", "spawn_point: 1"},
+      {"max_speed", "max_speed: 15.0"},
+      {"pace", "pace: 0.9"},
+      {"colour", "colour: [0.5, 0.5, 0.5]"},
+  };
+  const std::string base =
+      "name: t\nmap: roar_sprint\nlaps: 2\ncars:\n"
+      "  - {name: a, spawn_point: 0}\n"
+      "  - {name: b, spawn_point: 1, max_speed: 15.0, pace: 0.9, colour: [0.5, 0.5, 0.5]}\n";
+  int refused = 0, loaded = 0;
+  for (const auto& [key, original] : fields) {
+    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+      std::string text = base;
+      const std::string value = key == "colour" ? std::string("[") + extreme + ", 0.5, 0.5]" : extreme;
+      const std::size_t at = key == "laps" ? text.find(original) : text.rfind(original);
+      text.replace(at, original.size(), key + ": " + value);
+      const fs::path path = fs::temp_directory_path() / ("roar_scenario_x_" + std::to_string(::getpid()) + ".yaml");
+      std::ofstream(path) << text;
+      try {
+        const auto s = stack::loadScenario(path.string(), shipped());
+        EXPECT_GE(s.laps, 1) << key << " = " << extreme;
+        for (const auto& car : s.cars) {
+          EXPECT_TRUE(std::isfinite(car.max_speed) && car.max_speed >= 0 && car.max_speed <= 150) << key << " = " << extreme;
+          EXPECT_TRUE(car.pace > 0 && car.pace <= 1) << key << " = " << extreme;
+          EXPECT_TRUE(car.colour.allFinite() && car.colour.maxCoeff() <= 1) << key << " = " << extreme;
+          EXPECT_TRUE(car.spawn_point >= 0) << key << " = " << extreme;
+        }
+        ++loaded;
+      } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << key << " = " << extreme << ": " << e.what();
+        ++refused;
+      }
+      fs::remove(path);
+    }
+  }
+  std::printf("scenario property test: %zu fields x 7 extremes: %d refused by name, %d loaded in range\n", fields.size(),
+              refused, loaded);
 }
