@@ -18,7 +18,7 @@ from nav_msgs.msg import Odometry
 from roar_ros.msg import Trajectory, VehicleControl
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from race_checker import this_runs_results  # noqa: E402
+from race_checker import wait_for_results  # noqa: E402
 
 WHEELBASE = 2.875  # m, the sedan's
 MAX_STEER = 0.61   # rad at steer = 1 (config/vehicles/sedan.yaml)
@@ -115,14 +115,9 @@ class CutIn(unittest.TestCase):
 
         rospy.Subscriber("/ego/odom", Odometry, on_ego, queue_size=50)
         rospy.Subscriber("/swerver/odom", Odometry, drive, queue_size=50)
-        path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
-        run_id = rospy.get_param("/run_id")
-        deadline = time.time() + 400
-        results = None
-        while time.time() < deadline and not rospy.is_shutdown() and not results:
-            time.sleep(0.5)
-            results = this_runs_results(path, run_id)
-        self.assertTrue(results, "race_control wrote no results of run %s in %s" % (run_id, path))
+        results = wait_for_results(rospy.get_param("~output_dir"), time.time() + 400)
+        self.assertTrue(results, "race_control wrote no results of run %s in %s" % (rospy.get_param("/run_id"),
+                                                                                    rospy.get_param("~output_dir")))
         rospy.loginfo("cut_in: swerves %s", swerves)
         self.assertGreaterEqual(len(swerves), 1, "ego never pulled out to pass: nothing was cut into")
         self.assertEqual(results["status"], "finished")

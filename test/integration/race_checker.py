@@ -12,6 +12,7 @@ import rospy
 import rostest
 import yaml
 from roar_ros.msg import RaceStatus
+from rosgraph_msgs.msg import Clock
 
 STATUS = []
 
@@ -30,6 +31,37 @@ def this_runs_results(path, run_id):
         return yaml.safe_load(f)
 
 
+def wait_for_results(output_dir, until):
+    """This launch's results.yaml in output_dir once race_control has written it, or None at wall time until."""
+    path, run_id = os.path.join(output_dir, "results.yaml"), rospy.get_param("/run_id")
+    while time.time() < until and not rospy.is_shutdown():
+        results = this_runs_results(path, run_id)
+        if results:
+            return results
+        time.sleep(0.5)
+    return None
+
+
+class SimClock:
+    """The simulated time /clock last gave (0 before the first tick)."""
+
+    def __init__(self):
+        self.now = 0.0
+        rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
+
+    def _on_clock(self, msg):
+        self.now = msg.clock.to_sec()
+
+    def wait_until(self, t, wall_seconds):
+        """Whether simulated time reached t within wall_seconds."""
+        deadline = time.time() + wall_seconds
+        while self.now < t:
+            if time.time() > deadline:
+                return False
+            time.sleep(0.05)
+        return True
+
+
 class RaceResults(unittest.TestCase):
     def test_every_car_finishes_clean(self):
         cars = rospy.get_param("~cars", ["ego"])
@@ -38,15 +70,8 @@ class RaceResults(unittest.TestCase):
         max_lap_of = rospy.get_param("~max_lap_of", {})  # per car, tighter than max_lap
         expected_passes = rospy.get_param("~passes", [])  # ["passer>passed", ...] that must be in the results
         path = os.path.join(rospy.get_param("~output_dir"), "results.yaml")
-        run_id = rospy.get_param("/run_id")
-        deadline = time.time() + 280
-        results = None
-        while time.time() < deadline and not rospy.is_shutdown():
-            results = this_runs_results(path, run_id)
-            if results:
-                break
-            time.sleep(0.5)
-        self.assertTrue(results, "race_control wrote no results of run %s in %s" % (run_id, path))
+        results = wait_for_results(rospy.get_param("~output_dir"), time.time() + 280)
+        self.assertTrue(results, "race_control wrote no results of run %s in %s" % (rospy.get_param("/run_id"), path))
         self.assertEqual(results["status"], "finished")
         self.assertEqual(sorted(car["name"] for car in results["cars"]), sorted(cars))
         self.assertEqual(sorted(car["position"] for car in results["cars"]), list(range(1, len(cars) + 1)))
