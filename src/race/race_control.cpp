@@ -112,8 +112,7 @@ bool RaceControl::inTraffic(const CarRecord& car, double time, double covered, d
     if (&other == &car || other.finished || !other.retired.empty()) continue;
     const auto theirs = distanceAt(other, time);
     if (!theirs) continue;
-    const double ahead = *theirs - covered - std::floor((*theirs - covered) / track_.length()) * track_.length();
-    if (ahead < reach) return true;
+    if (track_.forwardDistance(covered, *theirs) < reach) return true;
   }
   return false;
 }
