@@ -203,7 +203,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
       {"min_gain", &o->min_gain},             {"engage_time", &o->engage_time},
       {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time},
       {"rejoin_time", &o->rejoin_time},       {"min_pass_speed", &o->min_pass_speed},
-      {"offline_grip", &o->offline_grip},     {"max_pass_offset", &o->max_pass_offset}};
+      {"offline_grip", &o->offline_grip},     {"max_pass_offset", &o->max_pass_offset},
+      {"defend_time", &o->defend_time},       {"defend_shift", &o->defend_shift}};
   const auto it = fields.find(name);
   if (it != fields.end()) {
     *it->second = value;
@@ -213,6 +214,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     o->abort_plans = static_cast<int>(value);
   } else if (name == "blue_flags") {
     o->blue_flags = value != 0.0;
+  } else if (name == "defend") {
+    o->defend = value != 0.0;
   } else {
     throw std::invalid_argument("--overtake: no option '" + name + "'");
   }

@@ -66,6 +66,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.overtake.lateral_margin = readDouble(nh, "pass_lateral_margin", field.overtake.lateral_margin, 0.2, 5.0);
   field.overtake.horizon = readDouble(nh, "pass_horizon", field.overtake.horizon, 1.0, 20.0);
   field.overtake.blue_flags = readBool(nh, "blue_flags", field.overtake.blue_flags);
+  field.overtake.defend = readBool(nh, "defend", field.overtake.defend);
   return o;
 }
 

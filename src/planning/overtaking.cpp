@@ -25,6 +25,7 @@ const char* raceModeName(RaceMode mode) {
     case RaceMode::kPass: return "pass";
     case RaceMode::kHold: return "hold";
     case RaceMode::kYield: return "yield";
+    case RaceMode::kDefend: return "defend";
   }
   return "unknown";
 }
@@ -382,6 +383,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       }
     }
   }
+  // Defending: not while busy with a car ahead (passing, following it close, holding beside someone).
+  const bool free_to_defend = memory.mode == RaceMode::kRacingLine || memory.mode == RaceMode::kDefend ||
+                              (memory.mode == RaceMode::kFollow && !can_pass);
+  if (options_.defend && free_to_defend && !alongside) {
+    Candidate c = defend(car, s, lateral, speed, traffic, base, predicted, memory);
+    if (c.decision.mode == RaceMode::kDefend) {
+      holds_.erase(car);
+      return commit(std::move(c.window), c.decision);
+    }
+  }
   // Alone on the line (nobody near, no move under way): the racing line's window as it is, so that a car
   // racing alone drives exactly as without this planner, its tracking error notwithstanding.
   if (others.empty() && memory.mode == RaceMode::kRacingLine && memory.ramp_from == 0.0) {
@@ -507,6 +518,58 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     holds_.erase(car);
   }
   return commit(chosen->window, chosen->decision);
+}
+
+OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, double s, double lateral, double speed,
+                                                    const std::vector<TrafficCar>& traffic, const Trajectory& base,
+                                                    const std::vector<Prediction>& predicted, const RaceDecision& memory) {
+  const double L = line_.length;
+  const double reach = options_.car_length + options_.defend_time * std::max(speed, 5.0);
+  const double beside = options_.car_length + options_.longitudinal_margin;
+  Defence& defence = defences_[car];
+  bool against_near = false;
+  const TrafficCar* attacker = nullptr;
+  double attacker_rel = -std::numeric_limits<double>::infinity();
+  for (const auto& o : traffic) {
+    if (o.name == car || o.lapping) continue;  // a car a lap up is let by (blue flags), not defended against
+    const double rel = aheadOnLap(o.s, s, L);
+    // The car defended against is near until it has gone by or dropped well back.
+    if (o.name == defence.against && rel < options_.car_length && rel > -2.0 * reach) against_near = true;
+    if (rel >= -beside || rel < -reach || rel <= attacker_rel) continue;
+    attacker = &o;
+    attacker_rel = rel;
+  }
+  if (!against_near) defence = {};
+  Candidate none{Trajectory{}, RaceDecision{}, false};
+  if (!attacker) return none;
+  const bool defending = memory.mode == RaceMode::kDefend && memory.other == attacker->name;
+  const double across = attacker->lateral - lateral;
+  const int side = across > 0 ? +1 : -1;
+  // A threat: close behind, pulled out to one side by half a car's width, and not dropping back.
+  const bool threat = std::abs(across) > 0.5 * options_.car_width && attacker->speed > speed - 0.5;
+  if (!defending && (!threat || !defence.against.empty())) return none;  // one move, no second
+  RaceDecision d{RaceMode::kDefend, side, attacker->name, lateral + side * std::min(std::abs(across), options_.defend_shift),
+                 0.0, s, lateral};
+  if (defending) {  // the move goes on where it began, to where it was going
+    d.side = memory.side;
+    d.offset = memory.offset;
+    d.ramp_s = memory.ramp_s;
+    d.ramp_from = memory.ramp_from;
+  }
+  Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
+  // Never across in front of a car that could not brake for it: the move is begun only while the car
+  // behind, closing at the speed it has, stays a car's length and margin behind until the move is made
+  // and rejoin_time after. The cars ahead and beside are checked as any plan is.
+  const double closing = std::max(0.0, attacker->speed - speed);
+  if (!defending && -attacker_rel - closing * (options_.shift_time + options_.rejoin_time) < beside) return none;
+  std::vector<Prediction> ahead;
+  for (const auto& p : predicted) {
+    if (aheadOnLap(p.s, s, L) > 0.0) ahead.push_back(p);
+  }
+  c.clear = clearOf(c.window, s, speed, ahead, &c.decision.progress, defending ? 0.5 : 1.0);
+  if (!c.clear) return none;
+  defence.against = attacker->name;
+  return c;
 }
 
 void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const {

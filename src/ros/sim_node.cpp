@@ -397,6 +397,13 @@ std::string SimNode::notReadyToStart() const {
     for (const auto& topic : topics) {
       if (!subscribers[topic].count(node)) return "the recorder " + node + " on " + topic;
     }
+    // A recorder that reports its progress: its reports must reach us before the first tick.
+    const std::string progress = node + "/recorded";
+    for (const auto& sub : recorded_subs_) {
+      if (sub.getTopic() == progress && graph.publishers[progress].count(node) && sub.getNumPublishers() == 0) {
+        return "the link to " + progress;
+      }
+    }
   }
   if (options_.wait_for_drivers) {
     for (const auto& car : options_.vehicles) {
@@ -426,6 +433,62 @@ std::string SimNode::notReadyToStart() const {
   return "";
 }
 
+void SimNode::subscribeRecorderProgress() {
+  for (const auto& recorder : options_.wait_for_recorders) {
+    const std::string node = ros::names::resolve(recorder);
+    recorded_subs_.push_back(nh_.subscribe<rosgraph_msgs::Clock>(
+        node + "/recorded", 100,
+        [this, node](const rosgraph_msgs::Clock::ConstPtr& m) {
+          if (recorder_pacing_ && recorder_pacing_->recorded(node, m->clock.toSec(), ros::WallTime::now().toSec())) {
+            ROS_INFO("roar_sim: the recorder %s is recording again at t = %.2f s", node.c_str(), m->clock.toSec());
+          }
+        },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+  }
+}
+
+void SimNode::setUpRecorderPacing() {
+  if (options_.wait_for_recorders.empty()) return;
+  GraphState graph;
+  queryGraph(&graph);
+  std::vector<std::string> paced;
+  for (const auto& recorder : options_.wait_for_recorders) {
+    const std::string node = ros::names::resolve(recorder);
+    const std::string topic = node + "/recorded";
+    if (!graph.publishers[topic].count(node)) {
+      ROS_WARN("roar_sim: the recorder %s reports no progress (no %s): roar_sim cannot keep its pace, and on a busy "
+               "machine its recording may miss ticks (race_recorder reports; rosbag record does not)",
+               node.c_str(), topic.c_str());
+      continue;
+    }
+    paced.push_back(node);
+  }
+  recorder_pacing_ = std::make_unique<sim::RecorderPacing>(paced, options_.world.control_dt, options_.lockstep_timeout);
+}
+
+bool SimNode::recordersKeptUp() {
+  if (!recorder_pacing_) return true;
+  const double wall = ros::WallTime::now().toSec();
+  for (std::size_t i = 0; i < recorded_subs_.size(); ++i) {
+    // A recorder whose node is gone (it had connected) is not waited for.
+    const std::string node = recorded_subs_[i].getTopic().substr(0, recorded_subs_[i].getTopic().rfind('/'));
+    if (recorded_subs_[i].getNumPublishers() == 0 && !recorder_pacing_->givenUp(node) &&
+        recorder_pacing_->lastRecorded(node) > -1.0) {
+      recorder_pacing_->gone(node);
+      ROS_WARN("roar_sim: the recorder %s has gone at t = %.2f s: the race goes on and its recording ends there",
+               node.c_str(), world_->time());
+    }
+  }
+  std::vector<std::string> given_up;
+  const bool kept_up = recorder_pacing_->waitingFor(world_->time() + options_.world.control_dt, wall, &given_up).empty();
+  for (const auto& node : given_up) {
+    ROS_WARN("roar_sim: the recorder %s has written nothing for %.0f s (its last tick t = %.2f s): going on without "
+             "waiting for it; its recording misses ticks from here",
+             node.c_str(), options_.lockstep_timeout, recorder_pacing_->lastRecorded(node));
+  }
+  return kept_up;
+}
+
 void SimNode::restartPacing() {
   pace_wall_start_ = ros::WallTime::now();
   pace_sim_start_ = world_ ? world_->time() : 0.0;
@@ -444,6 +507,7 @@ void SimNode::run() {
   // Give subscribers a moment to connect before the first state goes out (a recorder needs longer).
   const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(options_.start_wait);
   while (ros::ok() && ros::WallTime::now() < settle) queue->callAvailable(ros::WallDuration(0.05));
+  subscribeRecorderProgress();
   // A recorder and the drivers must hear the first tick: wait until they subscribe and connect.
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
   for (std::string missing = notReadyToStart(); ros::ok() && !missing.empty(); missing = notReadyToStart()) {
@@ -458,6 +522,7 @@ void SimNode::run() {
     const ros::WallTime links = ros::WallTime::now() + ros::WallDuration(1.0);
     while (ros::ok() && ros::WallTime::now() < links) queue->callAvailable(ros::WallDuration(0.05));
   }
+  setUpRecorderPacing();
   publishState();
   // Agents' first episodes begin where their cars were spawned; /roar_sim/reset_episode starts others.
   updateRayScene();
@@ -477,7 +542,7 @@ void SimNode::run() {
       case SteppingMode::kLockstep: {
         queue->callAvailable(ros::WallDuration(0.001));
         const bool timed_out = (ros::WallTime::now() - waiting_since).toSec() > options_.lockstep_timeout;
-        if (controlsArrived() || timed_out) {
+        if ((controlsArrived() || timed_out) && recordersKeptUp()) {
           if (timed_out) markLostDrivers();
           markDisconnectedDrivers();
           tick();
@@ -488,6 +553,10 @@ void SimNode::run() {
       }
       case SteppingMode::kAsync: {
         queue->callAvailable(ros::WallDuration(0));
+        if (!recordersKeptUp()) {
+          queue->callAvailable(ros::WallDuration(0.001));
+          break;
+        }
         tick();
         paceToRealTime();
         waiting_since = ros::WallTime::now();

@@ -16,6 +16,7 @@
 #include "agent_interface.h"
 #include "debug_drawing.h"
 #include "roar/sensors/ray_scene.h"
+#include "roar/sim/recorder_pacing.h"
 #include "roar/sim/world.h"
 #include "roar/track/track.h"
 #include "roar_ros/AttachSensor.h"
@@ -108,6 +109,12 @@ class SimNode {
   void publishIdleClock();
   void publishDebugMarkers();
   bool controlsArrived() const;
+  // Recorders that report their progress (a publisher on <recorder>/recorded: race_recorder) are kept
+  // within kRecorderMaxLag ticks; those that do not (rosbag record) cannot be, and are named once.
+  void subscribeRecorderProgress();
+  void setUpRecorderPacing();
+  // Whether the next tick may go out as far as the recorders are concerned (warns of one given up).
+  bool recordersKeptUp();
   roar_ros::VehicleSnapshot snapshot(const std::string& name) const;
   std::string modeName() const;
 
@@ -144,6 +151,8 @@ class SimNode {
   ros::WallTime pace_wall_start_;
   ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;
+  std::unique_ptr<sim::RecorderPacing> recorder_pacing_;
+  std::vector<ros::Subscriber> recorded_subs_;
 };
 
 }  // namespace roar::ros_bridge

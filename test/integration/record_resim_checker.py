@@ -58,6 +58,10 @@ class RecordResim(unittest.TestCase):
             "/ego/odom": [tick_of(m.header.stamp) for m in self.messages["/ego/odom"]],
             "/ego/vehicle_status": [tick_of(m.header.stamp) for m in self.messages["/ego/vehicle_status"]],
             "/clock": [tick_of(m.clock) for m in self.messages["/clock"]],
+            "/ego/joint_states": [tick_of(m.header.stamp) for m in self.messages["/ego/joint_states"]],
+            # /tf: the car's transforms of each tick (other nodes' transforms come on their own messages).
+            "/tf": [tick_of(m.transforms[0].header.stamp) for m in self.messages["/tf"]
+                    if any(tf.child_frame_id.startswith("ego/") for tf in m.transforms)],
         }
         # roar_sim runs on after the race; stopping the recorder cuts its topics between two messages of
         # one tick. Up to the last tick every topic reached, each holds every tick from 0 exactly once.

@@ -26,6 +26,12 @@ Fixture& fixture() {
   return f;
 }
 
+// A wide road (Roar Speedway), where a defensive move has room beside the racing line.
+Fixture& wideFixture() {
+  static Fixture f{track::loadMapFolder(test::sourceDir() + "/maps/roar_speedway")};
+  return f;
+}
+
 // The longest stretch of the line without a slow corner: where a pass on a straight happens.
 double straightStart(const planning::Trajectory& line) {
   double best_s = 0.0, best_speed = 0.0;
@@ -210,4 +216,110 @@ TEST(Overtaking, InClosedLoopTheFastCarPassesCleanlyAndRejoinsTheLine) {
   EXPECT_GE(closest, o.car_width + 0.3) << "side by side, the cars were never closer than a car's width and air";
   EXPECT_LT(std::abs(fast_lat), 0.6) << "back on the racing line after the pass";
   EXPECT_EQ(planner.decision("fast").mode, RaceMode::kRacingLine);
+}
+
+// Racecraft: a car with a faster one pulling out behind it makes one move across to cover that side, and
+// no second when the other switches sides; alongside, it holds its place. Off by default.
+TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
+  auto& f = wideFixture();
+  planning::OvertakeOptions o;
+  o.defend = true;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  // Where the road leaves room for the move on one side for 250 m.
+  const double needed = o.defend_shift + 0.5 * o.car_width + o.edge_margin + 0.2;
+  double s = -1.0;
+  int side = 0;
+  for (const auto& p : f.line.points) {
+    for (int sd : {+1, -1}) {
+      bool wide = true;
+      for (double a = 0.0; a <= 250.0 && wide; a += 5.0) {
+        wide = (sd > 0 ? planner.roomLeft(p.s + a) : planner.roomRight(p.s + a)) >= needed;
+      }
+      if (wide && p.speed > 15.0 && s < 0) {
+        s = p.s;
+        side = sd;
+      }
+    }
+  }
+  ASSERT_GE(s, 0.0) << "Roar Sprint has 250 m with room for a defensive move";
+  const double v = 0.9 * planning::sampleAt(f.line, s).speed;
+  auto shiftAt = [&](const planning::Trajectory& plan, double at) {
+    return planning::sampleAt(plan, at).offset - planning::sampleAt(f.line, at).offset;
+  };
+  planning::TrafficCar attacker{"attacker", s - 20.0, side * 2.0, v + 2.0};
+  auto plan = planner.plan("defender", s, 0.0, v, {attacker}, 10.0, 250.0);
+  auto d = planner.decision("defender");
+  ASSERT_EQ(d.mode, RaceMode::kDefend) << planning::raceModeName(d.mode);
+  EXPECT_EQ(d.side, side);
+  EXPECT_EQ(d.other, "attacker");
+  EXPECT_GE(side * shiftAt(plan, s + 120.0), 1.5) << "across towards the attacker's side by most of a car's width";
+  EXPECT_LE(side * shiftAt(plan, s + 120.0), o.defend_shift + 1e-6) << "no further than defend_shift";
+  // The attacker switches sides: the defender does not follow it across (one move).
+  const double lateral = shiftAt(plan, s + 30.0);
+  attacker = {"attacker", s + 30.0 - 12.0, -side * 2.0, v + 2.0};
+  plan = planner.plan("defender", s + 30.0, lateral, v, {attacker}, 10.0, 250.0);
+  d = planner.decision("defender");
+  EXPECT_EQ(d.mode, RaceMode::kDefend);
+  EXPECT_EQ(d.side, side) << "no second move";
+  for (double ahead : {0.0, 20.0, 60.0, 120.0}) EXPECT_GE(side * shiftAt(plan, s + 30.0 + ahead), side * lateral - 0.05) << ahead;
+  // Alongside now on the other side: the defender holds its place, leaving it the room.
+  attacker = {"attacker", s + 60.0 - 2.0, -side * 2.0, v + 2.0};
+  const double held = shiftAt(plan, s + 60.0);
+  plan = planner.plan("defender", s + 60.0, held, v, {attacker}, 10.0, 250.0);
+  d = planner.decision("defender");
+  EXPECT_EQ(d.mode, RaceMode::kHold) << planning::raceModeName(d.mode);
+  for (double ahead : {5.0, 10.0, 20.0}) EXPECT_GE(side * shiftAt(plan, s + 60.0 + ahead), side * held - 0.05) << ahead;
+  // A car alone behind on the racing line, or a car falling back, is no threat; and off by default.
+  planning::OvertakePlanner calm(f.track, f.line, f.limits, o);
+  calm.plan("defender", s, 0.0, v, {{"behind", s - 20.0, 0.0, v + 2.0}}, 10.0, 250.0);
+  EXPECT_NE(calm.decision("defender").mode, RaceMode::kDefend);
+  calm.plan("other", s, 0.0, v, {{"dropping", s - 20.0, side * 2.0, v - 3.0}}, 10.0, 250.0);
+  EXPECT_NE(calm.decision("other").mode, RaceMode::kDefend);
+  // Nor a move across in front of a car too close to brake for it (10 m back, closing at 4 m/s).
+  calm.plan("late", s, 0.0, v, {{"close", s - 10.0, side * 2.0, v + 4.0}}, 10.0, 250.0);
+  EXPECT_NE(calm.decision("late").mode, RaceMode::kDefend);
+  planning::OvertakePlanner off(f.track, f.line, f.limits, {});
+  off.plan("defender", s, 0.0, v, {{"attacker", s - 20.0, side * 2.0, v + 2.0}}, 10.0, 250.0);
+  EXPECT_NE(off.decision("defender").mode, RaceMode::kDefend);
+}
+
+// Both cars drive their plans exactly, the slow one (70 % pace) defending: the fast one still gets by,
+// the cars never overlap, and the slow one defends once, not again.
+TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
+  auto& f = fixture();
+  planning::OvertakeOptions o;
+  o.defend = true;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const double L = f.line.length;
+  struct Car {
+    std::string name;
+    double s, lateral, v, pace;
+  };
+  Car fast{"fast", 10.0, 0.0, 10.0, 1.0}, slow{"slow", 60.0, 0.0, 10.0, 0.7};
+  const double dt = 0.05;
+  auto drive = [&](Car* c, const planning::Trajectory& plan) {
+    c->v = std::min(planning::sampleAt(plan, c->s).speed, c->v + 8.0 * dt);
+    c->s += c->v * dt;
+    c->lateral = planning::sampleAt(plan, c->s).offset - planning::sampleAt(f.line, c->s).offset;
+  };
+  int defences = 0;
+  bool defending = false;
+  double passed_at = -1.0, overlap = 0.0;
+  for (double t = 0.0; t < 240.0 && (passed_at < 0 || t < passed_at + 10.0); t += dt) {
+    const std::vector<planning::TrafficCar> traffic{{fast.name, fast.s, fast.lateral, fast.v},
+                                                    {slow.name, slow.s, slow.lateral, slow.v}};
+    const auto fast_plan = planner.plan(fast.name, fast.s, fast.lateral, fast.v, traffic, 10.0, 250.0, fast.pace);
+    const auto slow_plan = planner.plan(slow.name, slow.s, slow.lateral, slow.v, traffic, 10.0, 250.0, slow.pace);
+    const bool now = planner.decision(slow.name).mode == RaceMode::kDefend;
+    if (now && !defending) ++defences;
+    defending = now;
+    drive(&fast, fast_plan);
+    drive(&slow, slow_plan);
+    const double gap = wrapAhead(slow.s, fast.s, L);
+    if (std::abs(gap) < o.car_length && std::abs(slow.lateral - fast.lateral) < o.car_width) overlap = std::max(overlap, t);
+    if (passed_at < 0 && gap < -(o.car_length + o.longitudinal_margin)) passed_at = t;
+  }
+  EXPECT_GT(passed_at, 0.0) << "the fast car got by";
+  EXPECT_EQ(overlap, 0.0) << "the cars overlapped at t = " << overlap << " s";
+  EXPECT_EQ(defences, 1) << "one defensive move, made";
 }

@@ -71,16 +71,23 @@ struct OvertakeOptions {
   // moves aside, to the side with more room, and keeps its pace until it has been lapped. Off by default:
   // see README (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
   bool blue_flags = false;
-  double blue_flag_time = 3.0;       // s          // s at speed kept ahead of a car behind when moving across in front of it
+  double blue_flag_time = 3.0;       // s at speed behind within which a car a lap up is let by
+  // Defending: a car with another closing from behind and pulling out to pass makes one move across to
+  // cover that side (at most defend_shift, and only while the move keeps clear of everyone ahead and
+  // beside); no second move while that car stays near, and once it is alongside the defender holds its
+  // place (leaving it a car's width). Off by default: it makes passes harder (README, traffic benchmark).
+  bool defend = false;
+  double defend_time = 1.0;          // s at speed behind within which a car is defended against
+  double defend_shift = 1.85;        // m at most the defensive move goes across (a car's width)
 };
 
-enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield };
+enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield, kDefend };
 const char* raceModeName(RaceMode mode);
 
 struct RaceDecision {
   RaceMode mode = RaceMode::kRacingLine;
-  int side = 0;            // kPass: +1 left of the car passed, -1 right
-  std::string other;       // the car followed or passed
+  int side = 0;            // kPass: +1 left of the car passed, -1 right; kYield, kDefend: the side moved to
+  std::string other;       // the car followed, passed, let by or defended against
   double offset = 0.0;     // m left of the racing line the plan goes to
   double progress = 0.0;   // m the plan gets in the horizon
   // The lateral move under way: from `ramp_from` metres at line s `ramp_s`, reaching `offset` a
@@ -172,6 +179,13 @@ class OvertakePlanner {
   };
   std::map<std::string, Headway> headways_;
   std::map<std::string, std::pair<std::string, int>> yields_;  // the car letting another by: which, and on which side
+  struct Defence {
+    std::string against;  // the car behind a defensive move was made against: no second one while it is near
+  };
+  std::map<std::string, Defence> defences_;
+  // The defensive move for `car` if it makes (or goes on with) one now; mode kRacingLine if not.
+  Candidate defend(const std::string& car, double s, double lateral, double speed, const std::vector<TrafficCar>& traffic,
+                   const Trajectory& base, const std::vector<Prediction>& predicted, const RaceDecision& memory);
   std::map<std::string, int> doubts_;  // plans in a row a committed pass has looked blocked
   std::map<std::string, Trajectory> plans_;  // each car's last window
 };

@@ -1,0 +1,140 @@
+// race_recorder: records a race to a bag through rosbag's C++ API without losing a message, and reports
+// on ~recorded the simulated time of the last /clock it has written, so that roar_sim (its
+// ~wait_for_recorders) never runs more than a few ticks ahead of it (sim/recorder_pacing.h). rosbag record
+// cannot do this: its subscribers' queues hold 100 messages, and on a busy machine at 10x real time a
+// recorder that falls half a second behind loses ticks.
+//
+//   rosrun roar_ros race_recorder _bag:=<file.bag> _topics:='<regex>'
+//
+// ~bag: the bag (its folder is created; written as <bag>.active and renamed when closed, as rosbag does);
+// ~topics: the topics to record, a regular expression the whole name must match. Topics are subscribed to
+// as they appear (the master is asked every ~poll_period wall seconds), with unbounded queues.
+// ~until_finished (false): the bag ends with the race: nothing more is written once /race_status says the
+// race is finished (progress is still reported, so that roar_sim does not wait for a recorder that is done).
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <roar_ros/RaceStatus.h>
+#include <rosgraph_msgs/Clock.h>
+#include <topic_tools/shape_shifter.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <regex>
+#include <set>
+
+#include "roar/ros/param_reading.h"
+
+using namespace roar;
+
+namespace {
+
+struct RecorderOptions {
+  std::string bag;
+  std::string topics;
+  double poll_period = 0.2;
+  bool until_finished = false;
+};
+
+RecorderOptions readParameters(const ros::NodeHandle& pnh) {
+  using namespace ros_bridge;
+  RecorderOptions o;
+  o.bag = readString(pnh, "bag", "");
+  if (o.bag.empty()) throw ParamError(pnh.resolveName("bag") + ": the bag to write is not set");
+  o.bag = std::filesystem::absolute(o.bag).lexically_normal().string();
+  o.topics = readString(pnh, "topics", "");
+  if (o.topics.empty()) throw ParamError(pnh.resolveName("topics") + ": no topics to record (a regular expression)");
+  try {
+    std::regex check(o.topics);
+  } catch (const std::regex_error& e) {
+    throw ParamError(pnh.resolveName("topics") + ": '" + o.topics + "' is not a regular expression: " + e.what());
+  }
+  o.poll_period = readDouble(pnh, "poll_period", o.poll_period, 0.01, 10.0);
+  o.until_finished = readBool(pnh, "until_finished", o.until_finished);
+  return o;
+}
+
+class RaceRecorder {
+ public:
+  RaceRecorder(ros::NodeHandle nh, ros::NodeHandle pnh, RecorderOptions options)
+      : nh_(nh), options_(std::move(options)), pattern_(options_.topics), active_(options_.bag + ".active") {
+    std::filesystem::create_directories(std::filesystem::path(options_.bag).parent_path());
+    bag_.open(active_, rosbag::bagmode::Write);
+    // Latched: a subscriber that connects late still hears how far the recording has got.
+    recorded_pub_ = pnh.advertise<rosgraph_msgs::Clock>("recorded", 10, true);
+    poll_ = nh_.createWallTimer(ros::WallDuration(options_.poll_period), [this](const ros::WallTimerEvent&) { subscribeNew(); });
+    subscribeNew();
+  }
+
+  // Closes the bag and gives it its name; says what it holds.
+  void close() {
+    bag_.close();
+    std::filesystem::rename(active_, options_.bag);
+    std::size_t total = 0;
+    for (const auto& [topic, count] : counts_) total += count;
+    std::printf("race_recorder: %zu messages on %zu topics in %s\n", total, counts_.size(), options_.bag.c_str());
+    std::fflush(stdout);
+  }
+
+ private:
+  void subscribeNew() {
+    ros::master::V_TopicInfo topics;
+    if (!ros::master::getTopics(topics)) return;
+    for (const auto& info : topics) {
+      if (subscribers_.count(info.name) || !std::regex_match(info.name, pattern_)) continue;
+      const std::string topic = info.name;
+      ros::SubscribeOptions ops;
+      ops.topic = topic;
+      ops.queue_size = 0;  // unbounded: roar_sim's pacing, not a dropped message, bounds what waits here
+      ops.md5sum = ros::message_traits::md5sum<topic_tools::ShapeShifter>();
+      ops.datatype = ros::message_traits::datatype<topic_tools::ShapeShifter>();
+      ops.transport_hints = ros::TransportHints().tcpNoDelay();
+      ops.helper = boost::make_shared<ros::SubscriptionCallbackHelperT<const ros::MessageEvent<const topic_tools::ShapeShifter>&>>(
+          [this, topic](const ros::MessageEvent<const topic_tools::ShapeShifter>& event) { write(topic, event); });
+      subscribers_[topic] = nh_.subscribe(ops);
+    }
+  }
+
+  void write(const std::string& topic, const ros::MessageEvent<const topic_tools::ShapeShifter>& event) {
+    // Stamped with wall time, as rosbag record does: the recorded /clock carries the simulated time.
+    const ros::WallTime wall = ros::WallTime::now();
+    const auto& message = event.getConstMessage();
+    if (!finished_) {
+      bag_.write(topic, ros::Time(wall.sec, wall.nsec), *message, event.getConnectionHeaderPtr());
+      ++counts_[topic];
+    }
+    if (topic == "/clock" && message->getDataType() == "rosgraph_msgs/Clock") recorded_pub_.publish(message->instantiate<rosgraph_msgs::Clock>());
+    if (options_.until_finished && !finished_ && topic == "/race_status" && message->getDataType() == "roar_ros/RaceStatus" &&
+        message->instantiate<roar_ros::RaceStatus>()->finished) {
+      finished_ = true;
+      ROS_INFO("race_recorder: the race is finished: %s ends here", options_.bag.c_str());
+    }
+  }
+
+  ros::NodeHandle nh_;
+  RecorderOptions options_;
+  std::regex pattern_;
+  std::string active_;
+  rosbag::Bag bag_;
+  ros::Publisher recorded_pub_;
+  ros::WallTimer poll_;
+  std::map<std::string, ros::Subscriber> subscribers_;
+  std::map<std::string, std::size_t> counts_;
+  bool finished_ = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "race_recorder");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    RaceRecorder recorder(nh, pnh, readParameters(pnh));
+    ros::spin();
+    recorder.close();
+  } catch (const std::exception& e) {
+    ROS_FATAL("race_recorder: %s", e.what());
+    return 1;
+  }
+  return 0;
+}
