@@ -60,7 +60,7 @@ void orderByPace(Field* f) {
 
 struct Totals {
   int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
-  int pace_order = 0, pace_order_races = 0, late_passes = 0;
+  int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0;
   std::vector<double> catch_to_pass, passing_share;
   double traffic_time = 0.0, race_seconds = 0.0;
 
@@ -68,6 +68,7 @@ struct Totals {
     races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
     contacts += t.contacts, at_fault += t.at_fault, track_limits += t.track_limits, barrier += t.barrier;
     pace_order += t.pace_order, pace_order_races += t.pace_order_races, late_passes += t.late_passes;
+    defences += t.defences;
     traffic_time += t.traffic_time, race_seconds += t.race_seconds;
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
@@ -131,7 +132,15 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
           for (const auto& c : field.cars) std::printf(" %s@%d pace %.17g", c.name.c_str(), c.grid_slot, c.pace);
           std::printf("\n");
         }
-        const auto r = stack::runRace(track, vehicle, field.cars, options);
+        // Defensive moves made (OvertakeOptions::defend): a car's decisions turning to kDefend.
+        std::map<std::string, planning::RaceMode> last_mode;
+        stack::RaceOptions traced = options;
+        traced.on_tick = [&](const stack::RaceTick& tick) {
+          planning::RaceMode& last = last_mode[*tick.car];
+          if (tick.decision.mode == planning::RaceMode::kDefend && last != planning::RaceMode::kDefend) ++t.defences;
+          last = tick.decision.mode;
+        };
+        const auto r = stack::runRace(track, vehicle, field.cars, traced);
         ++t.races;
         t.race_seconds += r.sim_time;
         std::map<std::string, double> pace, best_lap;
@@ -187,7 +196,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
               "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
               "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
               "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order.\n"
-              "%.0f simulated s in %.0f s wall; barrier contacts %d\n", all.race_seconds, wall, all.barrier);
+              "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n", all.race_seconds, wall,
+              all.barrier, all.defences);
   return all.contacts;
 }
 
@@ -204,7 +214,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
       {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time},
       {"rejoin_time", &o->rejoin_time},       {"min_pass_speed", &o->min_pass_speed},
       {"offline_grip", &o->offline_grip},     {"max_pass_offset", &o->max_pass_offset},
-      {"defend_time", &o->defend_time},       {"defend_shift", &o->defend_shift}};
+      {"defend_time", &o->defend_time},       {"defend_shift", &o->defend_shift},
+      {"defend_hold", &o->defend_hold}};
   const auto it = fields.find(name);
   if (it != fields.end()) {
     *it->second = value;

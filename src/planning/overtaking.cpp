@@ -542,11 +542,16 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
   if (!against_near) defence = {};
   Candidate none{Trajectory{}, RaceDecision{}, false};
   if (!attacker) return none;
-  const bool defending = memory.mode == RaceMode::kDefend && memory.other == attacker->name;
+  // A move is held for defend_hold at most: covering a line, not driving off the racing line for good.
+  const bool defending = memory.mode == RaceMode::kDefend && memory.other == attacker->name &&
+                         ++defence.plans * options_.plan_period <= options_.defend_hold;
   const double across = attacker->lateral - lateral;
   const int side = across > 0 ? +1 : -1;
-  // A threat: close behind, pulled out to one side by half a car's width, and not dropping back.
-  const bool threat = std::abs(across) > 0.5 * options_.car_width && attacker->speed > speed - 0.5;
+  // A threat: at racing speed (not the grid), close behind, pulled out off the racing line and to one
+  // side of this car by half a car's width each, and not dropping back; this car on its line.
+  const double half = 0.5 * options_.car_width;
+  const bool threat = speed >= options_.min_pass_speed && std::abs(across) > half && std::abs(attacker->lateral) > half &&
+                      std::abs(lateral) < half && attacker->speed > speed - 0.5;
   if (!defending && (!threat || !defence.against.empty())) return none;  // one move, no second
   RaceDecision d{RaceMode::kDefend, side, attacker->name, lateral + side * std::min(std::abs(across), options_.defend_shift),
                  0.0, s, lateral};
@@ -568,7 +573,7 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
   }
   c.clear = clearOf(c.window, s, speed, ahead, &c.decision.progress, defending ? 0.5 : 1.0);
   if (!c.clear) return none;
-  defence.against = attacker->name;
+  if (!defending) defence = {attacker->name, 0};
   return c;
 }
 

@@ -30,6 +30,7 @@ constexpr double kDeg = M_PI / 180.0;
 
 // How far from base_link a sensor may sit: on the car or on a pole above it, not across the map.
 constexpr double kMaxMountOffset = 20.0;  // m
+constexpr double kMinSensorRate = 0.01;   // Hz: a reading every 100 s; slower, a sensor all but never reports
 constexpr int kMaxImageSide = 4096;
 constexpr long kMaxImagePixels = 4096L * 2048L;  // 8.4 million rays a frame
 constexpr double kMaxLidarPointsPerSecond = 1e7;
@@ -177,7 +178,7 @@ void validate(const SensorSpec& spec, const std::string& source) {
   for (const double angle : {spec.mount.roll, spec.mount.pitch, spec.mount.yaw}) {
     if (!std::isfinite(angle)) fail("roll, pitch, yaw", "must be finite");
   }
-  if (!(spec.rate > 0) || spec.rate > 10000) fail("rate", show(spec.rate) + " is outside (0, 10000] Hz");
+  range("rate", spec.rate, kMinSensorRate, 10000, " Hz");
   if (isCamera(spec.type)) {
     if (!(spec.camera.fov_deg > 0 && spec.camera.fov_deg < 180)) fail("fov", show(spec.camera.fov_deg) + " must be in (0, 180) degrees");
     range("image_width", spec.camera.width, 1, kMaxImageSide, " pixels");

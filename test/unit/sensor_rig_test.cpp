@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
+#include <regex>
 
 #include "roar/sensors/sensor_rig.h"
 #include "roar/sensors/vehicle_motion.h"
@@ -175,4 +177,104 @@ TEST(SensorRig, OneVectorSensorsAndTheOccupancyMapReport) {
   EXPECT_EQ(pixel(0.2, 5.2), sensors::kOccupancyRoad) << "the road is 12 m wide";
   EXPECT_EQ(pixel(0.2, 8.2), sensors::kOccupancyElsewhere) << "grass beyond the left edge";
   EXPECT_EQ(pixel(0.2, -8.2), sensors::kOccupancyElsewhere) << "and the right one";
+}
+
+namespace {
+
+// Every reading checked for NaN and infinities (a depth camera's +inf, "nothing hit", allowed).
+struct FiniteSink : sensors::SensorSink {
+  int readings = 0, bad = 0;
+  void check(bool finite) {
+    ++readings;
+    bad += !finite;
+  }
+  void camera(const sensors::SensorSpec&, double, const sensors::CameraFrame& f, const sensors::CameraIntrinsics&) override {
+    bool ok = true;
+    for (float d : f.depth) ok = ok && !std::isnan(d) && d >= 0.0f;
+    check(ok);
+  }
+  void lidar(const sensors::SensorSpec&, double, const std::vector<sensors::LidarPoint>& points) override {
+    bool ok = true;
+    for (const auto& p : points) ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.intensity);
+    check(ok);
+  }
+  void imu(const sensors::SensorSpec&, double, const sensors::ImuSample& s) override {
+    check(s.orientation.coeffs().allFinite() && s.angular_velocity.allFinite() && s.linear_acceleration.allFinite());
+  }
+  void gnss(const sensors::SensorSpec&, double, const sensors::GnssFix& f) override {
+    check(std::isfinite(f.latitude) && std::isfinite(f.longitude) && std::isfinite(f.altitude));
+  }
+  void velocity(const sensors::SensorSpec&, double, const sensors::Velocity& v) override {
+    check(v.linear_body.allFinite() && v.angular_body.allFinite() && v.linear_world.allFinite() && v.angular_world.allFinite());
+  }
+  void vector(const sensors::SensorSpec&, double, const Eigen::Vector3d& v) override { check(v.allFinite()); }
+  void occupancy(const sensors::SensorSpec&, double, const sensors::OccupancyFrame& f) override {
+    check(f.width > 0 && f.height > 0 && f.pixels.size() == static_cast<std::size_t>(f.width) * f.height);
+  }
+};
+
+}  // namespace
+
+TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFinite) {
+  // Property test (issue 17): each number of a sensor of every kind set to 0, -1, 1e-30, 1e30, 1e300, NaN
+  // and inf in turn: refused naming the field, or a sensor whose every reading over a second on a moving
+  // car is finite.
+  const std::vector<std::string> sensors = {
+      "{name: s, type: camera_rgb, x: 0.6, y: 0.1, z: 1.55, roll: 1, pitch: 5, yaw: 2, rate: 20, fov: 90, image_width: 32, "
+      "image_height: 24, seed: 3}",
+      "{name: s, type: camera_depth, x: 0.6, z: 1.55, rate: 10, fov: 60, image_width: 16, image_height: 16}",
+      "{name: s, type: lidar, x: 0.1, z: 1.9, rate: 20, num_lasers: 16, max_distance: 50, points_per_second: 20000, "
+      "rotation_frequency: 20, upper_fov: 10, lower_fov: -30, horizontal_fov: 360, noise_std: 0.01}",
+      "{name: s, type: imu, x: -0.086, z: 0.5, rate: 100, accel_noise_std: 0.1, gyro_noise_std: 0.01, "
+      "accel_bias: [0.1, 0.1, 0.1], gyro_bias: [0.01, 0.01, 0.01]}",
+      "{name: s, type: gnss, z: 1.5, rate: 10, horizontal_noise_std: 0.5, vertical_noise_std: 0.5}",
+      "{name: s, type: velocimeter, x: 1, rate: 20}",
+      "{name: s, type: accelerometer, z: 0.5, rate: 50, noise_std: 0.1, bias: [0.1, 0.0, 0.0]}",
+      "{name: s, type: location, rate: 20, noise_std: 0.2, bias: [1.0, 0.0, 0.0]}",
+      "{name: s, type: occupancy_map, rate: 10, image_width: 32, image_height: 32, width_m: 40, height_m: 40}",
+  };
+  const auto track = test::stadiumTrack();
+  const std::regex number(R"(([a-z_]+): (\[)?(-?[0-9.]+))");
+  int refused = 0, loaded = 0, fields = 0;
+  for (const auto& sensor : sensors) {
+    for (auto it = std::sregex_iterator(sensor.begin(), sensor.end(), number); it != std::sregex_iterator(); ++it) {
+      const std::string key = (*it)[1];
+      ++fields;
+      for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+        std::string text = sensor;
+        text.replace((*it).position(3), (*it).length(3), extreme);
+        const std::string what = text.substr(0, 40) + "... " + key + " = " + extreme;
+        std::vector<sensors::SensorSpec> specs;
+        try {
+          specs = sensors::parseSensorSetYaml("sensors:\n  - " + text + "\n", "set.yaml");
+          sensors::SensorRig probe(specs, {}, track.info().origin);  // the rig's own checks (rates it can keep)
+        } catch (const std::exception& e) {
+          EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
+          ++refused;
+          continue;
+        }
+        ++loaded;
+        sim::World world(track, {});
+        world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
+        sim::VehicleControl go;
+        go.throttle = 1.0;
+        go.steer = 0.2;
+        sensors::RayScene scene(track);
+        const int id = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
+        sensors::SensorRig rig(specs, {}, track.info().origin);
+        FiniteSink sink;
+        for (int tick = 0; tick < 20; ++tick) {
+          world.setControl("ego", go);
+          world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
+          const auto state = world.vehicleState("ego");
+          scene.setVehiclePose(id, sensors::poseOf(state));
+          scene.commit();
+          rig.sampleRays(world.time(), scene, sensors::poseOf(state), id, sink);
+        }
+        EXPECT_GT(sink.readings, 0) << what;
+        EXPECT_EQ(sink.bad, 0) << what << ": " << sink.bad << " of " << sink.readings << " readings not finite";
+      }
+    }
+  }
+  std::printf("sensor property test: %d fields x 7 extremes: %d refused by name, %d read finite\n", fields, refused, loaded);
 }

@@ -35,7 +35,7 @@ TEST(SensorSpec, BadFieldsAreNamedWithTheSensor) {
   EXPECT_NE(parseError("{name: l, type: lidar, num_lasers: 1000}").find("sensor 'l': num_lasers: 1000 is outside [1, 256]"), std::string::npos);
   EXPECT_NE(parseError("{name: l, type: lidar, upper_fov: -40}").find("upper_fov: must be above lower_fov"), std::string::npos);
   EXPECT_NE(parseError("{name: r, type: radar}").find("sensor 'r': type: unknown type 'radar'"), std::string::npos);
-  EXPECT_NE(parseError("{name: i, type: imu, rate: 0}").find("sensor 'i': rate: 0 is outside (0, 10000] Hz"), std::string::npos);
+  EXPECT_NE(parseError("{name: i, type: imu, rate: 0}").find("sensor 'i': rate: 0 is outside [0.01, 10000] Hz"), std::string::npos);
   EXPECT_NE(parseError("{name: i, type: imu, x: abc}").find("sensor 'i': x: is not a number"), std::string::npos);
   EXPECT_NE(parseError("{type: imu}").find("needs a 'name'"), std::string::npos);
   const auto twice = errorOf([] {

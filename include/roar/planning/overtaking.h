@@ -72,13 +72,15 @@ struct OvertakeOptions {
   // see README (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
   bool blue_flags = false;
   double blue_flag_time = 3.0;       // s at speed behind within which a car a lap up is let by
-  // Defending: a car with another closing from behind and pulling out to pass makes one move across to
-  // cover that side (at most defend_shift, and only while the move keeps clear of everyone ahead and
-  // beside); no second move while that car stays near, and once it is alongside the defender holds its
-  // place (leaving it a car's width). Off by default: it makes passes harder (README, traffic benchmark).
+  // Defending: a car on its line at racing speed, with another closing from behind and pulling out to
+  // pass, makes one move across to cover that side (at most defend_shift, only while the move keeps clear
+  // of everyone, and held at most defend_hold); no second move while that car stays near, and once it is
+  // alongside the defender holds its place (leaving it a car's width). Off by default: it makes passes
+  // harder (README, traffic benchmark).
   bool defend = false;
   double defend_time = 1.0;          // s at speed behind within which a car is defended against
   double defend_shift = 1.85;        // m at most the defensive move goes across (a car's width)
+  double defend_hold = 4.0;          // s at most a defensive move is held before the car goes back to its line
 };
 
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield, kDefend };
@@ -181,6 +183,7 @@ class OvertakePlanner {
   std::map<std::string, std::pair<std::string, int>> yields_;  // the car letting another by: which, and on which side
   struct Defence {
     std::string against;  // the car behind a defensive move was made against: no second one while it is near
+    int plans = 0;        // plans the move has been held
   };
   std::map<std::string, Defence> defences_;
   // The defensive move for `car` if it makes (or goes on with) one now; mode kRacingLine if not.
