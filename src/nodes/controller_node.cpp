@@ -18,8 +18,9 @@
 #include <algorithm>
 #include <list>
 
-#include "roar/ros/wall_throttle.h"
 #include "roar/control/trajectory_tracker.h"
+#include "roar/control/window_pairing.h"
+#include "roar/ros/wall_throttle.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
@@ -90,7 +91,8 @@ class Driver {
         odom_timeout_(odom_timeout),
         window_wait_(window_wait),
         // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
-        tracker_(stack::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)) {
+        tracker_(stack::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)),
+        pairing_(window_wait) {
     control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", 10);
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,
                                    ros::TransportHints().tcpNoDelay());
@@ -105,10 +107,10 @@ class Driver {
 
   // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
   void checkOdometry() {
-    if (held_odom_ && tracker_.hasTrajectory() && (ros::WallTime::now() - held_since_).toSec() >= window_wait_) {
+    if (held_odom_ && pairing_.waitedTooLong(ros::WallTime::now().toSec())) {
       ROAR_WARN_WALL_THROTTLE(5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
                         trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_,
-                        window_stamp_.toSec());
+                        pairing_.windowStamp());
       answer(*held_odom_);
     }
     if (odom_timeout_ <= 0 || last_odom_.isZero() || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_) return;
@@ -126,18 +128,8 @@ class Driver {
  private:
   void onTrajectory(const roar_ros::Trajectory& msg) {
     try {
-      const bool first = !tracker_.hasTrajectory();
       tracker_.setTrajectory(ros_bridge::fromMessage(msg));
-      window_stamp_ = msg.header.stamp;
-      // Windows stamped with the odometry's time (not older than the newest: one lagging behind says
-      // nothing new): the planner answers odometry, so a tick can wait for its window. Unstamped windows
-      // on a running clock: it does not.
-      if (!odometry_seen_ || (msg.header.stamp.isZero() && !newest_odom_stamp_.isZero())) {
-        planner_answers_odometry_ = false;
-      } else if (msg.header.stamp >= newest_odom_stamp_) {
-        planner_answers_odometry_ = true;
-      }
-      if (held_odom_ && (first || window_stamp_ >= held_odom_->header.stamp)) answer(*held_odom_);
+      if (pairing_.onWindow(msg.header.stamp.toSec()) && held_odom_) answer(*held_odom_);
     } catch (const std::exception& e) {
       ROAR_ERROR_WALL_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
                          tracker_.hasTrajectory() ? "; keeping the previous one" : "");
@@ -149,23 +141,14 @@ class Driver {
       ROS_INFO("controller: odometry of '%s' is back", car_.name.c_str());
       stale_ = false;
     }
-    newest_odom_stamp_ = std::max(newest_odom_stamp_, odom.header.stamp);
-    odometry_seen_ = true;
-    if (!tracker_.hasTrajectory()) {
-      ROAR_WARN_WALL_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
-      hold(keep);
-      return;
-    }
-    if (window_wait_ > 0 && planner_answers_odometry_ && window_stamp_ < odom.header.stamp) {
-      hold(keep);  // a newer odometry supersedes one still held: the simulator went on without its answer
+    if (!pairing_.onOdometry(odom.header.stamp.toSec(), ros::WallTime::now().toSec())) {
+      if (!pairing_.hasWindow()) {
+        ROAR_WARN_WALL_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
+      }
+      held_odom_ = keep;  // a newer odometry supersedes one still held: the simulator went on without its answer
       return;
     }
     answer(odom);
-  }
-
-  void hold(const nav_msgs::Odometry::ConstPtr& odom) {
-    held_odom_ = odom;
-    held_since_ = ros::WallTime::now();
   }
 
   void answer(const nav_msgs::Odometry& odom) {
@@ -178,6 +161,7 @@ class Driver {
     roar_ros::VehicleControl msg = ros_bridge::toMessage(tracker_.update(in));
     msg.header.stamp = odom.header.stamp;
     control_pub_.publish(msg);
+    pairing_.answered();
     held_odom_.reset();  // last: `odom` may be the held message itself
   }
 
@@ -187,10 +171,8 @@ class Driver {
   ros::Publisher control_pub_;
   ros::Subscriber trajectory_sub_, odom_sub_;
   ros::WallTime last_odom_;  // of the last odometry answered: the watchdog starts with driving
-  nav_msgs::Odometry::ConstPtr held_odom_;  // odometry not answered yet: no trajectory, or its window is late
-  ros::WallTime held_since_;
-  ros::Time window_stamp_, newest_odom_stamp_;
-  bool odometry_seen_ = false, planner_answers_odometry_ = false;
+  control::WindowPairing pairing_;
+  nav_msgs::Odometry::ConstPtr held_odom_;  // the odometry pairing_ holds: no trajectory yet, or its window is late
   bool stale_ = false;
 };
 

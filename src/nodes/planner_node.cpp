@@ -13,6 +13,7 @@
 
 #include "roar/planning/field_planner.h"
 #include "roar/planning/trajectory.h"
+#include "roar/ros/frames.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/scenario_params.h"
@@ -29,7 +30,7 @@ struct PlannerNodeOptions {
   double grip_use = 0.85;
   planning::PlannerOptions planner;
   planning::FieldOptions field;
-  std::string frame = "map";
+  std::string frame = ros_bridge::kMapFrame;
 };
 
 PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {

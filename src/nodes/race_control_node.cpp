@@ -21,6 +21,7 @@
 
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
+#include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
@@ -273,7 +274,7 @@ class RaceControlNode {
       auto samples = telemetry_.find(car.name);
       if (samples == telemetry_.end() || samples->second.empty()) continue;
       visualization_msgs::Marker m;
-      m.header.frame_id = "map";
+      m.header.frame_id = ros_bridge::kMapFrame;
       m.header.stamp = status.header.stamp;
       m.ns = "timing";
       m.id = static_cast<int>(markers.markers.size());

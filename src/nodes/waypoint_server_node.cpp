@@ -9,6 +9,7 @@
 #include <roar_ros/MapInfo.h>
 #include <roar_ros/ProjectPoint.h>
 
+#include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
@@ -29,7 +30,7 @@ class WaypointServer {
     const std::string pkg = packagePath();
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
     folder_ = readMapFolder(pnh, readScenario(pnh));
-    frame_ = readString(pnh, "frame_id", "map");
+    frame_ = readString(pnh, "frame_id", kMapFrame);
     grid_ = readInt(pnh, "spawn_points", track::kGridSlots, 1, 1000);
     track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
 

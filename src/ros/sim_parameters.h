@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "roar/ros/frames.h"
 #include "roar/sim/world.h"
 
 namespace roar::ros_bridge {
@@ -34,7 +35,7 @@ struct SimNodeOptions {
   std::string sensors_dir;
   std::string default_sensor_set;  // for vehicles that name none
   std::string rl_dir;              // RL environments named by a vehicle's agent
-  std::string map_frame = "map";
+  std::string map_frame = kMapFrame;
   sim::WorldOptions world;
   SteppingMode mode = SteppingMode::kAsync;
   double real_time_factor = 1.0;

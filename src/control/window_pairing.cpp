@@ -1,0 +1,42 @@
+#include "roar/control/window_pairing.h"
+
+#include <algorithm>
+
+namespace roar::control {
+
+void WindowPairing::hold(double stamp, double wall) {
+  holding_ = true;
+  held_stamp_ = stamp;
+  held_since_ = wall;
+}
+
+bool WindowPairing::onOdometry(double stamp, double wall) {
+  newest_odometry_ = odometry_seen_ ? std::max(newest_odometry_, stamp) : stamp;
+  odometry_seen_ = true;
+  if (!has_window_ || (window_wait_ > 0 && planner_answers_ && window_stamp_ < stamp)) {
+    hold(stamp, wall);
+    return false;
+  }
+  holding_ = false;
+  return true;
+}
+
+bool WindowPairing::onWindow(double stamp) {
+  const bool first = !has_window_;
+  has_window_ = true;
+  window_stamp_ = stamp;
+  // A window stamped with the odometry's time (not older than the newest: one lagging behind says nothing
+  // new) shows a planner that answers odometry; an unstamped one on a running clock, one that does not.
+  if (!odometry_seen_ || (stamp == 0.0 && newest_odometry_ != 0.0)) {
+    planner_answers_ = false;
+  } else if (stamp >= newest_odometry_) {
+    planner_answers_ = true;
+  }
+  return holding_ && (first || window_stamp_ >= held_stamp_);
+}
+
+bool WindowPairing::waitedTooLong(double wall) const {
+  return holding_ && has_window_ && wall - held_since_ >= window_wait_;
+}
+
+}  // namespace roar::control

@@ -1,0 +1,70 @@
+// The controller's pairing of odometry ticks with trajectory windows: tick t is answered with the window
+// of tick t while the planner answers odometry, never held for a planner that does not, held until the
+// first window, and never longer than window_wait.
+#include <gtest/gtest.h>
+
+#include "roar/control/window_pairing.h"
+
+using roar::control::WindowPairing;
+
+TEST(WindowPairing, OdometryIsHeldUntilTheFirstWindow) {
+  WindowPairing p(1.0);
+  EXPECT_FALSE(p.onOdometry(0.0, 10.0)) << "no window yet";
+  EXPECT_FALSE(p.onOdometry(0.05, 10.1)) << "still none: the newer tick is held instead";
+  EXPECT_DOUBLE_EQ(p.heldStamp(), 0.05);
+  EXPECT_FALSE(p.waitedTooLong(20.0)) << "without a window there is nothing to answer with";
+  EXPECT_TRUE(p.onWindow(0.0)) << "the first window answers the held tick";
+  p.answered();
+  EXPECT_FALSE(p.holding());
+}
+
+TEST(WindowPairing, WhileThePlannerAnswersOdometryATickWaitsForItsOwnWindow) {
+  WindowPairing p(1.0);
+  p.onOdometry(0.0, 0.0);
+  p.onWindow(0.0);  // stamped with the odometry's time: the planner answers odometry
+  p.answered();
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_FALSE(p.onOdometry(0.05, 0.01)) << "the window of t = 0.05 is not here yet";
+  EXPECT_FALSE(p.onWindow(0.0)) << "a late window of the tick before does not answer it";
+  EXPECT_TRUE(p.onWindow(0.05)) << "its own window does";
+  p.answered();
+  EXPECT_TRUE(p.onOdometry(0.05, 0.02)) << "odometry again for a tick whose window is here: answered at once";
+}
+
+TEST(WindowPairing, ATickWaitsNoLongerThanWindowWait) {
+  WindowPairing p(0.5);
+  p.onOdometry(0.0, 0.0);
+  p.onWindow(0.0);
+  p.answered();
+  EXPECT_FALSE(p.onOdometry(0.05, 100.0));
+  EXPECT_FALSE(p.waitedTooLong(100.4));
+  EXPECT_TRUE(p.waitedTooLong(100.5)) << "answered with the latest window after 0.5 s";
+}
+
+TEST(WindowPairing, APlannerWithUnstampedWindowsIsNotWaitedFor) {
+  WindowPairing p(1.0);
+  p.onOdometry(1.0, 0.0);
+  p.onWindow(0.0);  // unstamped, on a running clock
+  p.answered();
+  EXPECT_FALSE(p.plannerAnswersOdometry());
+  EXPECT_TRUE(p.onOdometry(1.05, 0.1));
+  EXPECT_TRUE(p.onOdometry(1.10, 0.2));
+  // And with window_wait 0 nothing is ever held once there is a window.
+  WindowPairing never(0.0);
+  never.onOdometry(0.0, 0.0);
+  never.onWindow(0.0);
+  never.answered();
+  EXPECT_TRUE(never.onOdometry(0.05, 0.0));
+}
+
+TEST(WindowPairing, AWindowLaggingBehindTheNewestOdometrySaysNothingNew) {
+  WindowPairing p(1.0);
+  p.onOdometry(0.0, 0.0);
+  p.onWindow(0.0);
+  p.answered();
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_FALSE(p.onOdometry(0.10, 0.0));
+  p.onWindow(0.05);  // older than the newest odometry: still a planner that answers odometry
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_TRUE(p.holding()) << "t = 0.10 still waits for its window";
+}
