@@ -14,6 +14,7 @@
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/track_msg_conversion.h"
+#include "roar/ros/service_refusal.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 
@@ -83,22 +84,20 @@ class WaypointServer {
   }
 
   bool getWaypoints(roar_ros::GetWaypoints::Request& req, roar_ros::GetWaypoints::Response& res) {
-    res.waypoints = req.length <= 0 || !std::isfinite(req.length)
+    // Any finite progress (it wraps round the lap); a length of 0 or less, or infinite, is the whole track.
+    if (!std::isfinite(req.from_s)) return ros_bridge::refuse(res, "get_waypoints", "from_s must be finite");
+    if (std::isnan(req.length)) return ros_bridge::refuse(res, "get_waypoints", "length is NaN (0 or less: the whole track)");
+    res.waypoints = req.length <= 0 || std::isinf(req.length)
                         ? ros_bridge::waypointMessages(*track_)
-                        : ros_bridge::waypointMessages(*track_, track_->indicesAhead(std::isfinite(req.from_s) ? req.from_s : 0.0, req.length));
+                        : ros_bridge::waypointMessages(*track_, track_->indicesAhead(req.from_s, req.length));
+    res.success = true;
     return true;
   }
 
   bool getSpawnPoints(roar_ros::GetSpawnPoints::Request& req, roar_ros::GetSpawnPoints::Response& res) {
-    if (req.count < 1 || req.count > 10000) {
-      res.success = false;
-      res.message = "count must be in [1, 10000]";
-      return true;
-    }
+    if (req.count < 1 || req.count > 10000) return ros_bridge::refuse(res, "get_spawn_points", "count must be in [1, 10000]");
     if (req.kind != "grid" && req.kind != "even") {
-      res.success = false;
-      res.message = "kind must be 'grid' or 'even', got '" + req.kind + "'";
-      return true;
+      return ros_bridge::refuse(res, "get_spawn_points", "kind must be 'grid' or 'even', got '" + req.kind + "'");
     }
     const auto poses = req.kind == "grid" ? track_->gridSpawnPoints(req.count) : track_->evenSpawnPoints(req.count);
     for (const auto& p : poses) res.poses.push_back(poseMessage(p));
@@ -107,10 +106,11 @@ class WaypointServer {
   }
 
   bool projectPoint(roar_ros::ProjectPoint::Request& req, roar_ros::ProjectPoint::Response& res) {
-    if (!std::isfinite(req.point.x) || !std::isfinite(req.point.y) || !std::isfinite(req.yaw)) {
-      ROS_WARN("waypoint_server: project_point refused a non-finite point or yaw");
-      return false;
+    const Eigen::Vector2d point(req.point.x, req.point.y);
+    if (!point.allFinite() || point.cwiseAbs().maxCoeff() > track::kMaxCoordinate) {
+      return ros_bridge::refuse(res, "project_point", "point must be finite and within 1e6 m of the map's origin");
     }
+    if (!std::isfinite(req.yaw)) return ros_bridge::refuse(res, "project_point", "yaw must be finite");
     const track::Projection pr = track_->project(Eigen::Vector2d(req.point.x, req.point.y));
     const std::size_t next = (pr.segment + 1) % track_->size();
     res.nearest_index = static_cast<unsigned>(
@@ -124,14 +124,21 @@ class WaypointServer {
     res.width_left = pr.width_left;
     res.width_right = pr.width_right;
     res.on_track = pr.on_track();
+    res.success = true;
     return true;
   }
 
   bool getRoute(roar_ros::GetRoute::Request& req, roar_ros::GetRoute::Response& res) {
+    // From and to places on the track or its run-off: a route from anywhere else would be a guess.
+    for (const auto& [what, pose] : {std::pair<const char*, const geometry_msgs::Pose*>{"start", &req.start}, {"goal", &req.goal}}) {
+      const std::string problem = track::offTrackProblem(*track_, Eigen::Vector2d(pose->position.x, pose->position.y), what);
+      if (!problem.empty()) return ros_bridge::refuse(res, "get_route", problem);
+    }
     const double from = track_->project(Eigen::Vector2d(req.start.position.x, req.start.position.y)).s;
     const double to = track_->project(Eigen::Vector2d(req.goal.position.x, req.goal.position.y)).s;
     res.distance = track_->forwardDistance(from, to);
     res.waypoints = ros_bridge::waypointMessages(*track_, track_->indicesAhead(from, res.distance));
+    res.success = true;
     return true;
   }
 

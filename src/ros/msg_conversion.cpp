@@ -31,9 +31,16 @@ roar_ros::VehicleControl toMessage(const sim::VehicleControl& c) {
 sim::Pose fromMessage(const geometry_msgs::Pose& msg) {
   sim::Pose pose;
   pose.position = Eigen::Vector3d(msg.position.x, msg.position.y, msg.position.z);
-  Eigen::Quaterniond q(msg.orientation.w, msg.orientation.x, msg.orientation.y, msg.orientation.z);
-  // An all-zero quaternion (a default-constructed message) means "no rotation".
-  pose.orientation = q.norm() > 1e-9 ? q.normalized() : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond q(msg.orientation.w, msg.orientation.x, msg.orientation.y, msg.orientation.z);
+  if (!q.coeffs().allFinite()) {
+    pose.orientation = q;  // NaN or infinite: kept so, for the caller's finite check to refuse
+    return pose;
+  }
+  // Scaled by its largest component first, so that a quaternion of 1e300s normalises instead of
+  // overflowing to a zero one. An all-zero quaternion (a default-constructed message) means "no rotation".
+  const double largest = q.coeffs().cwiseAbs().maxCoeff();
+  pose.orientation = largest > 1e-9 ? Eigen::Quaterniond(Eigen::Vector4d(q.coeffs() / largest)).normalized()
+                                    : Eigen::Quaterniond::Identity();
   return pose;
 }
 

@@ -128,14 +128,8 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
   if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) {
     throw std::invalid_argument("pose must be finite");
   }
-  const track::Projection where = track_->project(p.position.head<2>());
-  const double barrier = track_->info().barrier_offset;
-  if (where.beyondEdge() > barrier) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "pose (%.1f, %.1f) is off the track: %.1f m beyond the road's edge, past the barriers %.1f m from it",
-                  p.position.x(), p.position.y(), where.beyondEdge(), barrier);
-    throw std::invalid_argument(buf);
-  }
+  const std::string problem = track::offTrackProblem(*track_, p.position.head<2>(), "pose");
+  if (!problem.empty()) throw std::invalid_argument(problem);
   return p;
 }
 

@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "roar/ros/msg_conversion.h"
+#include "roar/ros/service_refusal.h"
 #include "roar/sensors/inertial.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -15,14 +16,6 @@
 namespace roar::ros_bridge {
 
 namespace {
-
-template <class Response>
-bool refuse(Response& res, const std::string& service, const std::string& why) {
-  res.success = false;
-  res.message = why;
-  ROS_WARN("roar_sim: %s refused: %s", service.c_str(), why.c_str());
-  return true;
-}
 
 Eigen::Vector3d vectorOf(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
@@ -242,12 +235,20 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
   } else if (!req.mode.empty()) {
     return refuse(res, "set_stepping", "mode '" + req.mode + "' is not async, step or lockstep");
   }
+  // 0 or negative keeps a value; NaN is no value at all.
+  for (const auto& [field, value] : {std::pair<const char*, double>{"control_dt", req.control_dt},
+                                     {"physics_dt", req.physics_dt}, {"real_time_factor", req.real_time_factor}}) {
+    if (std::isnan(value)) return refuse(res, "set_stepping", std::string(field) + " is NaN (0 or negative: keep)");
+  }
   const double control_dt = req.control_dt > 0 ? req.control_dt : options_.world.control_dt;
   const double physics_dt = req.physics_dt > 0 ? req.physics_dt : options_.world.physics_dt;
   const double rtf = req.real_time_factor >= 0 ? req.real_time_factor : options_.real_time_factor;
   if (!(control_dt >= 1e-4 && control_dt <= 1.0)) return refuse(res, "set_stepping", "control_dt must be in [0.0001, 1] s");
   if (!(physics_dt >= 1e-4 && physics_dt <= 0.05)) return refuse(res, "set_stepping", "physics_dt must be in [0.0001, 0.05] s");
-  if (!(rtf <= 1e6) || std::isnan(req.real_time_factor)) return refuse(res, "set_stepping", "real_time_factor must be at most 1e6");
+  // Slower than a thousandth of real time, a "running" simulation stands still.
+  if (!(rtf <= 1e6) || (rtf > 0 && rtf < 1e-3)) {
+    return refuse(res, "set_stepping", "real_time_factor must be 0 (as fast as possible) or in [0.001, 1e6]");
+  }
   if (control_dt != options_.world.control_dt || physics_dt != options_.world.physics_dt) {
     // Every check before any change: the world's steps, every sensor's rate, every agent's environment.
     try {

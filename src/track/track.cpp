@@ -209,4 +209,19 @@ std::vector<TrackPose> Track::gridSpawnPoints(int count, double first_gap, doubl
   return grid;
 }
 
+std::string offTrackProblem(const Track& track, const Eigen::Vector2d& point, const std::string& what) {
+  char buf[256];
+  if (!point.allFinite() || point.cwiseAbs().maxCoeff() > kMaxCoordinate) {
+    std::snprintf(buf, sizeof buf, "%s (%g, %g) must be finite and within %g m of the map's origin", what.c_str(),
+                  point.x(), point.y(), kMaxCoordinate);
+    return buf;
+  }
+  const Projection where = track.project(point);
+  const double barrier = track.info().barrier_offset;
+  if (where.beyondEdge() <= barrier) return "";
+  std::snprintf(buf, sizeof buf, "%s (%.1f, %.1f) is off the track: %.1f m beyond the road's edge, past the barriers %.1f m from it",
+                what.c_str(), point.x(), point.y(), where.beyondEdge(), barrier);
+  return buf;
+}
+
 }  // namespace roar::track

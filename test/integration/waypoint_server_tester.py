@@ -70,8 +70,12 @@ class WaypointServer(unittest.TestCase):
         self.assertTrue(r.on_track)
         far = project(Point(w.location.x - 30 * math.sin(w.yaw), w.location.y + 30 * math.cos(w.yaw), 0.0), w.yaw)
         self.assertFalse(far.on_track)
-        with self.assertRaises(rospy.ServiceException):
-            project(Point(float("nan"), 0.0, 0.0), 0.0)
+        self.assertTrue(r.success and far.success)
+        for point, yaw, field in [(Point(float("nan"), 0.0, 0.0), 0.0, "point"), (Point(1e300, 0.0, 0.0), 0.0, "point"),
+                                  (Point(), float("inf"), "yaw")]:
+            refused = project(point, yaw)
+            self.assertFalse(refused.success, field)
+            self.assertIn(field + " must be finite", refused.message)
 
     def test_route_goes_forward_round_the_circuit(self):
         route = call("/waypoint_server/get_route", GetRoute)
@@ -87,6 +91,31 @@ class WaypointServer(unittest.TestCase):
         around = route(pose(ws[200]), pose(ws[100]))
         self.assertAlmostEqual(forward.distance + around.distance, ws[-1].s + 2.0, delta=3.0)
         self.assertGreater(len(around.waypoints), len(forward.waypoints))
+        self.assertTrue(forward.success and around.success)
+        # From nowhere near the track there is no route: refused, saying where it is from.
+        nowhere = Pose()
+        nowhere.position.x = nowhere.position.y = 5000.0
+        refused = route(nowhere, pose(ws[100]))
+        self.assertFalse(refused.success)
+        self.assertIn("start (5000.0, 5000.0) is off the track", refused.message)
+        nan_goal = pose(ws[100])
+        nan_goal.position.y = float("nan")
+        refused = route(pose(ws[100]), nan_goal)
+        self.assertFalse(refused.success)
+        self.assertIn("goal (", refused.message)
+        self.assertIn("must be finite", refused.message)
+
+    def test_bad_waypoint_requests_are_refused_by_name(self):
+        get = call("/waypoint_server/get_waypoints", GetWaypoints)
+        for from_s, length, field in [(float("nan"), 10.0, "from_s"), (float("inf"), 10.0, "from_s"),
+                                      (0.0, float("nan"), "length")]:
+            refused = get(from_s, length)
+            self.assertFalse(refused.success, field)
+            self.assertTrue(refused.message.startswith(field), refused.message)
+            self.assertEqual(len(refused.waypoints), 0)
+        whole = get(1e300, float("inf"))  # any finite progress wraps; an infinite length is the whole track
+        self.assertTrue(whole.success)
+        self.assertEqual(len(whole.waypoints), len(get(0.0, 0.0).waypoints))
 
     def test_list_maps(self):
         maps = call("/waypoint_server/list_maps", ListMaps)()

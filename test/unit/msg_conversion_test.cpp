@@ -42,6 +42,19 @@ TEST(MsgConversion, PoseRoundTripAndZeroQuaternion) {
   EXPECT_NEAR(ros_bridge::yawOf(ros_bridge::toMessage(p).orientation), 0.7, 1e-12);
   geometry_msgs::Pose zero;  // all-zero quaternion
   EXPECT_TRUE(ros_bridge::fromMessage(zero).orientation.isApprox(Eigen::Quaterniond::Identity()));
+  // Huge components normalise (not overflow to a zero quaternion); NaN and inf stay, for callers to refuse.
+  geometry_msgs::Pose huge;
+  huge.orientation.z = 1e300;
+  huge.orientation.w = 1e300;
+  const auto normalised = ros_bridge::fromMessage(huge).orientation;
+  EXPECT_NEAR(normalised.norm(), 1.0, 1e-12);
+  EXPECT_NEAR(normalised.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()))), 0.0, 1e-12);
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    geometry_msgs::Pose broken;
+    broken.orientation.w = 1.0;
+    broken.orientation.x = bad;
+    EXPECT_FALSE(ros_bridge::fromMessage(broken).orientation.coeffs().allFinite()) << bad;
+  }
 }
 
 TEST(MsgConversion, OdometryUsesBodyTwistAndFrames) {

@@ -125,4 +125,9 @@ class Track {
 
 double wrapAngle(double a);
 
+// Why a point given to place a car or ask about the track is not on the track or its run-off (within the
+// barriers), naming it as `what`; empty when it is. Non-finite points and points beyond kMaxCoordinate
+// are refused before anything is projected.
+std::string offTrackProblem(const Track& track, const Eigen::Vector2d& point, const std::string& what);
+
 }  // namespace roar::track
