@@ -113,7 +113,9 @@ class Driver {
                         pairing_.windowStamp());
       answer(*held_odom_);
     }
-    if (odom_timeout_ <= 0 || last_odom_.isZero() || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_) return;
+    // Odometry held for its window is odometry: that wait is the planner's, said above. Only silence
+    // since the last odometry received or answered is "no odometry".
+    if (odom_timeout_ <= 0 || !driving_ || held_odom_ || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_) return;
     if (!stale_) {
       ROS_WARN("controller: no odometry on %s for %.1f s: braking '%s' to a stop", odom_sub_.getTopic().c_str(),
                odom_timeout_, car_.name.c_str());
@@ -141,7 +143,8 @@ class Driver {
       ROS_INFO("controller: odometry of '%s' is back", car_.name.c_str());
       stale_ = false;
     }
-    if (!pairing_.onOdometry(odom.header.stamp.toSec(), ros::WallTime::now().toSec())) {
+    last_odom_ = ros::WallTime::now();
+    if (!pairing_.onOdometry(odom.header.stamp.toSec(), last_odom_.toSec())) {
       if (!pairing_.hasWindow()) {
         ROAR_WARN_WALL_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
       }
@@ -152,6 +155,7 @@ class Driver {
   }
 
   void answer(const nav_msgs::Odometry& odom) {
+    driving_ = true;
     last_odom_ = ros::WallTime::now();
     control::TrackerInput in;
     in.position = Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y);
@@ -170,7 +174,8 @@ class Driver {
   control::TrajectoryTracker tracker_;
   ros::Publisher control_pub_;
   ros::Subscriber trajectory_sub_, odom_sub_;
-  ros::WallTime last_odom_;  // of the last odometry answered: the watchdog starts with driving
+  ros::WallTime last_odom_;  // of the last odometry received or answered
+  bool driving_ = false;     // an odometry message has been answered: the watchdog starts with driving
   control::WindowPairing pairing_;
   nav_msgs::Odometry::ConstPtr held_odom_;  // the odometry pairing_ holds: no trajectory yet, or its window is late
   bool stale_ = false;
