@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <regex>
 
 #include "roar/rl/racing_env.h"
 #include "roar/rl/async_vector_env.h"
@@ -331,4 +333,50 @@ TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
   EXPECT_EQ(test::errorOf([&] { async.send(bad, {2}); }), "actions[0]['brake'][0] = -1 is outside [0, 1]");
   EXPECT_EQ(async.inFlight(), 1u);
   EXPECT_EQ(async.recv(1).front().env_id, 1u);
+}
+
+TEST(RlEnv, EveryNumberOfTheOptionsAtEveryExtremeIsRefusedByNameOrStepsFinite) {
+  // Property test (issue 17): each number of config/rl/state.yaml set to 0, -1, 1e-30, 1e30, 1e300, NaN
+  // and inf in turn: refused naming the key, or an environment whose observations and rewards stay finite
+  // for 200 steps of a driver chasing the waypoints.
+  std::ifstream file(test::sourceDir() + "/config/rl/state.yaml");
+  const std::string original((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::regex number(R"(([a-z_]+): \[?(-?[0-9.]+))");
+  int refused = 0, stepped = 0, fields = 0;
+  for (auto it = std::sregex_iterator(original.begin(), original.end(), number); it != std::sregex_iterator(); ++it) {
+    const std::string key = (*it)[1];
+    ++fields;
+    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+      std::string text = original;
+      text.replace((*it).position(2), (*it).length(2), extreme);
+      const std::string what = key + " = " + extreme;
+      std::unique_ptr<rl::RacingEnv> env;
+      try {
+        env = std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), rl::parseEnvOptions(text, "state.yaml"));
+      } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
+        ++refused;
+        continue;
+      }
+      ++stepped;
+      auto finite = [](const Value& v, const auto& self) -> bool {
+        for (double x : v.numbers) {
+          if (!std::isfinite(x)) return false;
+        }
+        for (const auto& inner : v.entries) {
+          if (!self(inner, self)) return false;
+        }
+        return true;
+      };
+      Value obs = env->reset(3).observation;
+      ASSERT_TRUE(finite(obs, finite)) << what << ": the first observation";
+      for (int k = 0; k < 200; ++k) {
+        const rl::StepResult r = env->step(chase(env->actionSpace(), obs));
+        ASSERT_TRUE(std::isfinite(r.reward) && finite(r.observation, finite)) << what << ": step " << k;
+        obs = r.done() ? env->reset().observation : r.observation;
+      }
+    }
+  }
+  std::printf("rl options property test: %d numbers x 7 extremes: %d refused by name, %d stepped finite\n", fields,
+              refused, stepped);
 }
