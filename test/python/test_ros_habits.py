@@ -6,7 +6,9 @@ import subprocess
 import pytest
 
 EXECUTABLES = ["roar_sim", "waypoint_server", "planner", "controller", "race_control", "car_models", "policy_driver",
-               "rl_train", "track_tool", "roar_bench"]
+               "race_recorder", "rl_train", "track_tool", "roar_bench"]
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SHIM = os.path.join(REPO, "devel", "lib", "libroar_loopback.so")
 
 
 @pytest.mark.parametrize("executable", EXECUTABLES)
@@ -33,3 +35,36 @@ def test_a_relative_output_dir_is_where_roslaunch_runs(tmp_path):
     assert done.returncode == 0, done.stderr
     assert f"/race_control/output_dir: {tmp_path}/res/../x" in done.stdout, done.stdout
     assert f"/recorder/bag: {tmp_path}/res/../x/race.bag" in done.stdout, done.stdout
+
+
+BIND_EVERY_INTERFACE = """
+import socket
+s = socket.socket()
+s.bind(("0.0.0.0", 0))
+print(s.getsockname()[0])
+s6 = socket.socket(socket.AF_INET6)
+s6.bind(("::", 0))
+print(s6.getsockname()[0])
+"""
+
+
+def test_the_loopback_shim_turns_binds_to_every_interface_into_loopback_ones():
+    """roscpp's XML-RPC servers bind INADDR_ANY whatever ROS_IP says; the shim scripts/ros_env.sh preloads
+    keeps them (and every other listening socket) on the loopback, unless ROAR_BIND_ANY=1."""
+    env = {k: v for k, v in os.environ.items() if k != "ROAR_BIND_ANY"}
+    env["LD_PRELOAD"] = SHIM
+    done = subprocess.run(["/usr/bin/python3", "-c", BIND_EVERY_INTERFACE], capture_output=True, text=True, env=env,
+                          timeout=30)
+    assert done.stdout.split() == ["127.0.0.1", "::1"], done.stdout + done.stderr
+    env["ROAR_BIND_ANY"] = "1"
+    done = subprocess.run(["/usr/bin/python3", "-c", BIND_EVERY_INTERFACE], capture_output=True, text=True, env=env,
+                          timeout=30)
+    assert done.stdout.split() == ["0.0.0.0", "::"], done.stdout + done.stderr
+
+
+@pytest.mark.parametrize("network, expected", [("", f"127.0.0.1|{SHIM}"), ("ROS_IP=10.1.2.3", "10.1.2.3|")])
+def test_ros_env_preloads_the_shim_unless_a_network_is_asked_for(network, expected):
+    script = (f"unset ROS_IP ROS_HOSTNAME LD_PRELOAD; {'export ' + network + ';' if network else ''} "
+              f"source {REPO}/scripts/ros_env.sh; echo \"$ROS_IP|${{LD_PRELOAD:-}}\"")
+    done = subprocess.run(["bash", "-c", script], capture_output=True, text=True, timeout=60)
+    assert done.stdout.strip().splitlines()[-1] == expected, done.stdout + done.stderr
