@@ -92,6 +92,12 @@ int main(int argc, char** argv) {
       TrackInfo info;
       info.name = option(argc, argv, "--name", fs::path(folder).filename().string());
       auto points = importPoints(argv[2], std::stod(option(argc, argv, "--width", "12")));
+      // A recorded lap that drives on over its start: the retraced tail is cut.
+      std::size_t cut = 0;
+      points = trimRetracedTail(points, &cut);
+      if (cut > 0) {
+        std::cout << argv[2] << ": cut the last " << cut << " points, which drive the start of the course again\n";
+      }
       // A loop that stops short of its start: bridged on request, refused naming the source otherwise.
       const LoopGap gap = loopGap(points);
       if (gap.open()) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -134,6 +135,46 @@ std::vector<CentreLinePoint> closeLoopGap(const std::vector<CentreLinePoint>& po
                    mix(a.z, b.z), mix(a.banking, b.banking)});
   }
   return out;
+}
+
+std::vector<CentreLinePoint> trimRetracedTail(const std::vector<CentreLinePoint>& points, std::size_t* cut) {
+  if (cut) *cut = 0;
+  const std::size_t n = points.size();
+  if (n < 8) return points;
+  auto distance = [&](std::size_t a, std::size_t b) {
+    return std::hypot(points[a].x - points[b].x, points[a].y - points[b].y);
+  };
+  // The head: the first quarter of the course at most. A tail point retraces it when it lies within half
+  // the road's width (at least 1 m) of a head point, each further tail point on a head point no earlier
+  // than the one before: the same road, the same way.
+  const std::size_t head = n / 4;
+  std::size_t first_retracing = n, last_match = head;
+  for (std::size_t k = n; k-- > head;) {
+    const double tolerance = std::max(1.0, 0.5 * (points[k].width_left + points[k].width_right));
+    std::size_t best = 0;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < head; ++j) {
+      const double d = distance(k, j);
+      if (d < best_distance) best_distance = d, best = j;
+    }
+    if (best_distance > tolerance || best > last_match) break;
+    last_match = best;
+    first_retracing = k;
+  }
+  // At least two points retracing, and the run reaching back to within 10 m of the start along the road.
+  double back_to = 0.0;
+  for (std::size_t j = 0; j < last_match; ++j) back_to += distance(j, j + 1);
+  if (first_retracing + 2 > n || back_to > 10.0) return points;
+  // Cut where the course comes back nearest its first point (the run's first points, or the few before
+  // them); a closing step of less than half the median spacing would repeat the start, so that point goes too.
+  std::size_t nearest = first_retracing;
+  for (std::size_t k = first_retracing >= 5 ? first_retracing - 5 : 0; k < n; ++k) {
+    if (distance(k, 0) < distance(nearest, 0)) nearest = k;
+  }
+  const LoopGap g = loopGap(points);
+  const std::size_t keep = distance(nearest, 0) < 0.5 * g.median_step ? nearest : nearest + 1;
+  if (cut) *cut = n - keep;
+  return std::vector<CentreLinePoint>(points.begin(), points.begin() + static_cast<long>(keep));
 }
 
 }  // namespace roar::track

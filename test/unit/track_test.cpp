@@ -332,6 +332,42 @@ TEST(CircuitBuilder, ALoopThatStopsShortIsBridgedOneThatRunsPastItsStartIsNot) {
   EXPECT_FALSE(track::loopGap(overlapping).bridgeable());
 }
 
+TEST(CircuitBuilder, ARecordedLapThatDrivesOnOverItsStartIsCutWhereItComesBack) {
+  // A 100 m circle at 2 m steps driven 40 m on over its start, 0.3 m to one side of its first lap.
+  const double length = 2 * M_PI * 100.0;
+  std::vector<track::CentreLinePoint> points;
+  for (double s = 0; s < length + 40.0; s += 2.0) {
+    const double r = s < length ? 100.0 : 100.3;
+    points.push_back({r * std::cos(s / 100), r * std::sin(s / 100), 2, 2});
+  }
+  std::size_t cut = 0;
+  const auto trimmed = track::trimRetracedTail(points, &cut);
+  EXPECT_GE(cut, 20u);
+  EXPECT_LE(cut, 22u);
+  EXPECT_EQ(trimmed.size(), points.size() - cut);
+  EXPECT_FALSE(track::loopGap(trimmed).open()) << "closes";
+  TempDir dir;
+  track::writeMapFolder(dir.str() + "/lap", trimmed, {});
+  EXPECT_NEAR(track::loadMapFolder(dir.str() + "/lap").length(), length, 2.0);
+  // Running on past the start beside it (3 m off, beyond half the road) is not the same road: kept.
+  std::vector<track::CentreLinePoint> beside = points;
+  for (auto& p : beside) {
+    if (std::hypot(p.x, p.y) > 100.1) p.x *= 103.0 / 100.3, p.y *= 103.0 / 100.3;
+  }
+  track::trimRetracedTail(beside, &cut);
+  EXPECT_EQ(cut, 0u);
+  // Nor is a loop that ends where it began, or a course driven the other way over its start.
+  track::trimRetracedTail(std::vector<track::CentreLinePoint>(points.begin(), points.begin() + 314), &cut);
+  EXPECT_EQ(cut, 0u);
+  std::vector<track::CentreLinePoint> reversed = points;
+  for (std::size_t k = 0; k < reversed.size(); ++k) {
+    const double s = 2.0 * static_cast<double>(k);
+    if (s >= length) reversed[k] = {100 * std::cos(-(s - length) / 100), 100 * std::sin(-(s - length) / 100), 2, 2};
+  }
+  track::trimRetracedTail(reversed, &cut);
+  EXPECT_EQ(cut, 0u) << "the other way round is not a retrace";
+}
+
 TEST(MapFolder, RewritingAMapWritesTheCentreLineItsTrackYamlNames) {
   // track_tool resample once wrote centerline.csv beside a track.yaml naming another file: no effect.
   TempDir dir;

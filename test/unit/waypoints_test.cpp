@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "roar/sim/world.h"
+#include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/npz.h"
 #include "roar/track/waypoints.h"
@@ -221,6 +222,12 @@ TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   double lo = 1e9, hi = -1e9;
   for (const auto& p : berk_track.points()) lo = std::min(lo, p.z), hi = std::max(hi, p.z);
   EXPECT_GT(hi - lo, 300.0) << "Berkeley's hills agree with their recorded pitch and are kept";
+  // Its recording drives 46 m on over its start: cut there, it closes (track_tool import does this).
+  std::size_t cut = 0;
+  const auto lap = track::trimRetracedTail(berk_track.points(), &cut);
+  EXPECT_EQ(cut, 23u);
+  EXPECT_FALSE(track::loopGap(lap).open());
+  EXPECT_NEAR(track::Track(lap, info).length(), 16242, 50);
 }
 
 TEST(Waypoints, ElevationAndBankingSurviveCsvAndNpz) {

@@ -40,4 +40,10 @@ LoopGap loopGap(const std::vector<CentreLinePoint>& points);
 // first, widths, elevation and banking interpolated along it.
 std::vector<CentreLinePoint> closeLoopGap(const std::vector<CentreLinePoint>& points);
 
+// A recorded lap that drives on past its start, over the road it began on (ROAR_PY's BerkMajor: its last
+// 23 points, 46 m, retrace its first within 1.2 m), cut where it comes back nearest its first point; a
+// tail that does not retrace the start (a course that is no loop, a figure-eight's crossing) is kept.
+// `cut` (if given): the points removed.
+std::vector<CentreLinePoint> trimRetracedTail(const std::vector<CentreLinePoint>& points, std::size_t* cut = nullptr);
+
 }  // namespace roar::track
