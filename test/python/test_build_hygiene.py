@@ -1,0 +1,73 @@
+"""scripts/setup installs what the build uses: every header the compiler read and every library the
+programs link comes from a package scripts/setup names or from one of their dependencies (as dpkg has
+them installed), so a fresh machine builds with what setup installs."""
+import glob
+import os
+import re
+import subprocess
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def setup_packages():
+    with open(os.path.join(REPO, "scripts", "setup")) as f:
+        block = re.search(r"^packages=\((.*?)^\)", f.read(), re.S | re.M).group(1)
+    return {word for line in block.splitlines() for word in line.split("#")[0].split()}
+
+
+def installed_closure(packages):
+    """The packages and everything they depend on (Depends, Pre-Depends), as installed."""
+    seen, todo = set(), list(packages)
+    while todo:
+        batch = [p for p in set(todo) if p not in seen]
+        todo = []
+        seen.update(batch)
+        if not batch:
+            break
+        out = subprocess.run(["dpkg-query", "-W", "-f", "${Package}\t${Depends}, ${Pre-Depends}\t${Provides}\n"] + batch,
+                             capture_output=True, text=True).stdout
+        for line in out.splitlines():
+            _, depends, provides = (line.split("\t") + ["", ""])[:3]
+            for alternative in depends.split(","):
+                for name in alternative.split("|"):
+                    name = name.strip().split(" ")[0].split(":")[0]
+                    if name and name not in seen:
+                        todo.append(name)
+    # Virtual packages are satisfied by what provides them: add the providers that are installed.
+    out = subprocess.run(["dpkg-query", "-W", "-f", "${Package}\t${Provides}\n"], capture_output=True, text=True).stdout
+    for line in out.splitlines():
+        package, provides = (line.split("\t") + [""])[:2]
+        names = {p.strip().split(" ")[0] for p in provides.split(",") if p.strip()}
+        if names & seen:
+            seen.add(package)
+    return seen
+
+
+def owners(paths):
+    """The Debian packages that own these files (files of none are left out)."""
+    found = set()
+    paths = sorted({os.path.realpath(p) for p in paths if os.path.exists(p)})
+    for i in range(0, len(paths), 200):
+        out = subprocess.run(["dpkg", "-S"] + paths[i:i + 200], capture_output=True, text=True).stdout
+        for line in out.splitlines():
+            for name in line.split(": ")[0].split(","):
+                found.add(name.strip().split(":")[0])
+    return found
+
+
+def test_every_header_and_library_the_build_uses_comes_from_what_setup_installs():
+    depfiles = glob.glob(os.path.join(REPO, "build", "CMakeFiles", "*", "**", "*.o.d"), recursive=True)
+    assert depfiles, "no compiler dependency files: build first (make build)"
+    headers = set()
+    for path in depfiles:
+        with open(path) as f:
+            headers.update(w for w in f.read().replace("\\\n", " ").split() if w.startswith("/usr/"))
+    programs = glob.glob(os.path.join(REPO, "devel", "lib", "roar_ros", "*")) + glob.glob(os.path.join(REPO, "devel", "lib", "*.so"))
+    libraries = set()
+    for program in programs:
+        out = subprocess.run(["ldd", program], capture_output=True, text=True).stdout
+        libraries.update(re.findall(r"=> (/\S+)", out))
+    used = owners(headers) | owners(libraries)
+    assert len(used) > 20, used
+    missing = used - installed_closure(setup_packages())
+    assert not missing, "used by the build but not installed by scripts/setup (nor a dependency): %s" % sorted(missing)
