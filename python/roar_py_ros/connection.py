@@ -9,10 +9,11 @@ import tempfile
 import threading
 import time
 import typing
-from pathlib import Path
 
 import rosgraph
 import rospy
+
+from roar_rl.package import package_root  # noqa: F401 - also roar_py_ros.connection.package_root
 
 SIM = "/roar_sim"
 WAYPOINT_SERVER = "/waypoint_server"
@@ -22,11 +23,6 @@ _private_port: typing.Optional[int] = None
 
 class RoarSimError(RuntimeError):
     """roar_sim refused a request, or is not there to answer it."""
-
-
-def package_root() -> Path:
-    """The roar_ros package: this file is python/roar_py_ros/connection.py in it."""
-    return Path(__file__).resolve().parents[2]
 
 
 def master_online(uri: str) -> bool:

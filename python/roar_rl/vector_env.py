@@ -9,7 +9,9 @@ from roar_py_interface import spaces
 
 import roar_rl_core as _core
 
-ROOT = Path(__file__).resolve().parents[2]  # the roar_ros package: python/roar_rl/vector_env.py in it
+from .package import package_root
+
+ROOT = package_root()
 
 
 def available_maps() -> typing.List[str]:
