@@ -15,7 +15,8 @@
 // minimum-time line searched from the planner's (min_time; vs_min = promised / min_time), tracking error
 // and barrier contacts; --grip-use=F overrides the share of the road's friction the plan uses,
 // --stanley races with Stanley instead of pure pursuit,
-// --minimum-time races the minimum-time line, --no-yardstick skips the minimum-time search (min_time 0). --race-only skips the benchmarks; --no-race skips the table.
+// --minimum-time races the minimum-time line, --no-yardstick skips the minimum-time search (min_time 0). --race-only
+// skips the benchmarks; --no-race skips the table.
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
@@ -29,13 +30,13 @@
 #include <random>
 #include <thread>
 
+#include "roar/planning/minimum_time.h"
+#include "roar/rl/vector_env.h"
 #include "roar/sensors/camera.h"
 #include "roar/sensors/sensor_rig.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
-#include "roar/planning/minimum_time.h"
-#include "roar/rl/vector_env.h"
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
@@ -61,7 +62,8 @@ control::TrajectoryTracker racingDriver(const track::Track& track, const sim::Ve
 
 control::TrackerInput trackerInput(const sim::VehicleState& s) {
   const Eigen::Vector3d forward = s.pose.orientation * Eigen::Vector3d::UnitX();
-  return {s.pose.position.head<2>(), std::atan2(forward.y(), forward.x()), s.forward_speed, s.body_angular_velocity.z()};
+  return {s.pose.position.head<2>(), std::atan2(forward.y(), forward.x()), s.forward_speed,
+          s.body_angular_velocity.z()};
 }
 
 void PhysicsRealTimeFactor(benchmark::State& state) {
@@ -89,8 +91,8 @@ void PhysicsRealTimeFactor(benchmark::State& state) {
   }
   state.counters["real_time_factor"] =
       benchmark::Counter(static_cast<double>(ticks) * world.options().control_dt, benchmark::Counter::kIsRate);
-  state.counters["car_seconds_per_s"] = benchmark::Counter(static_cast<double>(ticks) * world.options().control_dt * cars,
-                                                           benchmark::Counter::kIsRate);
+  state.counters["car_seconds_per_s"] =
+      benchmark::Counter(static_cast<double>(ticks) * world.options().control_dt * cars, benchmark::Counter::kIsRate);
 }
 
 track::Track defaultTrack() { return track::loadMapFolder(sourceDir() + "/maps/roar_ring"); }
@@ -118,7 +120,8 @@ void RayCast(benchmark::State& state) {
         for (int y = ty; y < ty + 4; ++y)
           for (int x = tx; x < tx + 4; ++x) {
             const Eigen::Vector3d optical((x + 0.5 - k.cx) / k.fx, (y + 0.5 - k.cy) / k.fy, 1.0);
-            dirs.push_back((pose.linear() * sensors::opticalFromBody().transpose() * optical.normalized()).cast<float>());
+            dirs.push_back(
+                (pose.linear() * sensors::opticalFromBody().transpose() * optical.normalized()).cast<float>());
           }
   } else {
     std::mt19937 rng(1);
@@ -133,7 +136,8 @@ void RayCast(benchmark::State& state) {
     scene.cast(pose.translation(), dirs.data(), dirs.size(), -1, 1000.0f, coherent, hits.data());
     benchmark::DoNotOptimize(hits.data());
   }
-  state.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(state.iterations() * dirs.size()), benchmark::Counter::kIsRate);
+  state.counters["rays_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations() * dirs.size()), benchmark::Counter::kIsRate);
 }
 
 void CameraFrame(benchmark::State& state) {
@@ -157,7 +161,8 @@ void CameraFrame(benchmark::State& state) {
 
 // Counts nothing: the benchmark measures producing the readings, not publishing them.
 struct NullSink : sensors::SensorSink {
-  void camera(const sensors::SensorSpec&, double, const sensors::CameraFrame&, const sensors::CameraIntrinsics&) override {}
+  void camera(const sensors::SensorSpec&, double, const sensors::CameraFrame&,
+              const sensors::CameraIntrinsics&) override {}
   void lidar(const sensors::SensorSpec&, double, const std::vector<sensors::LidarPoint>&) override {}
   void imu(const sensors::SensorSpec&, double, const sensors::ImuSample&) override {}
   void gnss(const sensors::SensorSpec&, double, const sensors::GnssFix&) override {}
@@ -168,7 +173,8 @@ struct NullSink : sensors::SensorSink {
 
 void SensorSuiteRealTimeFactor(benchmark::State& state) {
   const track::Track track = defaultTrack();
-  const sim::VehicleParams car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const sim::VehicleParams car =
+      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   sim::World world(track, {});
   world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
   sensors::RayScene scene(track);
@@ -220,7 +226,8 @@ void RlEnvSteps(benchmark::State& state) {
   const bool camera = state.range(0) == 1;
   const int threads = static_cast<int>(state.range(1));
   const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-  const sim::VehicleParams car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const sim::VehicleParams car =
+      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
   const int count = threads == 1 ? 1 : 2 * threads;
   for (int i = 0; i < count; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, benchEnv(camera)));
@@ -231,7 +238,8 @@ void RlEnvSteps(benchmark::State& state) {
   for (auto _ : state) {
     // Acting on the results where they lie: VectorEnv::step writes the observations in place.
     const rl::VectorStepResult& r = vec.step(actions);
-    for (std::size_t i = 0; i < actions.size(); ++i) actions[i] = chaseAction(vec.actionSpace(), r.steps[i].observation);
+    for (std::size_t i = 0; i < actions.size(); ++i)
+      actions[i] = chaseAction(vec.actionSpace(), r.steps[i].observation);
     steps += static_cast<std::int64_t>(actions.size());
   }
   state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
@@ -241,8 +249,15 @@ void RlEnvSteps(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(RlEnvSteps)->ArgNames({"camera", "threads"})->Args({0, 1})->Args({0, 2})->Args({1, 1})->Args({1, 2})
-    ->MinTime(3.0)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(RlEnvSteps)
+    ->ArgNames({"camera", "threads"})
+    ->Args({0, 1})
+    ->Args({0, 2})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->MinTime(3.0)
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(RayCast)->ArgName("coherent")->Arg(0)->Arg(1)->MinTime(2.0)->Unit(benchmark::kMillisecond);
 BENCHMARK(CameraFrame)->ArgName("width")->Arg(84)->Arg(800)->MinTime(2.0)->Unit(benchmark::kMicrosecond);
@@ -253,9 +268,9 @@ namespace {
 
 void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
   const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
-  const auto limits = planning::vehicleLimits(
-      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"), track.info().friction,
-      stack::TimeTrialOptions().grip_use);
+  const auto limits =
+      planning::vehicleLimits(sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"),
+                              track.info().friction, stack::TimeTrialOptions().grip_use);
   for (auto _ : state) benchmark::DoNotOptimize(planning::planRacingTrajectory(track, limits, {}));
   state.counters["track_km"] = track.length() / 1000.0;
 }
@@ -356,9 +371,11 @@ int main(int argc, char** argv) {
   if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
   if (scaling) {
     const track::Track sprint = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-    const sim::VehicleParams car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
-    bench::printScalingTable([&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); },
-                             chaseAction, max_threads, scaling_seconds);
+    const sim::VehicleParams car =
+        sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+    bench::printScalingTable(
+        [&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); }, chaseAction,
+        max_threads, scaling_seconds);
   }
   if (traffic) {
     bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,

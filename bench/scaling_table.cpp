@@ -101,8 +101,10 @@ double processesRate(const EnvFactory& make_env, const Policy& policy, bool came
 }  // namespace
 
 void printScalingTable(const EnvFactory& make_env, const Policy& policy, int max_threads, double seconds) {
-  std::printf("\nScaling: the RL environment on Roar Sprint, steps/s in one process against as many single-thread "
-              "processes (%.0f s each)\n", seconds);
+  std::printf(
+      "\nScaling: the RL environment on Roar Sprint, steps/s in one process against as many single-thread "
+      "processes (%.0f s each)\n",
+      seconds);
   std::printf("%-7s %7s %12s %12s %12s %10s %10s\n", "obs", "threads", "sync", "async", "processes", "sync/proc",
               "async/proc");
   for (bool camera : {false, true}) {
@@ -115,8 +117,9 @@ void printScalingTable(const EnvFactory& make_env, const Policy& policy, int max
       std::fflush(stdout);
     }
   }
-  std::printf("sync: VectorEnv, two environments a thread, every thread stepping each step; async: AsyncVectorEnv,\n"
-              "two environments a worker, batches of one per worker; processes: one environment each, forked.\n");
+  std::printf(
+      "sync: VectorEnv, two environments a thread, every thread stepping each step; async: AsyncVectorEnv,\n"
+      "two environments a worker, batches of one per worker; processes: one environment each, forked.\n");
 }
 
 }  // namespace roar::bench

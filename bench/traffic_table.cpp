@@ -90,10 +90,11 @@ double mean(const std::vector<double>& v) {
 
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
-  std::printf("%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s\n", circuit.c_str(), kind.c_str(),
-              t.races, t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share),
-              t.contacts, t.at_fault, t.track_limits, t.late_passes,
-              t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-");
+  std::printf(
+      "%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s\n", circuit.c_str(), kind.c_str(), t.races,
+      t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share), t.contacts,
+      t.at_fault, t.track_limits, t.late_passes,
+      t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-");
 }
 
 }  // namespace
@@ -102,10 +103,13 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
                       int seeds, int laps, const planning::OvertakeOptions& overtake, const std::string& only_map,
                       bool verbose) {
   const auto vehicle = sim::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
-  std::printf("\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
-              "lockstep, in one process\n", laps, seeds);
+  std::printf(
+      "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
+      "lockstep, in one process\n",
+      laps, seeds);
   std::printf("%-14s %-13s %5s %8s %9s %7s %7s %9s %8s %8s %8s %7s %8s %9s\n", "circuit", "field", "races", "attempts",
-              "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits", "late", "in_order");
+              "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits", "late",
+              "in_order");
   Totals all;
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
@@ -192,12 +196,13 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
   }
   printRow("all", "", all);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  std::printf("columns: passes attempted, completed and aborted; rate_%% completed/attempted; catch_s median time from\n"
-              "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
-              "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
-              "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order.\n"
-              "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n", all.race_seconds, wall,
-              all.barrier, all.defences);
+  std::printf(
+      "columns: passes attempted, completed and aborted; rate_%% completed/attempted; catch_s median time from\n"
+      "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
+      "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
+      "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order.\n"
+      "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n",
+      all.race_seconds, wall, all.barrier, all.defences);
   return all.contacts;
 }
 
@@ -206,16 +211,23 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
   if (eq == std::string::npos) throw std::invalid_argument("--overtake " + assignment + ": expected name=value");
   const std::string name = assignment.substr(0, eq);
   const double value = std::stod(assignment.substr(eq + 1));
-  const std::map<std::string, double*> fields = {
-      {"lateral_margin", &o->lateral_margin}, {"longitudinal_margin", &o->longitudinal_margin},
-      {"edge_margin", &o->edge_margin},       {"horizon", &o->horizon},
-      {"shift_time", &o->shift_time},         {"min_shift_length", &o->min_shift_length},
-      {"min_gain", &o->min_gain},             {"engage_time", &o->engage_time},
-      {"guard_lateral", &o->guard_lateral},   {"guard_time", &o->guard_time},
-      {"rejoin_time", &o->rejoin_time},       {"min_pass_speed", &o->min_pass_speed},
-      {"offline_grip", &o->offline_grip},     {"max_pass_offset", &o->max_pass_offset},
-      {"defend_time", &o->defend_time},       {"defend_shift", &o->defend_shift},
-      {"defend_hold", &o->defend_hold}};
+  const std::map<std::string, double*> fields = {{"lateral_margin", &o->lateral_margin},
+                                                 {"longitudinal_margin", &o->longitudinal_margin},
+                                                 {"edge_margin", &o->edge_margin},
+                                                 {"horizon", &o->horizon},
+                                                 {"shift_time", &o->shift_time},
+                                                 {"min_shift_length", &o->min_shift_length},
+                                                 {"min_gain", &o->min_gain},
+                                                 {"engage_time", &o->engage_time},
+                                                 {"guard_lateral", &o->guard_lateral},
+                                                 {"guard_time", &o->guard_time},
+                                                 {"rejoin_time", &o->rejoin_time},
+                                                 {"min_pass_speed", &o->min_pass_speed},
+                                                 {"offline_grip", &o->offline_grip},
+                                                 {"max_pass_offset", &o->max_pass_offset},
+                                                 {"defend_time", &o->defend_time},
+                                                 {"defend_shift", &o->defend_shift},
+                                                 {"defend_hold", &o->defend_hold}};
   const auto it = fields.find(name);
   if (it != fields.end()) {
     *it->second = value;

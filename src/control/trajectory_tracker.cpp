@@ -10,10 +10,12 @@ namespace {
 
 void check(const TrackerOptions& o) {
   for (double v : {o.wheelbase, o.max_steer_angle, o.lookahead_min, o.speed_gain}) {
-    if (!(v > 0) || !std::isfinite(v)) throw std::invalid_argument("trajectory tracker: lengths, angles and gains must be positive");
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("trajectory tracker: lengths, angles and gains must be positive");
   }
   for (double v : {o.lookahead_time, o.yaw_rate_gain, o.speed_preview, o.max_speed}) {
-    if (!(v >= 0) || !std::isfinite(v)) throw std::invalid_argument("trajectory tracker: times, damping and caps must not be negative");
+    if (!(v >= 0) || !std::isfinite(v))
+      throw std::invalid_argument("trajectory tracker: times, damping and caps must not be negative");
   }
 }
 
@@ -50,7 +52,8 @@ double TrajectoryTracker::steeringAngle(const TrackerInput& in, double s, double
   const planning::TrajectoryPoint ref = planning::sampleAt(trajectory_, at_front.s);
   const double kappa = planning::sampleAt(trajectory_, at_front.s + speed * options_.steer_preview).curvature;
   const double heading_error = std::remainder(ref.yaw - in.yaw, 2.0 * M_PI);
-  const double cross_track = std::atan(options_.stanley_gain * -at_front.lateral / (speed + options_.stanley_softening));
+  const double cross_track =
+      std::atan(options_.stanley_gain * -at_front.lateral / (speed + options_.stanley_softening));
   return std::atan(options_.wheelbase * kappa) + heading_error + cross_track +
          options_.yaw_rate_gain * (speed * kappa - in.yaw_rate);
 }
@@ -69,13 +72,14 @@ sim::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
 
   control.steer = std::clamp(steeringAngle(in, projection.s, speed) / options_.max_steer_angle, -1.0, 1.0);
 
-  const planning::TrajectoryPoint ahead = planning::sampleAt(trajectory_, projection.s + speed * options_.speed_preview);
+  const planning::TrajectoryPoint ahead =
+      planning::sampleAt(trajectory_, projection.s + speed * options_.speed_preview);
   target_speed_ = options_.max_speed > 0 ? std::min(ahead.speed, options_.max_speed) : ahead.speed;
   const double acceleration = options_.max_speed > 0 && target_speed_ < ahead.speed ? 0.0 : ahead.acceleration;
   // Feed-forward: the force the profile's acceleration needs, as a share of what engine or brakes give.
   const double force = limits_.mass * acceleration + limits_.resistance(speed);
-  const double feed_forward = force >= 0 ? force / std::max(1.0, limits_.driveForce(speed))
-                                         : force / std::max(1.0, limits_.max_brake_force);
+  const double feed_forward =
+      force >= 0 ? force / std::max(1.0, limits_.driveForce(speed)) : force / std::max(1.0, limits_.max_brake_force);
   const double effort = feed_forward + options_.speed_gain * (target_speed_ - speed);
   control.throttle = std::clamp(effort, 0.0, 1.0);
   control.brake = std::clamp(-effort, 0.0, 1.0);

@@ -3,11 +3,11 @@
 // RobotStatePublisher on roar_sim's /<car>/joint_states (wheel rotation, steering), publishing the links
 // as <car>/<link> frames under <car>/base_link. One node for all cars, because a launch file cannot repeat
 // robot_state_publisher for a list of cars that only the scenario file knows.
-#include <kdl_parser/kdl_parser.hpp>
 #include <robot_state_publisher/robot_state_publisher.h>
 #include <ros/ros.h>
 #include <sensor_msgs/JointState.h>
 #include <urdf/model.h>
+#include <kdl_parser/kdl_parser.hpp>
 
 #include <Eigen/Core>
 #include <cstdio>
@@ -58,8 +58,10 @@ std::string painted(std::string urdf_text, const Eigen::Vector3f& linear_rgb) {
   char rgba[64];
   // The cameras' own gamma encoding, so that rviz shows the colour the cameras see.
   auto screen = [](float c) { return sensors::gammaEncode(c) / 255.0; };
-  std::snprintf(rgba, sizeof(rgba), "%.3f %.3f %.3f 1", screen(linear_rgb.x()), screen(linear_rgb.y()), screen(linear_rgb.z()));
-  return urdf_text.replace(static_cast<std::size_t>(match.position(1)), static_cast<std::size_t>(match.length(1)), rgba);
+  std::snprintf(rgba, sizeof(rgba), "%.3f %.3f %.3f 1", screen(linear_rgb.x()), screen(linear_rgb.y()),
+                screen(linear_rgb.z()));
+  return urdf_text.replace(static_cast<std::size_t>(match.position(1)), static_cast<std::size_t>(match.length(1)),
+                           rgba);
 }
 
 std::string readFile(const std::string& path) {

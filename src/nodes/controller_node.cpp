@@ -1,30 +1,29 @@
 // controller: drives cars along the planner's trajectories (<vehicle>/local_trajectory): the scenario's
-// cars that the stack drives (less ~exclude), or ~vehicle. Answers every odometry message with a control stamped with the
-// odometry's time, which is what the simulator's lockstep mode waits for. Until a car's first trajectory
-// arrives it does not answer, so a lockstep simulator waits for the stack to be ready (an async one holds
-// the car with its control timeout). While the planner answers odometry too (its windows carry the
-// odometry's stamp), the controller answers tick t with the window of tick t, waiting up to ~window_wait
-// seconds of wall time for it: otherwise a planner that fell behind (a busy machine) would let a lockstep
-// race run on with an old window, past its end and into a wall. When a car's odometry stops for
-// odom_timeout seconds of wall time it brakes that car to a stop and says so. Gains and limits are dynamic_reconfigure parameters
-// (cfg/Controller.cfg), tunable while it drives.
+// cars that the stack drives (less ~exclude), or ~vehicle. Answers every odometry message with a control stamped with
+// the odometry's time, which is what the simulator's lockstep mode waits for. Until a car's first trajectory arrives it
+// does not answer, so a lockstep simulator waits for the stack to be ready (an async one holds the car with its control
+// timeout). While the planner answers odometry too (its windows carry the odometry's stamp), the controller answers
+// tick t with the window of tick t, waiting up to ~window_wait seconds of wall time for it: otherwise a planner that
+// fell behind (a busy machine) would let a lockstep race run on with an old window, past its end and into a wall. When
+// a car's odometry stops for odom_timeout seconds of wall time it brakes that car to a stop and says so. Gains and
+// limits are dynamic_reconfigure parameters (cfg/Controller.cfg), tunable while it drives.
 #include <dynamic_reconfigure/server.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/ros.h>
 #include <roar_ros/ControllerConfig.h>
 #include <roar_ros/Trajectory.h>
 #include <roar_ros/VehicleControl.h>
+#include <ros/ros.h>
 
 #include <algorithm>
 #include <list>
 
 #include "roar/control/trajectory_tracker.h"
 #include "roar/control/window_pairing.h"
-#include "roar/ros/wall_throttle.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/scenario_params.h"
+#include "roar/ros/wall_throttle.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/stack/time_trial.h"
 
@@ -97,8 +96,8 @@ class Driver {
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,
                                    ros::TransportHints().tcpNoDelay());
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(
-        car.name + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); }, ros::VoidConstPtr(),
-        ros::TransportHints().tcpNoDelay());
+        car.name + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); },
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
 
   void configure(const roar_ros::ControllerConfig& config) {
@@ -108,14 +107,15 @@ class Driver {
   // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.
   void checkOdometry() {
     if (held_odom_ && pairing_.waitedTooLong(ros::WallTime::now().toSec())) {
-      ROAR_WARN_WALL_THROTTLE(5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
-                        trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_,
-                        pairing_.windowStamp());
+      ROAR_WARN_WALL_THROTTLE(
+          5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
+          trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_, pairing_.windowStamp());
       answer(*held_odom_);
     }
     // Odometry held for its window is odometry: that wait is the planner's, said above. Only silence
     // since the last odometry received or answered is "no odometry".
-    if (odom_timeout_ <= 0 || !driving_ || held_odom_ || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_) return;
+    if (odom_timeout_ <= 0 || !driving_ || held_odom_ || (ros::WallTime::now() - last_odom_).toSec() < odom_timeout_)
+      return;
     if (!stale_) {
       ROS_WARN("controller: no odometry on %s for %.1f s: braking '%s' to a stop", odom_sub_.getTopic().c_str(),
                odom_timeout_, car_.name.c_str());
@@ -133,8 +133,8 @@ class Driver {
       tracker_.setTrajectory(ros_bridge::fromMessage(msg));
       if (pairing_.onWindow(msg.header.stamp.toSec()) && held_odom_) answer(*held_odom_);
     } catch (const std::exception& e) {
-      ROAR_ERROR_WALL_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(), e.what(),
-                         tracker_.hasTrajectory() ? "; keeping the previous one" : "");
+      ROAR_ERROR_WALL_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(),
+                               e.what(), tracker_.hasTrajectory() ? "; keeping the previous one" : "");
     }
   }
 
@@ -187,14 +187,16 @@ class ControllerNode {
     for (const auto& car : options.cars) drivers_.emplace_back(nh, car, options.odom_timeout, options.window_wait);
     reconfigure_.setCallback([this](const roar_ros::ControllerConfig& config, uint32_t) {
       if (config.lateral_control != "pure_pursuit" && config.lateral_control != "stanley") {
-        ROS_ERROR("controller: lateral_control '%s' is neither pure_pursuit nor stanley; keeping the gains as they were",
-                  config.lateral_control.c_str());
+        ROS_ERROR(
+            "controller: lateral_control '%s' is neither pure_pursuit nor stanley; keeping the gains as they were",
+            config.lateral_control.c_str());
         return;
       }
       for (auto& driver : drivers_) driver.configure(config);
       ROS_INFO("controller: %s, lookahead %.2f m + %.2f s, Stanley gain %.2f, speed gain %.2f%s",
                config.lateral_control.c_str(), config.lookahead_min, config.lookahead_time, config.stanley_gain,
-               config.speed_gain, config.max_speed > 0 ? (", max " + std::to_string(config.max_speed) + " m/s").c_str() : "");
+               config.speed_gain,
+               config.max_speed > 0 ? (", max " + std::to_string(config.max_speed) + " m/s").c_str() : "");
     });
     watchdog_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
       for (auto& driver : drivers_) driver.checkOdometry();

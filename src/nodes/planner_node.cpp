@@ -129,8 +129,8 @@ class PlannerNode {
     car.last_odom = odom_msg;
     if (!field_) return;
     const nav_msgs::Odometry& odom = *odom_msg;
-    field_->locate(name, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), odom.twist.twist.linear.x,
-                   odom.header.stamp.toSec());
+    field_->locate(name, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
+                   odom.twist.twist.linear.x, odom.header.stamp.toSec());
     const planning::RaceDecision before = field_->decision(name);
     const planning::Trajectory local = field_->window(name);
     const planning::RaceDecision now = field_->decision(name);

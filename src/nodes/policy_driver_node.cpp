@@ -4,8 +4,8 @@
 // and answers with the policy's action as a control stamped with the odometry's time, as lockstep wants.
 // It reads what odometry carries: a policy that observes a camera, LiDAR or IMU is refused at start.
 #include <nav_msgs/Odometry.h>
-#include <ros/ros.h>
 #include <roar_ros/VehicleControl.h>
+#include <ros/ros.h>
 
 #include <optional>
 
@@ -42,11 +42,13 @@ PolicyDriverOptions readParameters(const ros::NodeHandle& nh) {
       if (car.name == o.vehicle) model = car.model;
     }
   }
-  o.forward_gears = static_cast<int>(sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
-                                                           readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"))
-                                         .gearbox.ratios.size());
+  o.forward_gears =
+      static_cast<int>(sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
+                                             readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"))
+                           .gearbox.ratios.size());
   o.policy_file = readString(nh, "policy", "");
-  if (o.policy_file.empty()) throw ParamError("parameter " + nh.resolveName("policy") + " must name a policy file (rl_train's policy.yaml)");
+  if (o.policy_file.empty())
+    throw ParamError("parameter " + nh.resolveName("policy") + " must name a policy file (rl_train's policy.yaml)");
   return o;
 }
 
@@ -56,9 +58,9 @@ class PolicyDriver {
       // The topics first, before the policy and map load: lockstep waits for connected drivers only, and
       // odometry that arrives meanwhile waits in the queue (callbacks run only in ros::spin, after this).
       : control_(nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10)),
-        odom_(nh.subscribe<nav_msgs::Odometry>(options.vehicle + "/odom", 10,
-                                               [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m); },
-                                               ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay())),
+        odom_(nh.subscribe<nav_msgs::Odometry>(
+            options.vehicle + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m); },
+            ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay())),
         options_(options),
         track_(track::loadMapFolder(options.map_folder)),
         policy_(rl::MlpPolicy::load(options.policy_file)),

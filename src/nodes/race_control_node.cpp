@@ -4,13 +4,13 @@
 // done its laps (mark it required="true" in a launch file to end the race there). Exit code 0 when every
 // car finished, 1 on a time-out.
 #include <nav_msgs/Odometry.h>
-#include <ros/ros.h>
-#include <std_msgs/String.h>
 #include <roar_ros/CollisionEvent.h>
 #include <roar_ros/MapInfo.h>
 #include <roar_ros/RaceStatus.h>
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/Trajectory.h>
+#include <ros/ros.h>
+#include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
@@ -43,7 +43,7 @@ struct RaceControlOptions {
 
 race::IncidentRule readRule(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
   const std::string rule = ros_bridge::readChoice(nh, name, fallback, {"ignore", "penalty", "respawn"});
-  return rule == "ignore" ? race::IncidentRule::kIgnore
+  return rule == "ignore"    ? race::IncidentRule::kIgnore
          : rule == "respawn" ? race::IncidentRule::kRespawn
                              : race::IncidentRule::kPenalty;
 }
@@ -122,20 +122,22 @@ class RaceControlNode {
       subs_.push_back(nh.subscribe<nav_msgs::Odometry>(
           name + "/odom", 100, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, *m); }));
       subs_.push_back(nh.subscribe<roar_ros::CollisionEvent>(
-          name + "/collision", 100, [this, name](const roar_ros::CollisionEvent::ConstPtr& m) { onCollision(name, *m); }));
+          name + "/collision", 100,
+          [this, name](const roar_ros::CollisionEvent::ConstPtr& m) { onCollision(name, *m); }));
     }
     // The planner's promise, for the report's speed plots.
-    line_sub_ = nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
-      onRacingLine(*m);
-    });
+    line_sub_ = nh.subscribe<roar_ros::Trajectory>(
+        "racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) { onRacingLine(*m); });
     map_sub_ = nh.subscribe("/roar_sim/map", 1, &RaceControlNode::onSimMap, this);
     // A car whose driver died is out of the race (roar_sim stops waiting for it and brings it to a stop).
-    lost_sub_ = nh.subscribe<std_msgs::String>("/roar_sim/driver_lost", 10, [this](const std_msgs::String::ConstPtr& m) {
-      if (!race_->cars().count(m->data) || !race_->car(m->data).retired.empty() || race_->car(m->data).finished) return;
-      race_->retire(m->data, now_, "driver lost");
-      std::printf("%s: retired at t = %.2f s (driver lost)\n", m->data.c_str(), now_);
-      std::fflush(stdout);
-    });
+    lost_sub_ =
+        nh.subscribe<std_msgs::String>("/roar_sim/driver_lost", 10, [this](const std_msgs::String::ConstPtr& m) {
+          if (!race_->cars().count(m->data) || !race_->car(m->data).retired.empty() || race_->car(m->data).finished)
+            return;
+          race_->retire(m->data, now_, "driver lost");
+          std::printf("%s: retired at t = %.2f s (driver lost)\n", m->data.c_str(), now_);
+          std::fflush(stdout);
+        });
     // Simulated time: the status stops with the simulator.
     status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
   }
@@ -187,8 +189,8 @@ class RaceControlNode {
     now_ = std::max(now_, t);
     if (!race_->car(name).finished) {
       const auto& v = odom.twist.twist.linear;
-      telemetry_[name].push_back({t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
-                                  std::sqrt(v.x * v.x + v.y * v.y)});
+      telemetry_[name].push_back(
+          {t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), std::sqrt(v.x * v.x + v.y * v.y)});
     }
     const auto& q = odom.pose.pose.orientation;
     const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
@@ -241,14 +243,17 @@ class RaceControlNode {
   }
 
   void report(const std::string& name, const race::Incident& incident) {
-    std::printf("%s: %s%s at t = %.2f s%s\n", name.c_str(), incident.kind.c_str(),
-                incident.contact.empty() ? ""
-                : (" (" + incident.contact + ", " +
-                   (incident.at_fault.empty() ? std::string("racing incident") : incident.at_fault + " at fault") + ")").c_str(),
-                incident.time,
-                incident.penalty > 0 ? (" (+" + std::to_string(incident.penalty) + " s penalty)").c_str()
-                : incident.respawn   ? " (respawned at the last waypoint)"
-                                     : "");
+    std::printf(
+        "%s: %s%s at t = %.2f s%s\n", name.c_str(), incident.kind.c_str(),
+        incident.contact.empty()
+            ? ""
+            : (" (" + incident.contact + ", " +
+               (incident.at_fault.empty() ? std::string("racing incident") : incident.at_fault + " at fault") + ")")
+                  .c_str(),
+        incident.time,
+        incident.penalty > 0 ? (" (+" + std::to_string(incident.penalty) + " s penalty)").c_str()
+        : incident.respawn   ? " (respawned at the last waypoint)"
+                             : "");
     std::fflush(stdout);
     if (!incident.respawn) return;
     roar_ros::ResetVehicle srv;
@@ -331,7 +336,8 @@ int main(int argc, char** argv) {
     const std::string run_id = ros::param::param<std::string>("/run_id", "");
     std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
                 node.race().track().info().name.c_str(), node.race().track().length(), options.vehicles.size());
-    if (!options.output_dir.empty()) std::printf("race_control: results will be written to %s\n", options.output_dir.c_str());
+    if (!options.output_dir.empty())
+      std::printf("race_control: results will be written to %s\n", options.output_dir.c_str());
     std::fflush(stdout);
 
     // Wall-time loop: the race ends on simulated events, not on a clock of ours; but a simulator that has
@@ -358,19 +364,24 @@ int main(int argc, char** argv) {
     // Shut down before the end (roar_sim, a required node, died and took the launch down): aborted too.
     const bool out_of_time = options.max_sim_time > 0 && node.now() > options.max_sim_time;
     aborted = aborted || (!complete && !out_of_time);
-    std::printf("race_control: race %s at t = %.2f s\n", complete ? "finished" : aborted ? "aborted" : "timed out", node.now());
+    std::printf("race_control: race %s at t = %.2f s\n",
+                complete  ? "finished"
+                : aborted ? "aborted"
+                          : "timed out",
+                node.now());
     for (const auto& standing : node.race().standings()) {
       const race::CarRecord& car = node.race().car(standing.name);
       const auto best = car.timer.bestLap();
       const double lost = node.race().timeLostInTraffic(standing.name);
       char lost_text[32] = "no clean lap to compare";
       if (std::isfinite(lost)) std::snprintf(lost_text, sizeof lost_text, "lost %.1f s", lost);
-      std::printf("  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
-                  "car contacts %d, track limits %d, in traffic %.1f s (%s)\n",
-                  standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
-                  car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
-                  best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
-                  car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);
+      std::printf(
+          "  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
+          "car contacts %d, track limits %d, in traffic %.1f s (%s)\n",
+          standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
+          car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
+          best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
+          car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);
     }
     if (!options.output_dir.empty()) {
       const race::RaceOutcome outcome = complete  ? race::RaceOutcome::kFinished
@@ -378,8 +389,10 @@ int main(int argc, char** argv) {
                                                   : race::RaceOutcome::kTimedOut;
       race::writeResults(options.output_dir, node.race(), outcome, run_id);
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
-      std::printf("race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
-                  "speed_<car>.png\n", options.output_dir.c_str());
+      std::printf(
+          "race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
+          "speed_<car>.png\n",
+          options.output_dir.c_str());
     }
     std::fflush(stdout);
     ros::shutdown();

@@ -11,9 +11,9 @@
 // as they appear (the master is asked every ~poll_period wall seconds), with unbounded queues.
 // ~until_finished (false): the bag ends with the race: nothing more is written once /race_status says the
 // race is finished (progress is still reported, so that roar_sim does not wait for a recorder that is done).
+#include <roar_ros/RaceStatus.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
-#include <roar_ros/RaceStatus.h>
 #include <rosgraph_msgs/Clock.h>
 #include <topic_tools/shape_shifter.h>
 
@@ -62,7 +62,8 @@ class RaceRecorder {
     bag_.open(active_, rosbag::bagmode::Write);
     // Latched: a subscriber that connects late still hears how far the recording has got.
     recorded_pub_ = pnh.advertise<rosgraph_msgs::Clock>("recorded", 10, true);
-    poll_ = nh_.createWallTimer(ros::WallDuration(options_.poll_period), [this](const ros::WallTimerEvent&) { subscribeNew(); });
+    poll_ = nh_.createWallTimer(ros::WallDuration(options_.poll_period),
+                                [this](const ros::WallTimerEvent&) { subscribeNew(); });
     subscribeNew();
   }
 
@@ -89,7 +90,8 @@ class RaceRecorder {
       ops.md5sum = ros::message_traits::md5sum<topic_tools::ShapeShifter>();
       ops.datatype = ros::message_traits::datatype<topic_tools::ShapeShifter>();
       ops.transport_hints = ros::TransportHints().tcpNoDelay();
-      ops.helper = boost::make_shared<ros::SubscriptionCallbackHelperT<const ros::MessageEvent<const topic_tools::ShapeShifter>&>>(
+      ops.helper = boost::make_shared<
+          ros::SubscriptionCallbackHelperT<const ros::MessageEvent<const topic_tools::ShapeShifter>&>>(
           [this, topic](const ros::MessageEvent<const topic_tools::ShapeShifter>& event) { write(topic, event); });
       subscribers_[topic] = nh_.subscribe(ops);
     }
@@ -103,9 +105,10 @@ class RaceRecorder {
       bag_.write(topic, ros::Time(wall.sec, wall.nsec), *message, event.getConnectionHeaderPtr());
       ++counts_[topic];
     }
-    if (topic == "/clock" && message->getDataType() == "rosgraph_msgs/Clock") recorded_pub_.publish(message->instantiate<rosgraph_msgs::Clock>());
-    if (options_.until_finished && !finished_ && topic == "/race_status" && message->getDataType() == "roar_ros/RaceStatus" &&
-        message->instantiate<roar_ros::RaceStatus>()->finished) {
+    if (topic == "/clock" && message->getDataType() == "rosgraph_msgs/Clock")
+      recorded_pub_.publish(message->instantiate<rosgraph_msgs::Clock>());
+    if (options_.until_finished && !finished_ && topic == "/race_status" &&
+        message->getDataType() == "roar_ros/RaceStatus" && message->instantiate<roar_ros::RaceStatus>()->finished) {
       finished_ = true;
       ROS_INFO("race_recorder: the race is finished: %s ends here", options_.bag.c_str());
     }

@@ -1,20 +1,20 @@
 // waypoint_server: a map's waypoints, path, rviz markers and spawn points (latched), and queries about the
 // track: waypoints ahead, spawn points, projection of a point, routes, the maps available.
 #include <geometry_msgs/PoseArray.h>
-#include <ros/ros.h>
 #include <roar_ros/GetRoute.h>
 #include <roar_ros/GetSpawnPoints.h>
 #include <roar_ros/GetWaypoints.h>
 #include <roar_ros/ListMaps.h>
 #include <roar_ros/MapInfo.h>
 #include <roar_ros/ProjectPoint.h>
+#include <ros/ros.h>
 
 #include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
-#include "roar/ros/track_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
+#include "roar/ros/track_msg_conversion.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 
@@ -51,7 +51,8 @@ class WaypointServer {
     services_.push_back(pnh.advertiseService("project_point", &WaypointServer::projectPoint, this));
     services_.push_back(pnh.advertiseService("get_route", &WaypointServer::getRoute, this));
     services_.push_back(pnh.advertiseService("list_maps", &WaypointServer::listMaps, this));
-    ROS_INFO("waypoint_server: '%s', %zu waypoints, %.0f m", track_->info().name.c_str(), track_->size(), track_->length());
+    ROS_INFO("waypoint_server: '%s', %zu waypoints, %.0f m", track_->info().name.c_str(), track_->size(),
+             track_->length());
   }
 
  private:
@@ -75,8 +76,8 @@ class WaypointServer {
       folder_ = info.folder;
       generation_ = info.generation;
       publishTrack();
-      ROS_INFO("waypoint_server: now serving '%s' (%s by roar_sim), %zu waypoints, %.0f m",
-               track_->info().name.c_str(), info.reason.c_str(), track_->size(), track_->length());
+      ROS_INFO("waypoint_server: now serving '%s' (%s by roar_sim), %zu waypoints, %.0f m", track_->info().name.c_str(),
+               info.reason.c_str(), track_->size(), track_->length());
     } catch (const std::exception& e) {
       ROS_ERROR("waypoint_server: roar_sim's map '%s' (%s) could not be read, still serving '%s': %s",
                 info.name.c_str(), info.folder.c_str(), track_->info().name.c_str(), e.what());
@@ -86,7 +87,8 @@ class WaypointServer {
   bool getWaypoints(roar_ros::GetWaypoints::Request& req, roar_ros::GetWaypoints::Response& res) {
     // Any finite progress (it wraps round the lap); a length of 0 or less, or infinite, is the whole track.
     if (!std::isfinite(req.from_s)) return ros_bridge::refuse(res, "get_waypoints", "from_s must be finite");
-    if (std::isnan(req.length)) return ros_bridge::refuse(res, "get_waypoints", "length is NaN (0 or less: the whole track)");
+    if (std::isnan(req.length))
+      return ros_bridge::refuse(res, "get_waypoints", "length is NaN (0 or less: the whole track)");
     res.waypoints = req.length <= 0 || std::isinf(req.length)
                         ? ros_bridge::waypointMessages(*track_)
                         : ros_bridge::waypointMessages(*track_, track_->indicesAhead(req.from_s, req.length));
@@ -95,7 +97,8 @@ class WaypointServer {
   }
 
   bool getSpawnPoints(roar_ros::GetSpawnPoints::Request& req, roar_ros::GetSpawnPoints::Response& res) {
-    if (req.count < 1 || req.count > 10000) return ros_bridge::refuse(res, "get_spawn_points", "count must be in [1, 10000]");
+    if (req.count < 1 || req.count > 10000)
+      return ros_bridge::refuse(res, "get_spawn_points", "count must be in [1, 10000]");
     if (req.kind != "grid" && req.kind != "even") {
       return ros_bridge::refuse(res, "get_spawn_points", "kind must be 'grid' or 'even', got '" + req.kind + "'");
     }
@@ -113,11 +116,11 @@ class WaypointServer {
     if (!std::isfinite(req.yaw)) return ros_bridge::refuse(res, "project_point", "yaw must be finite");
     const track::Projection pr = track_->project(Eigen::Vector2d(req.point.x, req.point.y));
     const std::size_t next = (pr.segment + 1) % track_->size();
-    res.nearest_index = static_cast<unsigned>(
-        (Eigen::Vector2d(req.point.x, req.point.y) - track_->position(pr.segment)).norm() <=
-                (Eigen::Vector2d(req.point.x, req.point.y) - track_->position(next)).norm()
-            ? pr.segment
-            : next);
+    res.nearest_index =
+        static_cast<unsigned>((Eigen::Vector2d(req.point.x, req.point.y) - track_->position(pr.segment)).norm() <=
+                                      (Eigen::Vector2d(req.point.x, req.point.y) - track_->position(next)).norm()
+                                  ? pr.segment
+                                  : next);
     res.s = pr.s;
     res.lateral_offset = pr.lateral;
     res.heading_error = track::wrapAngle(req.yaw - pr.heading);
@@ -130,8 +133,10 @@ class WaypointServer {
 
   bool getRoute(roar_ros::GetRoute::Request& req, roar_ros::GetRoute::Response& res) {
     // From and to places on the track or its run-off: a route from anywhere else would be a guess.
-    for (const auto& [what, pose] : {std::pair<const char*, const geometry_msgs::Pose*>{"start", &req.start}, {"goal", &req.goal}}) {
-      const std::string problem = track::offTrackProblem(*track_, Eigen::Vector2d(pose->position.x, pose->position.y), what);
+    for (const auto& [what, pose] :
+         {std::pair<const char*, const geometry_msgs::Pose*>{"start", &req.start}, {"goal", &req.goal}}) {
+      const std::string problem =
+          track::offTrackProblem(*track_, Eigen::Vector2d(pose->position.x, pose->position.y), what);
       if (!problem.empty()) return ros_bridge::refuse(res, "get_route", problem);
     }
     const double from = track_->project(Eigen::Vector2d(req.start.position.x, req.start.position.y)).s;

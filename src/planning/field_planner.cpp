@@ -5,7 +5,8 @@
 
 namespace roar::planning {
 
-FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, FieldOptions options)
+FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits,
+                           FieldOptions options)
     : line_(std::move(line)), limits_(limits), options_(options) {
   validate(line_);
   options_.overtake.follow_gap = options_.follow_gap;
@@ -59,8 +60,9 @@ Trajectory FieldPlanner::window(const std::string& car) {
   const double pace = pace_it == pace_.end() ? 1.0 : pace_it->second;
   if (overtaker_) {
     std::vector<TrafficCar> traffic;
-    for (const auto& [name, other] : cars_) traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share, other.lateral_speed,
-                         other.progress - place.progress > 0.5 * line_.length});
+    for (const auto& [name, other] : cars_)
+      traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share,
+                         other.lateral_speed, other.progress - place.progress > 0.5 * line_.length});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

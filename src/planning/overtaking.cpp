@@ -20,12 +20,18 @@ double smoothStep(double u) {
 
 const char* raceModeName(RaceMode mode) {
   switch (mode) {
-    case RaceMode::kRacingLine: return "racing_line";
-    case RaceMode::kFollow: return "follow";
-    case RaceMode::kPass: return "pass";
-    case RaceMode::kHold: return "hold";
-    case RaceMode::kYield: return "yield";
-    case RaceMode::kDefend: return "defend";
+    case RaceMode::kRacingLine:
+      return "racing_line";
+    case RaceMode::kFollow:
+      return "follow";
+    case RaceMode::kPass:
+      return "pass";
+    case RaceMode::kHold:
+      return "hold";
+    case RaceMode::kYield:
+      return "yield";
+    case RaceMode::kDefend:
+      return "defend";
   }
   return "unknown";
 }
@@ -66,7 +72,8 @@ double interpolateWrapped(const std::vector<double>& xs, const std::vector<doubl
 double OvertakePlanner::roomLeft(double s) const { return interpolateWrapped(room_s_, room_left_, line_.length, s); }
 double OvertakePlanner::roomRight(double s) const { return interpolateWrapped(room_s_, room_right_, line_.length, s); }
 
-Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s) const {
+Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to,
+                                    double back_s) const {
   Trajectory out = window;
   // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
@@ -155,7 +162,7 @@ const Trajectory* OvertakePlanner::trustedPlan(const TrafficCar& car) const {
   const auto it = plans_.find(car.name);
   if (it == plans_.end()) return nullptr;
   return std::abs(plannedLateral(&it->second, car.lateral, car.s) - car.lateral) <= options_.plan_trust ? &it->second
-                                                                                                       : nullptr;
+                                                                                                        : nullptr;
 }
 
 double OvertakePlanner::plannedLateral(const TrafficCar& car, double s) const {
@@ -183,7 +190,8 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   double v = other.speed;
   for (int k = 0; k < steps; ++k) {
     const double cap = share * sampleAt(line_, s0 + along).speed;
-    const double v_next = std::min(cap, v + kPredictionStep * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass());
+    const double v_next =
+        std::min(cap, v + kPredictionStep * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass());
     along += kPredictionStep * 0.5 * (v + std::max(v_next, 0.0));
     v = v_next;
     p.ahead.push_back(along);
@@ -199,8 +207,8 @@ double OvertakePlanner::driveAlong(const Trajectory& plan, double s0, double v0,
   for (std::size_t k = 0; k + 1 < pts.size() && t < options_.horizon; ++k) {
     if (pts[k + 1].s <= s0) continue;
     const double ds = pts[k + 1].s - std::max(s, pts[k].s);
-    const double v_next = std::min(pts[k + 1].speed,
-                                   std::sqrt(v * v + 2.0 * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass() * ds));
+    const double v_next = std::min(
+        pts[k + 1].speed, std::sqrt(v * v + 2.0 * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass() * ds));
     t += ds / std::max(0.5, 0.5 * (v + v_next));
     v = v_next;
     s = pts[k + 1].s;
@@ -273,10 +281,12 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   for (const auto& o : traffic) {
     if (o.name == car) continue;
     const double rel = aheadOnLap(o.s, s, L);
-    if (rel < -(options_.car_length + options_.longitudinal_margin + options_.rejoin_time * speed) || rel > ahead_m) continue;
+    if (rel < -(options_.car_length + options_.longitudinal_margin + options_.rejoin_time * speed) || rel > ahead_m)
+      continue;
     others.push_back(o);
     if (std::abs(rel) < options_.car_length + options_.longitudinal_margin) alongside = true;
-    if (rel > 0 && rel < leader_gap && std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
+    if (rel > 0 && rel < leader_gap &&
+        std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
       leader_gap = rel;
       leader = &o;
     }
@@ -370,7 +380,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       // One side for the whole of being lapped: never across the lapping car's way.
       auto side_it = yields_.find(car);
       if (side_it == yields_.end() || side_it->second.first != blue->name) {
-        side_it = yields_.insert_or_assign(car, std::make_pair(blue->name, roomLeft(s) >= roomRight(s) ? +1 : -1)).first;
+        side_it =
+            yields_.insert_or_assign(car, std::make_pair(blue->name, roomLeft(s) >= roomRight(s) ? +1 : -1)).first;
       }
       const int side = side_it->second.second;
       const bool yielding = memory.mode == RaceMode::kYield && memory.other == blue->name && memory.side == side;
@@ -432,8 +443,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // The fallback: behind the leader at its speed; beside a car, holding the lateral place (never squeezing
   // it), otherwise on or back to the racing line.
   const RaceDecision fallback_path = alongside && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
-                                     : on_line             ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
-                                                           : make(RaceMode::kRacingLine, 0, "", 0.0);
+                                     : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
+                                               : make(RaceMode::kRacingLine, 0, "", 0.0);
   Candidate follow{on_line ? base : shifted(base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset),
                    fallback_path, true};
   follow.decision.mode = RaceMode::kFollow;
@@ -457,7 +468,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       // ...and while it still gains on following (a pass squeezed onto the line by the road's edge is
       // following by another name).
       if (c.clear && c.decision.mode == RaceMode::kPass && c.decision.side == memory.side &&
-          c.decision.other == memory.other && c.decision.progress > follow.decision.progress + 0.5 * options_.min_gain) {
+          c.decision.other == memory.other &&
+          c.decision.progress > follow.decision.progress + 0.5 * options_.min_gain) {
         chosen = &c;
       }
     }
@@ -467,14 +479,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // waiting for room beside the car is part of the pass.
     Headway& headway = headways_[car];
     if (still_ahead) {
-      if (headway.other != memory.other || leader_gap < headway.best_gap - 1.0) headway = {memory.other, leader_gap, 0.0};
+      if (headway.other != memory.other || leader_gap < headway.best_gap - 1.0)
+        headway = {memory.other, leader_gap, 0.0};
       if (leader_gap > options_.follow_gap + options_.car_length) headway.stalled += options_.plan_period;
       if (headway.stalled > options_.stall_time) chosen = nullptr;
     }
     const bool stalled = still_ahead && headway.stalled > options_.stall_time;
     // The car passed moving across towards this one's side while this one is still behind it: the door is
     // closing, and a pass that chases it sideways asks more than the car can do. Given up at once.
-    const bool cutting_in = still_ahead && leader_gap > options_.car_length && memory.side * leader->lateral_speed > 0.5;
+    const bool cutting_in =
+        still_ahead && leader_gap > options_.car_length && memory.side * leader->lateral_speed > 0.5;
     if (cutting_in) chosen = nullptr;
     // One plan's doubt is not an abort: predictions jitter with the odometry's timing, and the guard keeps
     // the car off the back of anyone in its path meanwhile.
@@ -502,7 +516,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   if (!chosen) {
     for (const auto& c : candidates) {
       if (!c.clear) continue;
-      if (c.decision.mode == RaceMode::kPass && c.decision.progress < follow.decision.progress + options_.min_gain) continue;
+      if (c.decision.mode == RaceMode::kPass && c.decision.progress < follow.decision.progress + options_.min_gain)
+        continue;
       if (!chosen || c.decision.progress > chosen->decision.progress + 0.5 ||
           (c.decision.mode == RaceMode::kRacingLine && c.decision.progress >= chosen->decision.progress - 0.5)) {
         chosen = &c;
@@ -510,7 +525,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
   }
   if (!chosen) chosen = &follow;
-  if (memory.mode == RaceMode::kPass && chosen->decision.mode == RaceMode::kFollow) abort = {memory.other, options_.retry_plans};
+  if (memory.mode == RaceMode::kPass && chosen->decision.mode == RaceMode::kFollow)
+    abort = {memory.other, options_.retry_plans};
   const bool holding = alongside && (chosen->decision.mode == RaceMode::kHold || (chosen == &follow && !on_line));
   if (holding) {
     holds_[car] = hold_at;
@@ -521,8 +537,9 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
 }
 
 OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, double s, double lateral, double speed,
-                                                    const std::vector<TrafficCar>& traffic, const Trajectory& base,
-                                                    const std::vector<Prediction>& predicted, const RaceDecision& memory) {
+                                                   const std::vector<TrafficCar>& traffic, const Trajectory& base,
+                                                   const std::vector<Prediction>& predicted,
+                                                   const RaceDecision& memory) {
   const double L = line_.length;
   const double reach = options_.car_length + options_.defend_time * std::max(speed, 5.0);
   const double beside = options_.car_length + options_.longitudinal_margin;
@@ -550,11 +567,16 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
   // A threat: at racing speed (not the grid), close behind, pulled out off the racing line and to one
   // side of this car by half a car's width each, and not dropping back; this car on its line.
   const double half = 0.5 * options_.car_width;
-  const bool threat = speed >= options_.min_pass_speed && std::abs(across) > half && std::abs(attacker->lateral) > half &&
-                      std::abs(lateral) < half && attacker->speed > speed - 0.5;
+  const bool threat = speed >= options_.min_pass_speed && std::abs(across) > half &&
+                      std::abs(attacker->lateral) > half && std::abs(lateral) < half && attacker->speed > speed - 0.5;
   if (!defending && (!threat || !defence.against.empty())) return none;  // one move, no second
-  RaceDecision d{RaceMode::kDefend, side, attacker->name, lateral + side * std::min(std::abs(across), options_.defend_shift),
-                 0.0, s, lateral};
+  RaceDecision d{RaceMode::kDefend,
+                 side,
+                 attacker->name,
+                 lateral + side * std::min(std::abs(across), options_.defend_shift),
+                 0.0,
+                 s,
+                 lateral};
   if (defending) {  // the move goes on where it began, to where it was going
     d.side = memory.side;
     d.offset = memory.offset;

@@ -97,8 +97,8 @@ double curvatureChange(const RacingLine& a, const RacingLine& b) {
   double change = 0.0;
   for (std::size_t i = 0; i < b.points.size(); ++i) {
     const double f = b.s[i] / b.length * a.length;
-    const std::size_t j = std::min(a.points.size() - 1, static_cast<std::size_t>(
-        std::upper_bound(a.s.begin(), a.s.end(), f) - a.s.begin()) - 1);
+    const std::size_t j = std::min(
+        a.points.size() - 1, static_cast<std::size_t>(std::upper_bound(a.s.begin(), a.s.end(), f) - a.s.begin()) - 1);
     const std::size_t k = (j + 1) % a.points.size();
     const double t = std::clamp((f - a.s[j]) / a.step[j], 0.0, 1.0);
     const double d = b.curvature[i] - ((1 - t) * a.curvature[j] + t * a.curvature[k]);

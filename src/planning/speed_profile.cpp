@@ -31,7 +31,8 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   }
   const std::size_t segments = closed ? n : n - 1;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(curvature[i])) throw std::invalid_argument("speed profile: curvature " + std::to_string(i) + " is not finite");
+    if (!std::isfinite(curvature[i]))
+      throw std::invalid_argument("speed profile: curvature " + std::to_string(i) + " is not finite");
     if (i < segments && !(step[i] > 0 && std::isfinite(step[i]))) {
       throw std::invalid_argument("speed profile: step " + std::to_string(i) + " is not a positive distance");
     }

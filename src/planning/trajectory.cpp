@@ -19,12 +19,18 @@ double stepAfter(const Trajectory& t, std::size_t i) {
 }  // namespace
 
 void validate(const Trajectory& t) {
-  if (t.points.size() < 2) throw TrajectoryError("trajectory: needs at least 2 points, has " + std::to_string(t.points.size()));
+  if (t.points.size() < 2)
+    throw TrajectoryError("trajectory: needs at least 2 points, has " + std::to_string(t.points.size()));
   for (std::size_t i = 0; i < t.points.size(); ++i) {
     const auto& p = t.points[i];
-    const std::pair<const char*, double> fields[] = {{"x", p.position.x()}, {"y", p.position.y()}, {"z", p.z},
-                                                      {"yaw", p.yaw}, {"s", p.s}, {"curvature", p.curvature},
-                                                      {"speed", p.speed}, {"acceleration", p.acceleration}};
+    const std::pair<const char*, double> fields[] = {{"x", p.position.x()},
+                                                     {"y", p.position.y()},
+                                                     {"z", p.z},
+                                                     {"yaw", p.yaw},
+                                                     {"s", p.s},
+                                                     {"curvature", p.curvature},
+                                                     {"speed", p.speed},
+                                                     {"acceleration", p.acceleration}};
     for (const auto& [name, value] : fields) {
       if (!std::isfinite(value)) {
         throw TrajectoryError("trajectory: point " + std::to_string(i) + " has a non-finite " + name);

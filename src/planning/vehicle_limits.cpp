@@ -33,7 +33,8 @@ double VehicleLimits::longitudinalGrip(double speed, double curvature) const {
 
 int VehicleLimits::gearAt(double speed) const {
   if (gear.empty()) return 1;
-  const std::size_t i = std::min(gear.size() - 1, static_cast<std::size_t>(std::max(0.0, speed) / drive_force_step + 0.5));
+  const std::size_t i =
+      std::min(gear.size() - 1, static_cast<std::size_t>(std::max(0.0, speed) / drive_force_step + 0.5));
   return gear[i];
 }
 
@@ -49,7 +50,8 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
   limits.rolling_resistance = params.tyre.rolling_resistance;
   limits.shift_time = params.gearbox.shift_time;
   limits.rotating_mass = 0.0;
-  for (const auto& wheel : params.wheels) limits.rotating_mass += params.tyre.wheel_inertia / (wheel.radius * wheel.radius);
+  for (const auto& wheel : params.wheels)
+    limits.rotating_mass += params.tyre.wheel_inertia / (wheel.radius * wheel.radius);
   double brake_torque = 0.0;
   for (const auto& wheel : params.wheels) {
     brake_torque += wheel.front ? params.brakes.max_torque_front : params.brakes.max_torque_rear;
@@ -66,7 +68,7 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
     const double front_load = weight * (params.chassis.centre_of_mass.x() - x_rear) / wheelbase;
     const double rear_load = weight - front_load;
     const double transfer = params.chassis.centre_of_mass.z() / wheelbase;  // load moved per N of drive force
-    const double tc = params.traction_control ? 0.95 : 1.0;  // traction control keeps below the peak
+    const double tc = params.traction_control ? 0.95 : 1.0;                 // traction control keeps below the peak
     const double d_front = params.front_drive_share, d_rear = 1.0 - d_front;
     const double c_front = tc, c_rear = tc * (params.traction_control ? params.rear_grip_share : 1.0);
     double most = 1e300;

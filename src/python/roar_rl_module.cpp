@@ -78,10 +78,14 @@ py::dtype dtypeOf(const rl::Space& space) {
   if (space.kind == rl::Space::Kind::kDiscrete) return py::dtype::of<std::int64_t>();
   if (space.kind == rl::Space::Kind::kMultiBinary) return py::dtype::of<std::int8_t>();
   switch (space.dtype) {
-    case rl::DType::kFloat32: return py::dtype::of<float>();
-    case rl::DType::kFloat64: return py::dtype::of<double>();
-    case rl::DType::kInt64: return py::dtype::of<std::int64_t>();
-    case rl::DType::kUInt8: return py::dtype::of<std::uint8_t>();
+    case rl::DType::kFloat32:
+      return py::dtype::of<float>();
+    case rl::DType::kFloat64:
+      return py::dtype::of<double>();
+    case rl::DType::kInt64:
+      return py::dtype::of<std::int64_t>();
+    case rl::DType::kUInt8:
+      return py::dtype::of<std::uint8_t>();
   }
   return py::dtype::of<float>();
 }
@@ -111,7 +115,7 @@ struct Batch {
       data.push_back(static_cast<char*>(arrays.back().mutable_data()));
       const auto kind = arrays.back().dtype().kind();
       const auto size = arrays.back().dtype().itemsize();
-      elements.push_back(kind == 'f' ? (size == 4 ? Element::kFloat32 : Element::kFloat64)
+      elements.push_back(kind == 'f'   ? (size == 4 ? Element::kFloat32 : Element::kFloat64)
                          : kind == 'u' ? Element::kUInt8
                          : size == 1   ? Element::kInt8
                                        : Element::kInt64);
@@ -138,11 +142,21 @@ struct Batch {
       const auto& numbers = valueAt(value, leaves[i]).numbers;
       if (numbers.size() != leaves[i].elements) throw std::logic_error("an observation does not fit its space");
       switch (elements[i]) {
-        case Element::kFloat32: writeRow<float>(data[i], row, numbers); break;
-        case Element::kFloat64: writeRow<double>(data[i], row, numbers); break;
-        case Element::kUInt8: writeRow<std::uint8_t>(data[i], row, numbers); break;
-        case Element::kInt8: writeRow<std::int8_t>(data[i], row, numbers); break;
-        case Element::kInt64: writeRow<std::int64_t>(data[i], row, numbers); break;
+        case Element::kFloat32:
+          writeRow<float>(data[i], row, numbers);
+          break;
+        case Element::kFloat64:
+          writeRow<double>(data[i], row, numbers);
+          break;
+        case Element::kUInt8:
+          writeRow<std::uint8_t>(data[i], row, numbers);
+          break;
+        case Element::kInt8:
+          writeRow<std::int8_t>(data[i], row, numbers);
+          break;
+        case Element::kInt64:
+          writeRow<std::int64_t>(data[i], row, numbers);
+          break;
       }
     }
   }
@@ -150,9 +164,9 @@ struct Batch {
 
 // The info of every environment: one array per field.
 struct Infos {
-  static constexpr const char* kFields[] = {"progress", "track_s", "lateral", "speed", "collision_impulse",
-                                            "collided", "off_track", "stalled", "wrong_way", "laps",
-                                            "last_lap_time", "episode_time", "episode_steps", "episode_return"};
+  static constexpr const char* kFields[] = {
+      "progress", "track_s",   "lateral", "speed",         "collision_impulse", "collided",      "off_track",
+      "stalled",  "wrong_way", "laps",    "last_lap_time", "episode_time",      "episode_steps", "episode_return"};
   static constexpr std::size_t kCount = sizeof(kFields) / sizeof(kFields[0]);
   std::vector<py::array_t<double>> arrays;
   std::vector<double*> data;
@@ -166,9 +180,19 @@ struct Infos {
     }
   }
   void write(std::size_t row, const rl::StepInfo& i) {
-    const double values[kCount] = {i.progress, i.track_s, i.lateral, i.speed, i.collision_impulse,
-                                   double(i.collided), double(i.off_track), double(i.stalled), double(i.wrong_way),
-                                   double(i.laps), i.last_lap_time, i.episode_time, double(i.episode_steps),
+    const double values[kCount] = {i.progress,
+                                   i.track_s,
+                                   i.lateral,
+                                   i.speed,
+                                   i.collision_impulse,
+                                   double(i.collided),
+                                   double(i.off_track),
+                                   double(i.stalled),
+                                   double(i.wrong_way),
+                                   double(i.laps),
+                                   i.last_lap_time,
+                                   i.episode_time,
+                                   double(i.episode_steps),
                                    i.episode_return};
     for (std::size_t k = 0; k < kCount; ++k) data[k][row] = values[k];
   }
@@ -202,8 +226,8 @@ struct StepBuffers {
 
   // (observations, rewards, terminations, truncations, infos, final observations, final mask)
   py::tuple views() const {
-    return py::make_tuple(observations->view, rewards, terminations, truncations, infos->view,
-                          final_observations->view, final_mask);
+    return py::make_tuple(observations->view, rewards, terminations, truncations, infos->view, final_observations->view,
+                          final_mask);
   }
 };
 
@@ -259,8 +283,10 @@ class BatchedActions {
 std::vector<std::unique_ptr<rl::RacingEnv>> makeEnvs(const std::string& map_folder, const std::string& options_path,
                                                      const std::string& model, const std::string& urdf_dir,
                                                      const std::string& vehicle_dir, int num_envs, int num_threads) {
-  if (num_envs < 1 || num_envs > 4096) throw py::value_error("num_envs must be in [1, 4096], got " + std::to_string(num_envs));
-  if (num_threads < 1 || num_threads > 1024) throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
+  if (num_envs < 1 || num_envs > 4096)
+    throw py::value_error("num_envs must be in [1, 4096], got " + std::to_string(num_envs));
+  if (num_threads < 1 || num_threads > 1024)
+    throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
   const track::Track track = track::loadMapFolder(map_folder);
   const sim::VehicleParams car = sim::loadVehicleModel(model, urdf_dir, vehicle_dir);
   const rl::EnvOptions options = rl::readEnvOptions(options_path);

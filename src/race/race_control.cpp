@@ -39,7 +39,8 @@ const CarRecord& RaceControl::car(const std::string& name) const {
   return it->second;
 }
 
-Incident RaceControl::makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule, double penalty) {
+Incident RaceControl::makeIncident(CarRecord& car, double time, const std::string& kind, IncidentRule rule,
+                                   double penalty) {
   Incident incident;
   incident.time = time;
   incident.kind = kind;
@@ -54,7 +55,8 @@ Incident RaceControl::makeIncident(CarRecord& car, double time, const std::strin
   return incident;
 }
 
-std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, double time, const Eigen::Vector2d& position,
+std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, double time,
+                                                     const Eigen::Vector2d& position,
                                                      std::optional<Incident>* incident) {
   CarRecord& car = record(name);
   car.last_time = std::max(car.last_time, time);
@@ -63,7 +65,8 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   auto lap = car.timer.update(time, position);
   if (car.timer.started()) {
     const double covered = car.timer.distanceCovered();
-    while (covered >= 0 && static_cast<double>(car.passage.size()) * kPassageStep <= covered) car.passage.push_back(time);
+    while (covered >= 0 && static_cast<double>(car.passage.size()) * kPassageStep <= covered)
+      car.passage.push_back(time);
   }
   if (lap && lap->lap >= rules_.laps) {
     car.finished = true;
@@ -195,9 +198,9 @@ std::optional<Incident> RaceControl::updateContact(const std::string& name, doub
   const CarRecord& o = them->second;
   ContactFaultOptions options;
   options.car_length = rules_.car_length;
-  const ContactFault fault = attributeContact({name, car.position, car.yaw, car.velocity},
-                                              {other, o.position, o.yaw, o.velocity},
-                                              track_.project(car.position).heading, options);
+  const ContactFault fault =
+      attributeContact({name, car.position, car.yaw, car.velocity}, {other, o.position, o.yaw, o.velocity},
+                       track_.project(car.position).heading, options);
   const bool mine = fault.at_fault == name;
   Incident incident = makeIncident(car, time, "car " + other, mine ? rules_.collision : IncidentRule::kPenalty,
                                    mine ? rules_.collision_penalty : 0.0);
@@ -223,7 +226,8 @@ void RaceControl::retire(const std::string& name, double time, const std::string
 }
 
 bool RaceControl::finished() const {
-  return std::all_of(cars_.begin(), cars_.end(), [](const auto& kv) { return kv.second.finished || !kv.second.retired.empty(); });
+  return std::all_of(cars_.begin(), cars_.end(),
+                     [](const auto& kv) { return kv.second.finished || !kv.second.retired.empty(); });
 }
 
 std::vector<Standing> RaceControl::standings() const {
@@ -258,10 +262,14 @@ std::vector<Standing> RaceControl::standings() const {
 
 const char* outcomeName(RaceOutcome outcome) {
   switch (outcome) {
-    case RaceOutcome::kFinished: return "finished";
-    case RaceOutcome::kTimedOut: return "timed_out";
-    case RaceOutcome::kInterrupted: return "interrupted";
-    case RaceOutcome::kAborted: return "aborted";
+    case RaceOutcome::kFinished:
+      return "finished";
+    case RaceOutcome::kTimedOut:
+      return "timed_out";
+    case RaceOutcome::kInterrupted:
+      return "interrupted";
+    case RaceOutcome::kAborted:
+      return "aborted";
   }
   return "unknown";
 }
@@ -270,7 +278,8 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
   std::filesystem::create_directories(dir);
   std::ofstream yaml(dir + "/results.yaml"), laps(dir + "/laps.csv"), sectors(dir + "/sectors.csv");
   if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
-  for (auto* out : {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
+  for (auto* out :
+       {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
     *out << std::setprecision(10);
   }
   if (!run.empty()) yaml << "run_id: \"" << run << "\"\n";
@@ -288,10 +297,10 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
     yaml << "  - name: " << name << "\n    position: " << standing[name].position
          << "\n    finished: " << (car.finished ? "true" : "false");
     if (!car.retired.empty()) yaml << "\n    retired: \"" << car.retired << "\"\n    retired_at_s: " << car.retire_time;
-    yaml << "\n    laps_completed: " << timer.lapsCompleted()
-         << "\n    barrier_contacts: " << car.barrier_contacts << "\n    car_contacts: " << car.car_contacts
-         << "\n    track_limit_violations: " << car.track_limit_violations << "\n    penalties_s: " << car.penalties
-         << "\n    race_time_s: " << race.raceTime(name) << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
+    yaml << "\n    laps_completed: " << timer.lapsCompleted() << "\n    barrier_contacts: " << car.barrier_contacts
+         << "\n    car_contacts: " << car.car_contacts << "\n    track_limit_violations: " << car.track_limit_violations
+         << "\n    penalties_s: " << car.penalties << "\n    race_time_s: " << race.raceTime(name)
+         << "\n    gap_to_leader_s: " << standing[name].gap_to_leader;
     if (auto best = timer.bestLap()) yaml << "\n    best_lap_s: " << *best;
     yaml << "\n    time_in_traffic_s: " << car.time_in_traffic;
     const double lost = race.timeLostInTraffic(name);
@@ -310,8 +319,8 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
     }
     yaml << "    incidents:" << (car.incidents.empty() ? " []\n" : "\n");
     for (const auto& incident : car.incidents) {
-      yaml << "      - {time_s: " << incident.time << ", kind: \"" << incident.kind << "\", penalty_s: " << incident.penalty
-           << ", respawn: " << (incident.respawn ? "true" : "false");
+      yaml << "      - {time_s: " << incident.time << ", kind: \"" << incident.kind
+           << "\", penalty_s: " << incident.penalty << ", respawn: " << (incident.respawn ? "true" : "false");
       if (!incident.contact.empty()) {
         yaml << ", contact: \"" << incident.contact << "\", at_fault: \"" << incident.at_fault << "\"";
       }

@@ -57,11 +57,13 @@ void renderPlot(const std::string& png_path, const std::string& title, const std
   const double dx = tickStep(x_hi - x_lo), dy = tickStep(y_hi - y_lo);
   for (double x = std::ceil(x_lo / dx) * dx; x <= x_hi; x += dx) {
     cv::line(image, px(x, y_lo), px(x, y_hi), grid, 1);
-    cv::putText(image, format("%.0f", x), px(x, y_lo) + cv::Point(-15, 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
+    cv::putText(image, format("%.0f", x), px(x, y_lo) + cv::Point(-15, 22), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1,
+                cv::LINE_AA);
   }
   for (double y = std::ceil(y_lo / dy) * dy; y <= y_hi; y += dy) {
     cv::line(image, px(x_lo, y), px(x_hi, y), grid, 1);
-    cv::putText(image, format("%.0f", y), px(x_lo, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1, cv::LINE_AA);
+    cv::putText(image, format("%.0f", y), px(x_lo, y) + cv::Point(-45, 5), cv::FONT_HERSHEY_SIMPLEX, 0.5, text, 1,
+                cv::LINE_AA);
   }
   cv::putText(image, title, {left, 26}, cv::FONT_HERSHEY_SIMPLEX, 0.8, text, 2, cv::LINE_AA);
   cv::putText(image, x_label, {width_px / 2 - 60, height_px - 15 - legend_row}, cv::FONT_HERSHEY_SIMPLEX, 0.6, text, 1,
@@ -81,8 +83,8 @@ void renderPlot(const std::string& png_path, const std::string& title, const std
   if (!cv::imwrite(png_path, image)) throw std::runtime_error(png_path + ": cannot write the plot");
 }
 
-std::vector<std::string> writeRaceReport(const std::string& dir, const race::RaceControl& race, const Telemetry& telemetry,
-                                         const std::vector<ProfilePoint>& profile) {
+std::vector<std::string> writeRaceReport(const std::string& dir, const race::RaceControl& race,
+                                         const Telemetry& telemetry, const std::vector<ProfilePoint>& profile) {
   std::filesystem::create_directories(dir);
   const track::Track& track = race.track();
   std::vector<std::string> written;
@@ -105,7 +107,8 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
     const auto at = std::lower_bound(samples->second.begin(), samples->second.end(), o.time,
                                      [](const TelemetrySample& sample, double t) { return sample.time < t; });
     const TelemetrySample& where = at == samples->second.end() ? samples->second.back() : *at;
-    passes.push_back({where.position, o.passer + " > " + o.passed + " (lap " + std::to_string(o.lap) + format(", t = %.1f s)", o.time)});
+    passes.push_back({where.position, o.passer + " > " + o.passed + " (lap " + std::to_string(o.lap) +
+                                          format(", t = %.1f s)", o.time)});
   }
   track::renderTrackPreview(track, dir + "/trajectories.png", 1400, paths, "speed km/h", passes);
   written.push_back(dir + "/trajectories.png");
@@ -113,9 +116,12 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
   for (const auto& [name, car] : race.cars()) {
     const auto& laps = car.timer.laps();
     if (laps.empty() || !telemetry.count(name)) continue;
-    const race::LapRecord& best = *std::min_element(
-        laps.begin(), laps.end(), [](const race::LapRecord& a, const race::LapRecord& b) { return a.lap_time < b.lap_time; });
-    Series driven{name + " lap " + std::to_string(best.lap) + format(" (%.2f s)", best.lap_time), {}, {},
+    const race::LapRecord& best =
+        *std::min_element(laps.begin(), laps.end(),
+                          [](const race::LapRecord& a, const race::LapRecord& b) { return a.lap_time < b.lap_time; });
+    Series driven{name + " lap " + std::to_string(best.lap) + format(" (%.2f s)", best.lap_time),
+                  {},
+                  {},
                   Eigen::Vector3i(255, 160, 40)};
     double near = track.info().start_finish_s;
     for (const auto& sample : telemetry.at(name)) {
@@ -138,12 +144,14 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
       series.insert(series.begin(), promised);
     }
     const std::string png = dir + "/speed_" + name + ".png";
-    renderPlot(png, name + ": speed over the best lap, " + track.info().name, "distance from the line (m)", "km/h", series);
+    renderPlot(png, name + ": speed over the best lap, " + track.info().name, "distance from the line (m)", "km/h",
+               series);
     written.push_back(png);
   }
 
   std::ofstream md(dir + "/laps.md");
-  md << "# " << track.info().name << ": " << race.rules().laps << " laps\n\n| position | car | laps | best lap (s) | penalties (s) | in traffic (s) | lost in traffic (s) |";
+  md << "# " << track.info().name << ": " << race.rules().laps
+     << " laps\n\n| position | car | laps | best lap (s) | penalties (s) | in traffic (s) | lost in traffic (s) |";
   int most = 0;
   for (const auto& [name, car] : race.cars()) most = std::max(most, car.timer.lapsCompleted());
   for (int k = 1; k <= most; ++k) md << " lap " << k << " (s) |";

@@ -6,8 +6,8 @@ namespace roar::rl {
 
 Space actionSpace(const ActionOptions& options, int forward_gears) {
   std::vector<std::pair<std::string, Space>> entries = {
-      {"throttle", Space::box(0.0, 1.0, {1})},   {"steer", Space::box(-1.0, 1.0, {1})},
-      {"brake", Space::box(0.0, 1.0, {1})},      {"hand_brake", Space::box(0.0, 1.0, {1})},
+      {"throttle", Space::box(0.0, 1.0, {1})}, {"steer", Space::box(-1.0, 1.0, {1})},
+      {"brake", Space::box(0.0, 1.0, {1})},    {"hand_brake", Space::box(0.0, 1.0, {1})},
       {"reverse", Space::multiBinary(1)},
   };
   if (options.manual_gears) entries.emplace_back("target_gear", Space::discrete(forward_gears, 1));
@@ -38,8 +38,8 @@ Value toAction(const Space& space, const sim::VehicleControl& control) {
   a.at("reverse") = Value::of({control.reverse ? 1.0 : 0.0});
   if (space.has("target_gear")) {
     const Space& gears = space.at("target_gear");
-    a.at("target_gear") = Value::of({static_cast<double>(
-        std::clamp<std::int64_t>(control.gear, gears.start, gears.start + gears.n - 1))});
+    a.at("target_gear") = Value::of(
+        {static_cast<double>(std::clamp<std::int64_t>(control.gear, gears.start, gears.start + gears.n - 1))});
   }
   return a;
 }

@@ -12,7 +12,8 @@ AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int
   if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
   if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
   for (const auto& e : envs_) {
-    if (toYaml(e->actionSpace()) != toYaml(actionSpace()) || toYaml(e->observationSpace()) != toYaml(observationSpace())) {
+    if (toYaml(e->actionSpace()) != toYaml(actionSpace()) ||
+        toYaml(e->observationSpace()) != toYaml(observationSpace())) {
       throw std::invalid_argument("AsyncVectorEnv: the environments' spaces differ");
     }
   }

@@ -97,8 +97,9 @@ StepOutcome Episode::step(const sim::VehicleState& state, const std::vector<sim:
   if (info.off_track) out.reward -= r.off_track_penalty;
 
   out.terminated = info.collided || info.off_track || info.wrong_way;
-  out.truncated = !out.terminated && ((termination_.time_limit > 0.0 && info.episode_time >= termination_.time_limit - 1e-9) ||
-                                      info.stalled);
+  out.truncated =
+      !out.terminated &&
+      ((termination_.time_limit > 0.0 && info.episode_time >= termination_.time_limit - 1e-9) || info.stalled);
   info.episode_return += out.reward;
   out.info = info;
   return out;

@@ -32,8 +32,10 @@ Space dictOf(const ObservationOptions& o) {
   }
   if (o.lidar.beams > 0) entries.emplace_back("lidar", Space::box(0.0, o.lidar.max_range, {o.lidar.beams}));
   if (o.camera.width > 0) {
-    if (o.camera.rgb) entries.emplace_back("camera_rgb", Space::box(0.0, 255.0, {o.camera.height, o.camera.width, 3}, DType::kUInt8));
-    if (o.camera.depth) entries.emplace_back("camera_depth", Space::box(0.0, o.camera.max_depth, {o.camera.height, o.camera.width}));
+    if (o.camera.rgb)
+      entries.emplace_back("camera_rgb", Space::box(0.0, 255.0, {o.camera.height, o.camera.width, 3}, DType::kUInt8));
+    if (o.camera.depth)
+      entries.emplace_back("camera_depth", Space::box(0.0, o.camera.max_depth, {o.camera.height, o.camera.width}));
   }
   return Space::dict(std::move(entries));
 }
@@ -61,7 +63,8 @@ std::string waypointKey(double distance) {
 void validate(const ObservationOptions& o) {
   auto fail = [](const std::string& why) { throw std::invalid_argument("observation: " + why); };
   for (double d : o.waypoint_distances) {
-    if (!(d >= 0.0) || !std::isfinite(d)) fail("waypoint_distances: " + std::to_string(d) + " is not a distance ahead (>= 0)");
+    if (!(d >= 0.0) || !std::isfinite(d))
+      fail("waypoint_distances: " + std::to_string(d) + " is not a distance ahead (>= 0)");
   }
   for (std::size_t i = 0; i < o.waypoint_distances.size(); ++i) {
     for (std::size_t k = 0; k < i; ++k) {
@@ -128,7 +131,8 @@ void ObservationBuilder::observeInto(const sim::VehicleState& state, const track
   if (o.velocity) obs.at("velocity").numbers.assign({v.x(), v.y(), v.z()});
   if (o.angular_velocity) obs.at("angular_velocity").numbers.assign({w.x(), w.y(), w.z()});
   if (o.imu) {
-    const sensors::ImuSample imu = sensors::sampleImu(sensors::motionOf(state), sensors::Mount(), sensors::ImuSpec(), gravity_, nullptr);
+    const sensors::ImuSample imu =
+        sensors::sampleImu(sensors::motionOf(state), sensors::Mount(), sensors::ImuSpec(), gravity_, nullptr);
     const Eigen::Vector3d& a = imu.linear_acceleration;
     const Eigen::Vector3d& g = imu.angular_velocity;
     obs.at("imu").numbers.assign({a.x(), a.y(), a.z(), g.x(), g.y(), g.z()});
@@ -141,8 +145,9 @@ void ObservationBuilder::observeInto(const sim::VehicleState& state, const track
     for (double d : o.waypoint_distances) {
       const track::TrackPose p = track_->poseAt(where.s + d);
       const Eigen::Vector2d delta = p.position - at;
-      waypoints.at(waypointKey(d)).numbers.assign({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
-                                                   track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
+      waypoints.at(waypointKey(d))
+          .numbers.assign({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
+                           track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
     }
   }
   if (needsScene()) {
@@ -154,11 +159,13 @@ void ObservationBuilder::observeInto(const sim::VehicleState& state, const track
       for (std::size_t i = 0; i < dirs.size(); ++i) dirs[i] = rotation * lidar_dirs_[i];
       std::vector<sensors::RayHit> hits(dirs.size());
       const Eigen::Vector3d origin = base * Eigen::Vector3d(0.0, 0.0, o.lidar.height);
-      scene->cast(origin, dirs.data(), dirs.size(), own_vehicle, static_cast<float>(o.lidar.max_range), false, hits.data());
+      scene->cast(origin, dirs.data(), dirs.size(), own_vehicle, static_cast<float>(o.lidar.max_range), false,
+                  hits.data());
       Value& ranges = obs.at("lidar");
       ranges.numbers.clear();
       ranges.numbers.reserve(hits.size());
-      for (const auto& h : hits) ranges.numbers.push_back(h.hit ? std::min<double>(h.distance, o.lidar.max_range) : o.lidar.max_range);
+      for (const auto& h : hits)
+        ranges.numbers.push_back(h.hit ? std::min<double>(h.distance, o.lidar.max_range) : o.lidar.max_range);
     }
     if (camera_) {
       sensors::CameraChannels channels;
@@ -171,7 +178,8 @@ void ObservationBuilder::observeInto(const sim::VehicleState& state, const track
         auto& depth = obs.at("camera_depth").numbers;
         depth.clear();
         depth.reserve(frame.depth.size());
-        for (float d : frame.depth) depth.push_back(std::isfinite(d) ? std::min<double>(d, o.camera.max_depth) : o.camera.max_depth);
+        for (float d : frame.depth)
+          depth.push_back(std::isfinite(d) ? std::min<double>(d, o.camera.max_depth) : o.camera.max_depth);
       }
     }
   }

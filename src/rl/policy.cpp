@@ -23,7 +23,8 @@ std::vector<int> layerSizes(std::size_t inputs, const std::vector<int>& hidden) 
 }
 
 // Mean and spread that bring each observed number near [-1, 1]: the sizes a racing car meets.
-void naturalScales(const ObservationOptions& o, const Space& space, std::vector<float>* mean, std::vector<float>* spread) {
+void naturalScales(const ObservationOptions& o, const Space& space, std::vector<float>* mean,
+                   std::vector<float>* spread) {
   auto add = [&](std::size_t count, float m, float s) {
     mean->insert(mean->end(), count, m);
     spread->insert(spread->end(), count, s);
@@ -44,9 +45,12 @@ void naturalScales(const ObservationOptions& o, const Space& space, std::vector<
         add(1, 0.0f, reach), add(1, 0.0f, reach), add(1, 0.0f, 0.5f), add(1, 10.0f, 5.0f);
       }
     }
-    if (key == "lidar") add(entry.elements(), 0.5f * static_cast<float>(o.lidar.max_range), 0.5f * static_cast<float>(o.lidar.max_range));
+    if (key == "lidar")
+      add(entry.elements(), 0.5f * static_cast<float>(o.lidar.max_range), 0.5f * static_cast<float>(o.lidar.max_range));
     if (key == "camera_rgb") add(entry.elements(), 127.5f, 127.5f);
-    if (key == "camera_depth") add(entry.elements(), 0.5f * static_cast<float>(o.camera.max_depth), 0.5f * static_cast<float>(o.camera.max_depth));
+    if (key == "camera_depth")
+      add(entry.elements(), 0.5f * static_cast<float>(o.camera.max_depth),
+          0.5f * static_cast<float>(o.camera.max_depth));
   }
 }
 
@@ -158,7 +162,8 @@ MlpPolicy MlpPolicy::load(const std::string& path) {
     fail("mean and spread need " + std::to_string(policy.mean_.size()) + " numbers for this observation");
   }
   if (params.size() != policy.params_.size()) {
-    fail("params: " + std::to_string(params.size()) + " numbers, the network needs " + std::to_string(policy.params_.size()));
+    fail("params: " + std::to_string(params.size()) + " numbers, the network needs " +
+         std::to_string(policy.params_.size()));
   }
   // Finite as floats too (1e300 is a finite double), the spreads positive.
   auto as_floats = [&](const std::vector<double>& v, const char* key, bool positive) {
@@ -166,7 +171,8 @@ MlpPolicy MlpPolicy::load(const std::string& path) {
     for (double x : v) {
       const float f = static_cast<float>(x);
       if (!std::isfinite(f) || (positive && !(f > 0))) {
-        fail(std::string(key) + ": " + std::to_string(x) + (positive ? " is not a positive float" : " is not a finite float"));
+        fail(std::string(key) + ": " + std::to_string(x) +
+             (positive ? " is not a positive float" : " is not a finite float"));
       }
       out.push_back(f);
     }

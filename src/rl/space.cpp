@@ -74,7 +74,8 @@ Value unflattenFrom(const Space& space, const std::vector<float>& flat, std::siz
       break;
     }
     case Space::Kind::kDict:
-      for (std::size_t i = 0; i < space.keys.size(); ++i) v.at(space.keys[i]) = unflattenFrom(space.entries[i], flat, at);
+      for (std::size_t i = 0; i < space.keys.size(); ++i)
+        v.at(space.keys[i]) = unflattenFrom(space.entries[i], flat, at);
       break;
   }
   return v;
@@ -109,7 +110,8 @@ void yamlInto(const Space& space, const std::string& indent, std::string* out) {
               "\n" + indent + "start: " + std::to_string(space.start) + "\n";
       break;
     case Space::Kind::kMultiBinary:
-      *out += indent + "type: MultiBinary\n" + indent + "dtype: int8\n" + indent + "shape: " + shapeText(space.shape) + "\n";
+      *out += indent + "type: MultiBinary\n" + indent + "dtype: int8\n" + indent + "shape: " + shapeText(space.shape) +
+              "\n";
       break;
     case Space::Kind::kDict:
       *out += indent + "type: Dict\n" + indent + "spaces:\n";
@@ -125,20 +127,28 @@ void yamlInto(const Space& space, const std::string& indent, std::string* out) {
 
 const char* kindName(Space::Kind kind) {
   switch (kind) {
-    case Space::Kind::kBox: return "Box";
-    case Space::Kind::kDiscrete: return "Discrete";
-    case Space::Kind::kMultiBinary: return "MultiBinary";
-    case Space::Kind::kDict: return "Dict";
+    case Space::Kind::kBox:
+      return "Box";
+    case Space::Kind::kDiscrete:
+      return "Discrete";
+    case Space::Kind::kMultiBinary:
+      return "MultiBinary";
+    case Space::Kind::kDict:
+      return "Dict";
   }
   return "?";
 }
 
 const char* dtypeName(DType dtype) {
   switch (dtype) {
-    case DType::kFloat32: return "float32";
-    case DType::kFloat64: return "float64";
-    case DType::kInt64: return "int64";
-    case DType::kUInt8: return "uint8";
+    case DType::kFloat32:
+      return "float32";
+    case DType::kFloat64:
+      return "float64";
+    case DType::kInt64:
+      return "int64";
+    case DType::kUInt8:
+      return "uint8";
   }
   return "?";
 }
@@ -205,8 +215,10 @@ Space Space::dict(std::vector<std::pair<std::string, Space>> entries) {
 std::size_t Space::elements() const {
   switch (kind) {
     case Kind::kBox:
-    case Kind::kMultiBinary: return product(shape);
-    case Kind::kDiscrete: return 1;
+    case Kind::kMultiBinary:
+      return product(shape);
+    case Kind::kDiscrete:
+      return 1;
     case Kind::kDict: {
       std::size_t n = 0;
       for (const auto& e : entries) n += e.elements();
@@ -284,7 +296,8 @@ void check(const Space& space, const Value& value, const std::string& name) {
     switch (space.kind) {
       case Space::Kind::kBox:
         if (v < space.low[i] || v > space.high[i]) {
-          throw SpaceError(at + " = " + number(v) + " is outside [" + number(space.low[i]) + ", " + number(space.high[i]) + "]");
+          throw SpaceError(at + " = " + number(v) + " is outside [" + number(space.low[i]) + ", " +
+                           number(space.high[i]) + "]");
         }
         break;
       case Space::Kind::kDiscrete:
@@ -297,7 +310,8 @@ void check(const Space& space, const Value& value, const std::string& name) {
       case Space::Kind::kMultiBinary:
         if (v != 0.0 && v != 1.0) throw SpaceError(at + " = " + number(v) + " is not 0 or 1");
         break;
-      case Space::Kind::kDict: break;
+      case Space::Kind::kDict:
+        break;
     }
   }
 }
@@ -360,10 +374,12 @@ Value sample(const Space& space, std::mt19937_64& rng) {
       }
       break;
     case Space::Kind::kDiscrete:
-      v.numbers.push_back(static_cast<double>(space.start + std::uniform_int_distribution<std::int64_t>(0, space.n - 1)(rng)));
+      v.numbers.push_back(
+          static_cast<double>(space.start + std::uniform_int_distribution<std::int64_t>(0, space.n - 1)(rng)));
       break;
     case Space::Kind::kMultiBinary:
-      for (std::size_t i = 0; i < space.elements(); ++i) v.numbers.push_back(std::uniform_int_distribution<int>(0, 1)(rng));
+      for (std::size_t i = 0; i < space.elements(); ++i)
+        v.numbers.push_back(std::uniform_int_distribution<int>(0, 1)(rng));
       break;
     case Space::Kind::kDict:
       for (std::size_t i = 0; i < space.keys.size(); ++i) v.at(space.keys[i]) = sample(space.entries[i], rng);
@@ -376,10 +392,15 @@ Value zeros(const Space& space) {
   Value v;
   switch (space.kind) {
     case Space::Kind::kBox:
-      for (std::size_t i = 0; i < space.elements(); ++i) v.numbers.push_back(std::clamp(0.0, space.low[i], space.high[i]));
+      for (std::size_t i = 0; i < space.elements(); ++i)
+        v.numbers.push_back(std::clamp(0.0, space.low[i], space.high[i]));
       break;
-    case Space::Kind::kDiscrete: v.numbers.push_back(static_cast<double>(space.start)); break;
-    case Space::Kind::kMultiBinary: v.numbers.assign(space.elements(), 0.0); break;
+    case Space::Kind::kDiscrete:
+      v.numbers.push_back(static_cast<double>(space.start));
+      break;
+    case Space::Kind::kMultiBinary:
+      v.numbers.assign(space.elements(), 0.0);
+      break;
     case Space::Kind::kDict:
       for (std::size_t i = 0; i < space.keys.size(); ++i) v.at(space.keys[i]) = zeros(space.entries[i]);
       break;

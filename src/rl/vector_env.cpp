@@ -8,7 +8,8 @@ VectorEnv::VectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads)
     : envs_(std::move(envs)), pool_(threads) {
   if (envs_.empty()) throw std::invalid_argument("VectorEnv needs at least one environment");
   for (const auto& e : envs_) {
-    if (toYaml(e->actionSpace()) != toYaml(actionSpace()) || toYaml(e->observationSpace()) != toYaml(observationSpace())) {
+    if (toYaml(e->actionSpace()) != toYaml(actionSpace()) ||
+        toYaml(e->observationSpace()) != toYaml(observationSpace())) {
       throw std::invalid_argument("VectorEnv: the environments' spaces differ");
     }
   }
@@ -25,7 +26,8 @@ const VectorStepResult& VectorEnv::step(const std::vector<Value>& actions) {
     throw std::invalid_argument("VectorEnv::step: " + std::to_string(actions.size()) + " actions for " +
                                 std::to_string(envs_.size()) + " environments");
   }
-  for (std::size_t i = 0; i < actions.size(); ++i) check(actionSpace(), actions[i], "actions[" + std::to_string(i) + "]");
+  for (std::size_t i = 0; i < actions.size(); ++i)
+    check(actionSpace(), actions[i], "actions[" + std::to_string(i) + "]");
   last_.steps.resize(envs_.size());
   last_.final_observations.resize(envs_.size());
   pool_.run(envs_.size(), [&](std::size_t i, int) {

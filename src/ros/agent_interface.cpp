@@ -44,7 +44,8 @@ void AgentInterface::afterTick(const sim::VehicleState& state, const std::vector
   if (!active_) return;
   const ros::Time stamp = toRosTime(time);
   if (over_) {
-    ROAR_WARN_WALL_THROTTLE(5.0, "roar_sim: the episode of '%s' is over; call /roar_sim/reset_episode", vehicle_.c_str());
+    ROAR_WARN_WALL_THROTTLE(5.0, "roar_sim: the episode of '%s' is over; call /roar_sim/reset_episode",
+                            vehicle_.c_str());
     last_.reward = 0.0;
   } else {
     last_ = episode_.step(state, contacts, time);

@@ -18,10 +18,11 @@ void check(const roar_ros::DebugShape& s, std::size_t index) {
     fail("kind '" + s.kind + "' is not point, line, arrow, text or box");
   }
   if (s.points.size() < needed) fail("a " + s.kind + " needs at least " + std::to_string(needed) + " point(s)");
-  if (s.points.size() > DebugDrawing::kMaxPoints) fail("more than " + std::to_string(DebugDrawing::kMaxPoints) + " points");
+  if (s.points.size() > DebugDrawing::kMaxPoints)
+    fail("more than " + std::to_string(DebugDrawing::kMaxPoints) + " points");
   for (const auto& p : s.points) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || std::abs(p.x) > 1e6 || std::abs(p.y) > 1e6 ||
-        std::abs(p.z) > 1e6) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || std::abs(p.x) > 1e6 ||
+        std::abs(p.y) > 1e6 || std::abs(p.z) > 1e6) {
       fail("points must be finite and within 1e6 m of the origin");
     }
   }
@@ -88,9 +89,9 @@ visualization_msgs::MarkerArray DebugDrawing::markers(const std::string& frame, 
     } else if (s.kind == "arrow") {
       m.type = visualization_msgs::Marker::ARROW;
       m.points = {s.points[0], s.points[1]};
-      m.scale.x = size;                                               // shaft diameter
-      m.scale.y = s.arrow_size > 0 ? s.arrow_size : 2.0 * size;       // head diameter
-      m.scale.z = s.arrow_size > 0 ? s.arrow_size : 2.0 * size;       // head length
+      m.scale.x = size;                                          // shaft diameter
+      m.scale.y = s.arrow_size > 0 ? s.arrow_size : 2.0 * size;  // head diameter
+      m.scale.z = s.arrow_size > 0 ? s.arrow_size : 2.0 * size;  // head length
     } else if (s.kind == "text") {
       m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
       m.pose.position = s.points[0];

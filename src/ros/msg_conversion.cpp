@@ -98,7 +98,8 @@ sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom) {
   return s;
 }
 
-roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame) {
+roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp,
+                                 const std::string& base_frame) {
   roar_ros::VehicleStatus msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = base_frame;
@@ -115,7 +116,7 @@ roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time
 }
 
 geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
-                                           const std::string& child) {
+                                            const std::string& child) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = stamp;
   t.header.frame_id = parent;

@@ -12,8 +12,10 @@ std::string fullName(const ros::NodeHandle& nh, const std::string& name) { retur
 
 // XmlRpc keeps ints and doubles apart; a YAML "3" for a double parameter is fine.
 bool asDouble(const XmlRpc::XmlRpcValue& v, double* out) {
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble) return *out = static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
-  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt) return *out = static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeDouble)
+    return *out = static_cast<double>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeInt)
+    return *out = static_cast<int>(const_cast<XmlRpc::XmlRpcValue&>(v)), true;
   return false;
 }
 
@@ -34,7 +36,8 @@ double readDouble(const ros::NodeHandle& nh, const std::string& name, double fal
 int readInt(const ros::NodeHandle& nh, const std::string& name, int fallback, int lo, int hi) {
   XmlRpc::XmlRpcValue v;
   if (!nh.getParam(name, v)) return fallback;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeInt) throw ParamError("parameter " + fullName(nh, name) + " must be an integer");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeInt)
+    throw ParamError("parameter " + fullName(nh, name) + " must be an integer");
   const int value = static_cast<int>(v);
   if (value < lo || value > hi) {
     throw ParamError("parameter " + fullName(nh, name) + " = " + std::to_string(value) + " must be in [" +
@@ -46,14 +49,16 @@ int readInt(const ros::NodeHandle& nh, const std::string& name, int fallback, in
 bool readBool(const ros::NodeHandle& nh, const std::string& name, bool fallback) {
   XmlRpc::XmlRpcValue v;
   if (!nh.getParam(name, v)) return fallback;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean) throw ParamError("parameter " + fullName(nh, name) + " must be true or false");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeBoolean)
+    throw ParamError("parameter " + fullName(nh, name) + " must be true or false");
   return static_cast<bool>(v);
 }
 
 std::string readString(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
   XmlRpc::XmlRpcValue v;
   if (!nh.getParam(name, v)) return fallback;
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + fullName(nh, name) + " must be a string");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeString)
+    throw ParamError("parameter " + fullName(nh, name) + " must be a string");
   return static_cast<std::string>(v);
 }
 
@@ -73,7 +78,8 @@ std::vector<std::string> readStringList(const ros::NodeHandle& nh, const std::st
   XmlRpc::XmlRpcValue v;
   if (!nh.getParam(name, v)) return fallback;
   if (v.getType() == XmlRpc::XmlRpcValue::TypeString) return {static_cast<std::string>(v)};
-  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray) throw ParamError("parameter " + fullName(nh, name) + " must be a list of strings");
+  if (v.getType() != XmlRpc::XmlRpcValue::TypeArray)
+    throw ParamError("parameter " + fullName(nh, name) + " must be a list of strings");
   std::vector<std::string> out;
   for (int i = 0; i < v.size(); ++i) {
     if (v[i].getType() != XmlRpc::XmlRpcValue::TypeString) {

@@ -123,14 +123,14 @@ sensor_msgs::NavSatFix toNavSatFix(const sensors::GnssFix& fix, const sensors::G
   msg.latitude = fix.latitude;
   msg.longitude = fix.longitude;
   msg.altitude = fix.altitude;
-  msg.position_covariance = {variance(spec.horizontal_noise_std), 0, 0, 0, variance(spec.horizontal_noise_std), 0,
-                             0, 0, variance(spec.vertical_noise_std)};
+  msg.position_covariance = {variance(spec.horizontal_noise_std), 0, 0, 0, variance(spec.horizontal_noise_std), 0, 0, 0,
+                             variance(spec.vertical_noise_std)};
   msg.position_covariance_type = sensor_msgs::NavSatFix::COVARIANCE_TYPE_DIAGONAL_KNOWN;
   return msg;
 }
 
-geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const ros::Time& stamp,
-                                    const std::string& frame) {
+geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular,
+                                    const ros::Time& stamp, const std::string& frame) {
   geometry_msgs::TwistStamped t;
   t.header.stamp = stamp;
   t.header.frame_id = frame;
@@ -139,7 +139,8 @@ geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::
   return t;
 }
 
-geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp, const std::string& frame) {
+geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp,
+                                               const std::string& frame) {
   geometry_msgs::Vector3Stamped msg;
   msg.header.stamp = stamp;
   msg.header.frame_id = frame;
@@ -147,7 +148,9 @@ geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const r
   return msg;
 }
 
-Eigen::Vector3d fromMessage(const geometry_msgs::Vector3Stamped& msg) { return {msg.vector.x, msg.vector.y, msg.vector.z}; }
+Eigen::Vector3d fromMessage(const geometry_msgs::Vector3Stamped& msg) {
+  return {msg.vector.x, msg.vector.y, msg.vector.z};
+}
 
 geometry_msgs::PointStamped toPointStamped(const Eigen::Vector3d& p, const ros::Time& stamp, const std::string& frame) {
   geometry_msgs::PointStamped msg;

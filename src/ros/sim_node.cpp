@@ -1,10 +1,10 @@
 #include "sim_node.h"
 
+#include <roar_ros/MapInfo.h>
 #include <ros/callback_queue.h>
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/String.h>
-#include <roar_ros/MapInfo.h>
 
 #include <filesystem>
 #include <map>
@@ -13,8 +13,8 @@
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
-#include "roar/sensors/vehicle_looks.h"
 #include "roar/ros/wall_throttle.h"
+#include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -27,7 +27,7 @@ using track::kGridSlots;
 // Paint of the n-th car: distinct, saturated colours (linear RGB).
 Eigen::Vector3f paint(std::size_t n) {
   static const Eigen::Vector3f kPalette[] = {{0.05f, 0.15f, 0.75f}, {0.75f, 0.05f, 0.04f}, {0.9f, 0.6f, 0.02f},
-                                             {0.05f, 0.5f, 0.1f},   {0.5f, 0.05f, 0.6f},  {0.02f, 0.55f, 0.6f},
+                                             {0.05f, 0.5f, 0.1f},   {0.5f, 0.05f, 0.6f},   {0.02f, 0.55f, 0.6f},
                                              {0.85f, 0.85f, 0.85f}, {0.1f, 0.1f, 0.1f}};
   return kPalette[n % (sizeof(kPalette) / sizeof(kPalette[0]))];
 }
@@ -36,8 +36,8 @@ Eigen::Vector3f paint(std::size_t n) {
 void checkVehicleName(const std::string& name) {
   static const std::regex valid("[A-Za-z][A-Za-z0-9_]{0,63}");
   if (!std::regex_match(name, valid)) {
-    throw std::invalid_argument("name '" + name +
-                                "' must start with a letter and hold only letters, digits and underscores (at most 64)");
+    throw std::invalid_argument(
+        "name '" + name + "' must start with a letter and hold only letters, digits and underscores (at most 64)");
   }
 }
 }  // namespace
@@ -51,8 +51,8 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   loadMap(options_.map_folder, "start");
   for (const auto& v : options_.vehicles) {
     if (v.spawn_point >= kGridSlots) {
-      throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) + " does not exist (0.." +
-                       std::to_string(kGridSlots - 1) + ")");
+      throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) +
+                       " does not exist (0.." + std::to_string(kGridSlots - 1) + ")");
     }
     addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent, v.spawn_point);
   }
@@ -79,7 +79,9 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
 }
 
 std::string SimNode::modeName() const {
-  return options_.mode == SteppingMode::kStep ? "step" : options_.mode == SteppingMode::kLockstep ? "lockstep" : "async";
+  return options_.mode == SteppingMode::kStep       ? "step"
+         : options_.mode == SteppingMode::kLockstep ? "lockstep"
+                                                    : "async";
 }
 
 void SimNode::loadMap(const std::string& folder, const std::string& reason) {
@@ -112,7 +114,9 @@ void SimNode::publishMapInfo(const std::string& reason) {
   map_pub_.publish(info);
 }
 
-void SimNode::publishDebugMarkers() { debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world_->time()))); }
+void SimNode::publishDebugMarkers() {
+  debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world_->time())));
+}
 
 sim::Pose SimNode::spawnPose(int spawn_point) const {
   return sim::poseOnTrack(track_->gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
@@ -151,7 +155,8 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
       track_->info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
-    for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set))) vehicle_sensors->attach(spec, world_->time());
+    for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set)))
+      vehicle_sensors->attach(spec, world_->time());
   }
   std::unique_ptr<AgentInterface> agent;
   if (!agent_env.empty()) {
@@ -165,10 +170,12 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
     }
     agent = std::make_unique<AgentInterface>(nh_, name, *track_, env, static_cast<int>(params.gearbox.ratios.size()));
   }
-  if (!looks_.count(params.model)) looks_[params.model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + params.model + ".urdf");
+  if (!looks_.count(params.model))
+    looks_[params.model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + params.model + ".urdf");
   world_->spawnVehicle(name, params, pose);  // the last step that can refuse: overlap, no ground
   VehicleIo io;
-  io.spawned = {params.model, sensor_set, (colour.array() < 0).any() ? paint(spawned_count_) : colour, agent_env, spawn_point};
+  io.spawned = {params.model, sensor_set, (colour.array() < 0).any() ? paint(spawned_count_) : colour, agent_env,
+                spawn_point};
   io.agent = std::move(agent);
   io.scene_id = scene_->addVehicle(looks_[params.model], io.spawned.colour);
   io.sensors = std::move(vehicle_sensors);
@@ -219,7 +226,8 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
     it->second.control_seen = true;
     if (it->second.driver_lost) {
       it->second.driver_lost = false;
-      ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(), world_->time());
+      ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(),
+               world_->time());
     }
   }
 }
@@ -246,9 +254,10 @@ void SimNode::markDisconnectedDrivers() {
 void SimNode::driverLost(const std::string& name, VehicleIo& io, const std::string& why) {
   io.driver_lost = true;
   // Once per loss, naming the car: a dead driver must not stall the race, nor pass unnoticed.
-  ROS_WARN("roar_sim: %s's driver is lost (%s) at t = %.2f s: lockstep goes on without waiting for it and the "
-           "car is brought to a stop on the road",
-           name.c_str(), why.c_str(), world_->time());
+  ROS_WARN(
+      "roar_sim: %s's driver is lost (%s) at t = %.2f s: lockstep goes on without waiting for it and the "
+      "car is brought to a stop on the road",
+      name.c_str(), why.c_str(), world_->time());
   std_msgs::String msg;
   msg.data = name;
   driver_lost_pub_.publish(msg);
@@ -268,7 +277,8 @@ void SimNode::tick() {
   // odometry of tick t has been sent every reading up to t.
   world_->step([this](double t) {
     for (auto& [name, io] : io_) {
-      if (!io.sensors->empty()) io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
+      if (!io.sensors->empty())
+        io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
     }
   });
   sampleRaySensors(updateRayScene());
@@ -291,7 +301,8 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
 
 void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses) {
   for (auto& [name, io] : io_) {
-    if (!io.sensors->empty()) io.sensors->rig().sampleRays(world_->time(), *scene_, poses.at(name), io.scene_id, *io.sensors);
+    if (!io.sensors->empty())
+      io.sensors->rig().sampleRays(world_->time(), *scene_, poses.at(name), io.scene_id, *io.sensors);
   }
 }
 
@@ -316,12 +327,13 @@ void SimNode::publishState() {
     io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
     io.status.publish(toStatus(state, stamp, base));
     for (std::size_t w = 0; w < 4; ++w) {
-      io.wheel_angles[w] = std::remainder(io.wheel_angles[w] + state.wheels[w].angular_velocity * options_.world.control_dt,
-                                          2.0 * M_PI);
+      io.wheel_angles[w] =
+          std::remainder(io.wheel_angles[w] + state.wheels[w].angular_velocity * options_.world.control_dt, 2.0 * M_PI);
     }
     io.joints.publish(toJointState(state, world_->vehicleParams(name), io.wheel_angles, stamp));
     transforms.push_back(toTransform(state.pose, stamp, options_.map_frame, base));
-    for (const auto& contact : world_->contacts(name)) io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
+    for (const auto& contact : world_->contacts(name))
+      io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
     if (io.agent) io.agent->afterTick(state, world_->contacts(name), world_->time(), scene_.get(), io.scene_id);
   }
   if (!transforms.empty()) tf_.sendTransform(transforms);
@@ -369,7 +381,8 @@ bool queryGraph(GraphState* graph) {
     auto& table = kind == 0 ? graph->publishers : graph->subscribers;
     for (int i = 0; i < payload[kind].size(); ++i) {
       auto& nodes = table[static_cast<std::string>(payload[kind][i][0])];
-      for (int k = 0; k < payload[kind][i][1].size(); ++k) nodes.insert(static_cast<std::string>(payload[kind][i][1][k]));
+      for (int k = 0; k < payload[kind][i][1].size(); ++k)
+        nodes.insert(static_cast<std::string>(payload[kind][i][1][k]));
     }
   }
   return true;
@@ -384,7 +397,8 @@ std::string SimNode::notReadyToStart() const {
   auto& subscribers = graph.subscribers;
   std::vector<std::string> topics = {ros::names::resolve("/clock")};
   for (const auto& [name, io] : io_) {
-    for (const char* topic : {"odom", "vehicle_status", "control"}) topics.push_back(nh_.resolveName(name + "/" + topic));
+    for (const char* topic : {"odom", "vehicle_status", "control"})
+      topics.push_back(nh_.resolveName(name + "/" + topic));
   }
   for (const auto& recorder : options_.wait_for_recorders) {
     const std::string node = ros::names::resolve(recorder);
@@ -409,8 +423,9 @@ std::string SimNode::notReadyToStart() const {
       // A driver answers a tick it heard: it must listen to the car's odometry or status, or the clock.
       for (const auto& driver : graph.publishers[control]) {
         bool listens = false;
-        for (const std::string& topic : {nh_.resolveName(car.name + "/odom"), nh_.resolveName(car.name + "/vehicle_status"),
-                                        ros::names::resolve("/clock")}) {
+        for (const std::string& topic :
+             {nh_.resolveName(car.name + "/odom"), nh_.resolveName(car.name + "/vehicle_status"),
+              ros::names::resolve("/clock")}) {
           listens = listens || subscribers[topic].count(driver) > 0;
         }
         if (!listens) return "the driver " + driver + " of '" + car.name + "' to subscribe to its odom";
@@ -418,7 +433,8 @@ std::string SimNode::notReadyToStart() const {
     }
   }
   // Registered is not yet connected: every subscriber the master knows must be connected to us.
-  if (clock_pub_.getNumSubscribers() < subscribers[ros::names::resolve("/clock")].size()) return "the subscribers of /clock";
+  if (clock_pub_.getNumSubscribers() < subscribers[ros::names::resolve("/clock")].size())
+    return "the subscribers of /clock";
   for (const auto& [name, io] : io_) {
     const std::string odom = nh_.resolveName(name + "/odom"), status = nh_.resolveName(name + "/vehicle_status");
     if (io.odom.getNumSubscribers() < subscribers[odom].size()) return "the subscribers of " + odom;
@@ -450,9 +466,10 @@ void SimNode::setUpRecorderPacing() {
     const std::string node = ros::names::resolve(recorder);
     const std::string topic = node + "/recorded";
     if (!graph.publishers[topic].count(node)) {
-      ROS_WARN("roar_sim: the recorder %s reports no progress (no %s): roar_sim cannot keep its pace, and on a busy "
-               "machine its recording may miss ticks (race_recorder reports; rosbag record does not)",
-               node.c_str(), topic.c_str());
+      ROS_WARN(
+          "roar_sim: the recorder %s reports no progress (no %s): roar_sim cannot keep its pace, and on a busy "
+          "machine its recording may miss ticks (race_recorder reports; rosbag record does not)",
+          node.c_str(), topic.c_str());
       continue;
     }
     paced.push_back(node);
@@ -474,11 +491,13 @@ bool SimNode::recordersKeptUp() {
     }
   }
   std::vector<std::string> given_up;
-  const bool kept_up = recorder_pacing_->waitingFor(world_->time() + options_.world.control_dt, wall, &given_up).empty();
+  const bool kept_up =
+      recorder_pacing_->waitingFor(world_->time() + options_.world.control_dt, wall, &given_up).empty();
   for (const auto& node : given_up) {
-    ROS_WARN("roar_sim: the recorder %s has written nothing for %.0f s (its last tick t = %.2f s): going on without "
-             "waiting for it; its recording misses ticks from here",
-             node.c_str(), options_.lockstep_timeout, recorder_pacing_->lastRecorded(node));
+    ROS_WARN(
+        "roar_sim: the recorder %s has written nothing for %.0f s (its last tick t = %.2f s): going on without "
+        "waiting for it; its recording misses ticks from here",
+        node.c_str(), options_.lockstep_timeout, recorder_pacing_->lastRecorded(node));
   }
   return kept_up;
 }

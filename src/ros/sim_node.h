@@ -70,9 +70,9 @@ class SimNode {
 
   // Spawns a car with its topics, sensors and agent, all or nothing: on any error nothing is left behind
   // (no car in the physics world, no topic) and the error says why. A negative colour: the next of the palette.
-  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose, const std::string& sensor_set,
-                  const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1), const std::string& agent_env = "",
-                  int spawn_point = -1);
+  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
+                  const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
+                  const std::string& agent_env = "", int spawn_point = -1);
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
   void markLostDrivers();
@@ -141,7 +141,7 @@ class SimNode {
   std::unique_ptr<sensors::RayScene> scene_;
   std::map<std::string, sensors::VisualMesh> looks_;  // by vehicle model
   std::map<std::string, VehicleIo> io_;
-  std::size_t spawned_count_ = 0;                     // for the palette
+  std::size_t spawned_count_ = 0;  // for the palette
   std::uint32_t map_generation_ = 0;
   DebugDrawing debug_;
   ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_;

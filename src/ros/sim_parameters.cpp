@@ -35,11 +35,13 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
     spawn.spawn_point = i;
     spawn.sensor_set = default_sensor_set;
     if (v.hasMember("sensors")) {
-      if (v["sensors"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".sensors must be a string");
+      if (v["sensors"].getType() != XmlRpc::XmlRpcValue::TypeString)
+        throw ParamError("parameter " + item + ".sensors must be a string");
       spawn.sensor_set = static_cast<std::string>(v["sensors"]);
     }
     if (v.hasMember("agent")) {
-      if (v["agent"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".agent must be a string");
+      if (v["agent"].getType() != XmlRpc::XmlRpcValue::TypeString)
+        throw ParamError("parameter " + item + ".agent must be a string");
       try {
         spawn.agent = stack::resolveAgentEnv(static_cast<std::string>(v["agent"]), rl_dir);
       } catch (const std::exception& e) {
@@ -47,7 +49,8 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
       }
     }
     if (v.hasMember("model")) {
-      if (v["model"].getType() != XmlRpc::XmlRpcValue::TypeString) throw ParamError("parameter " + item + ".model must be a string");
+      if (v["model"].getType() != XmlRpc::XmlRpcValue::TypeString)
+        throw ParamError("parameter " + item + ".model must be a string");
       spawn.model = static_cast<std::string>(v["model"]);
     }
     if (v.hasMember("spawn_point")) {
@@ -56,9 +59,11 @@ std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::str
       }
       spawn.spawn_point = static_cast<int>(v["spawn_point"]);
     }
-    if (!names.insert(spawn.name).second) throw ParamError("parameter " + item + ": vehicle name '" + spawn.name + "' is used twice");
+    if (!names.insert(spawn.name).second)
+      throw ParamError("parameter " + item + ": vehicle name '" + spawn.name + "' is used twice");
     if (!points.insert(spawn.spawn_point).second) {
-      throw ParamError("parameter " + item + ": spawn point " + std::to_string(spawn.spawn_point) + " is taken by another vehicle");
+      throw ParamError("parameter " + item + ": spawn point " + std::to_string(spawn.spawn_point) +
+                       " is taken by another vehicle");
     }
     out.push_back(spawn);
   }

@@ -20,15 +20,15 @@ struct VehicleSpawn {
   std::string name;
   std::string model;
   int spawn_point = 0;
-  std::string sensor_set;  // a set in sensors_dir or a YAML path; empty: no sensors
+  std::string sensor_set;                                // a set in sensors_dir or a YAML path; empty: no sensors
   Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB; negative: the n-th of a palette
-  std::string agent;       // an RL environment file: an agent drives the car through the RL interface
-  bool driven = true;      // the racing stack (its controller, or a policy_driver in its place) drives it
+  std::string agent;   // an RL environment file: an agent drives the car through the RL interface
+  bool driven = true;  // the racing stack (its controller, or a policy_driver in its place) drives it
 };
 
 struct SimNodeOptions {
   std::string map_folder;
-  std::string maps_dir;            // where /roar_sim/load_map and list_maps look maps up by name
+  std::string maps_dir;  // where /roar_sim/load_map and list_maps look maps up by name
   std::string urdf_dir;
   std::string vehicle_config_dir;
   std::string default_model = "sedan";
@@ -39,7 +39,7 @@ struct SimNodeOptions {
   sim::WorldOptions world;
   SteppingMode mode = SteppingMode::kAsync;
   double real_time_factor = 1.0;
-  double start_wait = 0.5;        // wall seconds between start-up and the first state
+  double start_wait = 0.5;  // wall seconds between start-up and the first state
   // Nodes (rosbag recorders) that must subscribe to /clock and every car's odom, vehicle_status and
   // control before the first tick, so a recording starts at tick 0.
   std::vector<std::string> wait_for_recorders;

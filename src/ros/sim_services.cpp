@@ -28,8 +28,8 @@ bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehic
       if (!(channel >= 0.0f && channel <= 1.0f)) throw std::invalid_argument("colour channels must be in [0, 1]");
     }
     const Eigen::Vector3f colour = c.a > 0 ? Eigen::Vector3f(c.r, c.g, c.b) : Eigen::Vector3f(-1, -1, -1);
-    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model, requestedPose(req.spawn_point, req.pose),
-               req.sensor_set, colour, "", req.spawn_point);
+    addVehicle(req.name, req.model.empty() ? options_.default_model : req.model,
+               requestedPose(req.spawn_point, req.pose), req.sensor_set, colour, "", req.spawn_point);
     res.success = true;
     res.message = "spawned " + req.name;
   } catch (const std::exception& e) {
@@ -93,8 +93,9 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   // Every control is checked before the first tick: a refused one moves nothing.
   std::string warnings;
   for (std::size_t i = 0; i < req.controls.size(); ++i) {
-    const sim::CheckedControl checked = sim::checkControl(
-        fromMessage(req.controls[i]), static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
+    const sim::CheckedControl checked =
+        sim::checkControl(fromMessage(req.controls[i]),
+                          static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
     if (checked.rejected) {
       std::string problems;
       for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
@@ -237,14 +238,17 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
   }
   // 0 or negative keeps a value; NaN is no value at all.
   for (const auto& [field, value] : {std::pair<const char*, double>{"control_dt", req.control_dt},
-                                     {"physics_dt", req.physics_dt}, {"real_time_factor", req.real_time_factor}}) {
+                                     {"physics_dt", req.physics_dt},
+                                     {"real_time_factor", req.real_time_factor}}) {
     if (std::isnan(value)) return refuse(res, "set_stepping", std::string(field) + " is NaN (0 or negative: keep)");
   }
   const double control_dt = req.control_dt > 0 ? req.control_dt : options_.world.control_dt;
   const double physics_dt = req.physics_dt > 0 ? req.physics_dt : options_.world.physics_dt;
   const double rtf = req.real_time_factor >= 0 ? req.real_time_factor : options_.real_time_factor;
-  if (!(control_dt >= 1e-4 && control_dt <= 1.0)) return refuse(res, "set_stepping", "control_dt must be in [0.0001, 1] s");
-  if (!(physics_dt >= 1e-4 && physics_dt <= 0.05)) return refuse(res, "set_stepping", "physics_dt must be in [0.0001, 0.05] s");
+  if (!(control_dt >= 1e-4 && control_dt <= 1.0))
+    return refuse(res, "set_stepping", "control_dt must be in [0.0001, 1] s");
+  if (!(physics_dt >= 1e-4 && physics_dt <= 0.05))
+    return refuse(res, "set_stepping", "physics_dt must be in [0.0001, 0.05] s");
   // Slower than a thousandth of real time, a "running" simulation stands still.
   if (!(rtf <= 1e6) || (rtf > 0 && rtf < 1e-3)) {
     return refuse(res, "set_stepping", "real_time_factor must be 0 (as fast as possible) or in [0.001, 1e6]");
@@ -254,7 +258,8 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
     try {
       for (const auto& [name, io] : io_) {
         if (io.agent) {
-          throw std::invalid_argument("vehicle '" + name + "' is driven by an RL agent whose environment steps control_dt " +
+          throw std::invalid_argument("vehicle '" + name +
+                                      "' is driven by an RL agent whose environment steps control_dt " +
                                       std::to_string(io.agent->options().world.control_dt) + " s");
         }
         for (const auto& spec : io.sensors->rig().specs()) {
@@ -326,8 +331,8 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
 bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros::GetGeolocation::Response& res) {
   if (req.points.size() > 1000000) return refuse(res, "get_geolocation", "at most 1000000 points a request");
   for (const auto& p : req.points) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || std::abs(p.x) > 1e7 || std::abs(p.y) > 1e7 ||
-        std::abs(p.z) > 1e5) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || std::abs(p.x) > 1e7 ||
+        std::abs(p.y) > 1e7 || std::abs(p.z) > 1e5) {
       return refuse(res, "get_geolocation", "points must be finite and within 10,000 km of the map origin");
     }
   }

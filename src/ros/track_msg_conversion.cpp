@@ -17,8 +17,8 @@ geometry_msgs::Point point(double x, double y, double z) {
   return p;
 }
 
-visualization_msgs::Marker marker(const std::string& frame, const std::string& ns, int type, double width, float r, float g,
-                                  float b) {
+visualization_msgs::Marker marker(const std::string& frame, const std::string& ns, int type, double width, float r,
+                                  float g, float b) {
   visualization_msgs::Marker m;
   m.header.frame_id = frame;
   m.ns = ns;
@@ -92,14 +92,16 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
   Marker road = marker(frame, "road", Marker::TRIANGLE_LIST, 1.0, 0.3f, 0.3f, 0.3f);
   const auto mesh = track::roadSurfaceMesh(track, -0.01);
   for (const auto& t : mesh.triangles) {
-    for (int k = 0; k < 3; ++k) road.points.push_back(point(mesh.vertices[t[k]].x(), mesh.vertices[t[k]].y(), mesh.vertices[t[k]].z()));
+    for (int k = 0; k < 3; ++k)
+      road.points.push_back(point(mesh.vertices[t[k]].x(), mesh.vertices[t[k]].y(), mesh.vertices[t[k]].z()));
   }
   out.markers.push_back(road);
   // The cameras' red and white kerbs: stripes alternate every 2 m of the centre line.
   Marker kerbs = marker(frame, "kerbs", Marker::TRIANGLE_LIST, 1.0, 1, 1, 1);
   const track::KerbMesh kerb = track::kerbMesh(track);
   for (std::size_t t = 0; t < kerb.mesh.triangles.size(); ++t) {
-    const bool red = static_cast<long>(std::floor(track.s(static_cast<std::size_t>(kerb.segment_of[t])) / 2.0)) % 2 == 0;
+    const bool red =
+        static_cast<long>(std::floor(track.s(static_cast<std::size_t>(kerb.segment_of[t])) / 2.0)) % 2 == 0;
     std_msgs::ColorRGBA colour;
     colour.r = red ? 0.85f : 0.95f;
     colour.g = colour.b = red ? 0.1f : 0.95f;

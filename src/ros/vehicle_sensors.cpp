@@ -93,7 +93,8 @@ void VehicleSensors::camera(const sensors::SensorSpec& spec, double stamp, const
   pub.publish(toImage(frame, spec.type, t, optical), toCameraInfo(k, t, optical));
 }
 
-void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp, const std::vector<sensors::LidarPoint>& points) {
+void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp,
+                           const std::vector<sensors::LidarPoint>& points) {
   last_stamps_[spec.name] = stamp;
   publishers_.at(spec.name).main.publish(toPointCloud2(points, toRosTime(stamp), frameOf(spec)));
 }

@@ -94,7 +94,8 @@ Eigen::Vector3d sampleVector(const SensorSpec& spec, const BodyMotion& m, double
       reading = sensor.translation();
       break;
     default:
-      throw std::invalid_argument(std::string("sampleVector: '") + typeName(spec.type) + "' is not a one-vector sensor");
+      throw std::invalid_argument(std::string("sampleVector: '") + typeName(spec.type) +
+                                  "' is not a one-vector sensor");
   }
   reading += v.bias + gaussian(v.noise_std, rng);
   if (spec.type == SensorType::kRollPitchYaw) {

@@ -42,15 +42,16 @@ void SpinningLidar::scan(const RayScene& scene, const Eigen::Isometry3d& sensor_
     }
     const double a = az * kDeg;
     for (double el : elevations_) {
-      local_dirs_[k] = Eigen::Vector3f(static_cast<float>(std::cos(el) * std::cos(a)),
-                                       static_cast<float>(std::cos(el) * std::sin(a)), static_cast<float>(std::sin(el)));
+      local_dirs_[k] =
+          Eigen::Vector3f(static_cast<float>(std::cos(el) * std::cos(a)),
+                          static_cast<float>(std::cos(el) * std::sin(a)), static_cast<float>(std::sin(el)));
       dirs_[k] = rotation * local_dirs_[k];
       ++k;
     }
   }
   azimuth_deg_ = std::fmod(azimuth_deg_ + sweep_deg, 360.0);
-  scene.cast(sensor_in_map.translation(), dirs_.data(), rays, own_vehicle, static_cast<float>(spec_.max_distance), false,
-             hits_.data());
+  scene.cast(sensor_in_map.translation(), dirs_.data(), rays, own_vehicle, static_cast<float>(spec_.max_distance),
+             false, hits_.data());
   std::normal_distribution<float> noise(0.0f, static_cast<float>(spec_.noise_std));
   points->reserve(rays);
   for (std::size_t i = 0; i < rays; ++i) {

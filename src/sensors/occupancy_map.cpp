@@ -33,16 +33,17 @@ void OccupancyMapRenderer::render(const RayScene& scene, const Eigen::Isometry3d
     const Eigen::Vector2d p = centre.head<2>() + offsets_[k].x() * forward + offsets_[k].y() * left;
     origins_[k] = Eigen::Vector3d(p.x(), p.y(), centre.z() + kRayHeight);
   }
-  scene.castParallel(origins_.data(), Eigen::Vector3f(0, 0, -1), origins_.size(), own_vehicle, kRayLength, hits_.data());
+  scene.castParallel(origins_.data(), Eigen::Vector3f(0, 0, -1), origins_.size(), own_vehicle, kRayLength,
+                     hits_.data());
   frame->width = spec_.width;
   frame->height = spec_.height;
   frame->pixels.resize(hits_.size());
   for (std::size_t k = 0; k < hits_.size(); ++k) {
     const SemanticClass c = hits_[k].hit ? hits_[k].semantic : SemanticClass::kSky;
-    frame->pixels[k] = c == SemanticClass::kVehicle                                       ? kOccupancyVehicle
-                       : c == SemanticClass::kRoad || c == SemanticClass::kLaneMarking ||
-                                 c == SemanticClass::kKerb                                 ? kOccupancyRoad
-                                                                                           : kOccupancyElsewhere;
+    frame->pixels[k] = c == SemanticClass::kVehicle ? kOccupancyVehicle
+                       : c == SemanticClass::kRoad || c == SemanticClass::kLaneMarking || c == SemanticClass::kKerb
+                           ? kOccupancyRoad
+                           : kOccupancyElsewhere;
   }
 }
 

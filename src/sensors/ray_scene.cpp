@@ -11,7 +11,7 @@ namespace roar::sensors {
 namespace {
 
 constexpr unsigned kStaticMask = 0x80000000u;
-constexpr float kGroundZ = -0.02f;   // as in the physics: grass just below the road
+constexpr float kGroundZ = -0.02f;  // as in the physics: grass just below the road
 constexpr float kKerbZ = 0.01f;
 constexpr double kKerbWidth = 1.2;
 constexpr double kKerbRadius = 250.0;  // m: corners tighter than this get kerbs
@@ -21,7 +21,8 @@ unsigned vehicleMask(int id) { return 1u << (static_cast<unsigned>(id) % 31u); }
 // Cheap deterministic value noise in [0, 1) from integer cell coordinates, for surface texture.
 float cellNoise(double x, double y, double cell) {
   const auto ix = static_cast<std::int64_t>(std::floor(x / cell)), iy = static_cast<std::int64_t>(std::floor(y / cell));
-  std::uint64_t h = static_cast<std::uint64_t>(ix) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(iy) * 0xC2B2AE3D27D4EB4Full;
+  std::uint64_t h =
+      static_cast<std::uint64_t>(ix) * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint64_t>(iy) * 0xC2B2AE3D27D4EB4Full;
   h ^= h >> 29;
   h *= 0xBF58476D1CE4E5B9ull;
   h ^= h >> 32;

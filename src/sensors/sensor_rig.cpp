@@ -57,7 +57,8 @@ SensorRig::~SensorRig() = default;
 void SensorRig::add(const SensorSpec& spec, double now) {
   validate(spec, "sensor set");
   for (const auto& s : sensors_) {
-    if (s->spec.name == spec.name) throw SensorSpecError("sensor '" + spec.name + "': the car already has a sensor of that name");
+    if (s->spec.name == spec.name)
+      throw SensorSpecError("sensor '" + spec.name + "': the car already has a sensor of that name");
   }
   checkRate(spec, timing_.control_dt, timing_.physics_dt);
   sensors_.push_back(std::make_unique<Sensor>(spec, now));
@@ -104,8 +105,9 @@ void SensorRig::rebuildCameraGroups() {
     CameraGroup* group = nullptr;
     for (auto& g : camera_groups_) {
       const SensorSpec& first = g->members.front()->spec;
-      if (sameMount(first.mount, s->spec.mount) && first.rate == s->spec.rate && first.camera.fov_deg == s->spec.camera.fov_deg &&
-          first.camera.width == s->spec.camera.width && first.camera.height == s->spec.camera.height) {
+      if (sameMount(first.mount, s->spec.mount) && first.rate == s->spec.rate &&
+          first.camera.fov_deg == s->spec.camera.fov_deg && first.camera.width == s->spec.camera.width &&
+          first.camera.height == s->spec.camera.height) {
         group = g.get();
       }
     }
@@ -116,10 +118,18 @@ void SensorRig::rebuildCameraGroups() {
     }
     group->members.push_back(s.get());
     switch (s->spec.type) {
-      case SensorType::kCameraRgb: group->channels.rgb = true; break;
-      case SensorType::kCameraGrey: group->channels.grey = true; break;
-      case SensorType::kCameraDepth: group->channels.depth = true; break;
-      default: group->channels.semantic = true; break;
+      case SensorType::kCameraRgb:
+        group->channels.rgb = true;
+        break;
+      case SensorType::kCameraGrey:
+        group->channels.grey = true;
+        break;
+      case SensorType::kCameraDepth:
+        group->channels.depth = true;
+        break;
+      default:
+        group->channels.semantic = true;
+        break;
     }
   }
 }

@@ -15,12 +15,18 @@ struct TypeEntry {
   SensorType type;
 };
 constexpr TypeEntry kTypes[] = {
-    {"camera_rgb", SensorType::kCameraRgb},         {"camera_grey", SensorType::kCameraGrey},
-    {"camera_depth", SensorType::kCameraDepth},     {"camera_semantic", SensorType::kCameraSemantic},
-    {"lidar", SensorType::kLidar},                  {"imu", SensorType::kImu},
-    {"gnss", SensorType::kGnss},                    {"velocimeter", SensorType::kVelocimeter},
-    {"accelerometer", SensorType::kAccelerometer},  {"gyroscope", SensorType::kGyroscope},
-    {"roll_pitch_yaw", SensorType::kRollPitchYaw},  {"location", SensorType::kLocation},
+    {"camera_rgb", SensorType::kCameraRgb},
+    {"camera_grey", SensorType::kCameraGrey},
+    {"camera_depth", SensorType::kCameraDepth},
+    {"camera_semantic", SensorType::kCameraSemantic},
+    {"lidar", SensorType::kLidar},
+    {"imu", SensorType::kImu},
+    {"gnss", SensorType::kGnss},
+    {"velocimeter", SensorType::kVelocimeter},
+    {"accelerometer", SensorType::kAccelerometer},
+    {"gyroscope", SensorType::kGyroscope},
+    {"roll_pitch_yaw", SensorType::kRollPitchYaw},
+    {"location", SensorType::kLocation},
     {"occupancy_map", SensorType::kOccupancyMap},
 };
 
@@ -170,7 +176,8 @@ void validate(const SensorSpec& spec, const std::string& source) {
   };
   // value outside [lo, hi] (NaN too), with the value and the range in the message.
   auto range = [&](const std::string& field, double value, double lo, double hi, const std::string& unit) {
-    if (!(value >= lo && value <= hi)) fail(field, show(value) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
+    if (!(value >= lo && value <= hi))
+      fail(field, show(value) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
   };
   for (int axis = 0; axis < 3; ++axis) {
     range(std::string(1, "xyz"[axis]), spec.mount.position[axis], -kMaxMountOffset, kMaxMountOffset, " m of base_link");
@@ -180,7 +187,8 @@ void validate(const SensorSpec& spec, const std::string& source) {
   }
   range("rate", spec.rate, kMinSensorRate, 10000, " Hz");
   if (isCamera(spec.type)) {
-    if (!(spec.camera.fov_deg > 0 && spec.camera.fov_deg < 180)) fail("fov", show(spec.camera.fov_deg) + " must be in (0, 180) degrees");
+    if (!(spec.camera.fov_deg > 0 && spec.camera.fov_deg < 180))
+      fail("fov", show(spec.camera.fov_deg) + " must be in (0, 180) degrees");
     range("image_width", spec.camera.width, 1, kMaxImageSide, " pixels");
     range("image_height", spec.camera.height, 1, kMaxImageSide, " pixels");
     if (static_cast<long>(spec.camera.width) * spec.camera.height > kMaxImagePixels) {
@@ -191,10 +199,11 @@ void validate(const SensorSpec& spec, const std::string& source) {
   if (spec.type == SensorType::kLidar) {
     const auto& l = spec.lidar;
     range("num_lasers", l.num_lasers, 1, 256, "");
-    if (!(l.max_distance > 0) || l.max_distance > 1000) fail("max_distance", show(l.max_distance) + " is outside (0, 1000] m");
+    if (!(l.max_distance > 0) || l.max_distance > 1000)
+      fail("max_distance", show(l.max_distance) + " is outside (0, 1000] m");
     if (!(l.points_per_second >= l.num_lasers) || l.points_per_second > kMaxLidarPointsPerSecond) {
-      fail("points_per_second", show(l.points_per_second) + " must be at least num_lasers and at most " +
-                                    show(kMaxLidarPointsPerSecond));
+      fail("points_per_second",
+           show(l.points_per_second) + " must be at least num_lasers and at most " + show(kMaxLidarPointsPerSecond));
     }
     if (!(l.rotation_frequency > 0) || l.rotation_frequency > 1000) {
       fail("rotation_frequency", show(l.rotation_frequency) + " is outside (0, 1000] Hz");
@@ -202,7 +211,8 @@ void validate(const SensorSpec& spec, const std::string& source) {
     if (!(l.upper_fov <= 90 && l.lower_fov >= -90 && l.upper_fov > l.lower_fov)) {
       fail("upper_fov", "must be above lower_fov, both within [-90, 90] degrees");
     }
-    if (!(l.horizontal_fov > 0 && l.horizontal_fov <= 360)) fail("horizontal_fov", show(l.horizontal_fov) + " is outside (0, 360] degrees");
+    if (!(l.horizontal_fov > 0 && l.horizontal_fov <= 360))
+      fail("horizontal_fov", show(l.horizontal_fov) + " is outside (0, 360] degrees");
     range("noise_std", l.noise_std, 0, 10, " m");
   }
   if (spec.type == SensorType::kImu) {
@@ -219,18 +229,24 @@ void validate(const SensorSpec& spec, const std::string& source) {
   }
   if (spec.type == SensorType::kAccelerometer || spec.type == SensorType::kGyroscope ||
       spec.type == SensorType::kRollPitchYaw || spec.type == SensorType::kLocation) {
-    const double limit = spec.type == SensorType::kAccelerometer ? 100 : spec.type == SensorType::kGyroscope ? 10
-                         : spec.type == SensorType::kRollPitchYaw ? M_PI : 1000;
-    const char* unit = spec.type == SensorType::kAccelerometer ? " m/s^2" : spec.type == SensorType::kGyroscope ? " rad/s"
-                       : spec.type == SensorType::kRollPitchYaw ? " rad" : " m";
+    const double limit = spec.type == SensorType::kAccelerometer  ? 100
+                         : spec.type == SensorType::kGyroscope    ? 10
+                         : spec.type == SensorType::kRollPitchYaw ? M_PI
+                                                                  : 1000;
+    const char* unit = spec.type == SensorType::kAccelerometer  ? " m/s^2"
+                       : spec.type == SensorType::kGyroscope    ? " rad/s"
+                       : spec.type == SensorType::kRollPitchYaw ? " rad"
+                                                                : " m";
     range("noise_std", spec.vector.noise_std, 0, limit, unit);
     for (int axis = 0; axis < 3; ++axis) range("bias", spec.vector.bias[axis], -limit, limit, unit);
   }
   if (spec.type == SensorType::kOccupancyMap) {
     range("image_width", spec.occupancy.width, 1, kMaxOccupancySide, " pixels");
     range("image_height", spec.occupancy.height, 1, kMaxOccupancySide, " pixels");
-    if (!(spec.occupancy.width_m > 0 && spec.occupancy.width_m <= 1000)) fail("width_m", show(spec.occupancy.width_m) + " is outside (0, 1000] m");
-    if (!(spec.occupancy.height_m > 0 && spec.occupancy.height_m <= 1000)) fail("height_m", show(spec.occupancy.height_m) + " is outside (0, 1000] m");
+    if (!(spec.occupancy.width_m > 0 && spec.occupancy.width_m <= 1000))
+      fail("width_m", show(spec.occupancy.width_m) + " is outside (0, 1000] m");
+    if (!(spec.occupancy.height_m > 0 && spec.occupancy.height_m <= 1000))
+      fail("height_m", show(spec.occupancy.height_m) + " is outside (0, 1000] m");
   }
 }
 
@@ -245,7 +261,7 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
   if (root.IsMap()) {
     Section file(root, "", source);
     list.reset(file.raw("sensors"));  // reset: assigning a YAML::Node would overwrite the root it refers to
-    file.finish();  // before the list is looked at: a misspelt `sensors:` is named as such
+    file.finish();                    // before the list is looked at: a misspelt `sensors:` is named as such
   }
   if (!list || !list.IsSequence()) throw SensorSpecError(source + ": expected 'sensors:' with a list of sensors");
   std::vector<SensorSpec> out;

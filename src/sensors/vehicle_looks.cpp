@@ -15,7 +15,8 @@ namespace {
 Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
-  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z).toRotationMatrix();
+  t.linear() =
+      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z).toRotationMatrix();
   return t;
 }
 
@@ -39,7 +40,8 @@ void addTriangle(VisualMesh* out, const Eigen::Vector3d& a, const Eigen::Vector3
 void addBox(VisualMesh* out, const Eigen::Isometry3d& t, const Eigen::Vector3d& size, const Eigen::Vector3f& colour) {
   const Eigen::Vector3d h = 0.5 * size;
   Eigen::Vector3d c[8];
-  for (int i = 0; i < 8; ++i) c[i] = t * Eigen::Vector3d((i & 1 ? 1 : -1) * h.x(), (i & 2 ? 1 : -1) * h.y(), (i & 4 ? 1 : -1) * h.z());
+  for (int i = 0; i < 8; ++i)
+    c[i] = t * Eigen::Vector3d((i & 1 ? 1 : -1) * h.x(), (i & 2 ? 1 : -1) * h.y(), (i & 4 ? 1 : -1) * h.z());
   const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) {
     addTriangle(out, c[f[0]], c[f[1]], c[f[2]], colour);
@@ -47,11 +49,13 @@ void addBox(VisualMesh* out, const Eigen::Isometry3d& t, const Eigen::Vector3d& 
   }
 }
 
-void addCylinder(VisualMesh* out, const Eigen::Isometry3d& t, double radius, double length, const Eigen::Vector3f& colour) {
+void addCylinder(VisualMesh* out, const Eigen::Isometry3d& t, double radius, double length,
+                 const Eigen::Vector3f& colour) {
   constexpr int kSides = 16;
   for (int i = 0; i < kSides; ++i) {
     const double a0 = 2 * M_PI * i / kSides, a1 = 2 * M_PI * (i + 1) / kSides;
-    const Eigen::Vector3d p0(radius * std::cos(a0), radius * std::sin(a0), 0), p1(radius * std::cos(a1), radius * std::sin(a1), 0);
+    const Eigen::Vector3d p0(radius * std::cos(a0), radius * std::sin(a0), 0),
+        p1(radius * std::cos(a1), radius * std::sin(a1), 0);
     const Eigen::Vector3d top(0, 0, 0.5 * length), bottom(0, 0, -0.5 * length);
     addTriangle(out, t * (p0 + bottom), t * (p1 + bottom), t * (p1 + top), colour);
     addTriangle(out, t * (p0 + bottom), t * (p1 + top), t * (p0 + top), colour);
@@ -88,7 +92,8 @@ VisualMesh readVehicleLooks(const std::string& urdf_path) {
       }
     }
   }
-  if (out.mesh.triangles.empty()) throw std::runtime_error(urdf_path + ": no box or cylinder visuals to draw the car with");
+  if (out.mesh.triangles.empty())
+    throw std::runtime_error(urdf_path + ": no box or cylinder visuals to draw the car with");
   return out;
 }
 

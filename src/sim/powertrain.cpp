@@ -11,7 +11,7 @@ constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
 constexpr double kKickdownThrottle = 0.9;
 // A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
 constexpr double kKickdownHeadroomRpm = 300.0;
-}
+}  // namespace
 
 Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
 

@@ -14,8 +14,10 @@ VehicleControl safeStopControl(const track::Track& track, const VehicleState& st
   const track::TrackPose ahead = track.poseAt(here.s + lookahead);
   // The car's lateral place, kept inside the edges (the middle of a road too narrow for the clearance).
   const double left = ahead.width_left - options.edge_clearance, right = ahead.width_right - options.edge_clearance;
-  const double lateral = left + right > 0 ? std::clamp(here.lateral, -right, left) : 0.5 * (ahead.width_left - ahead.width_right);
-  const Eigen::Vector2d target = ahead.position + lateral * Eigen::Vector2d(-std::sin(ahead.heading), std::cos(ahead.heading));
+  const double lateral =
+      left + right > 0 ? std::clamp(here.lateral, -right, left) : 0.5 * (ahead.width_left - ahead.width_right);
+  const Eigen::Vector2d target =
+      ahead.position + lateral * Eigen::Vector2d(-std::sin(ahead.heading), std::cos(ahead.heading));
   // Pure pursuit from the rear axle's direction of travel (base_link's heading).
   const double heading = yawOf(state.pose.orientation);
   const Eigen::Vector2d to = target - position;

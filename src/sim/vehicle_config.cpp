@@ -22,7 +22,8 @@ const char* const kWheelLinks[4] = {"wheel_front_left", "wheel_front_right", "wh
 Eigen::Isometry3d toIsometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
-  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z).toRotationMatrix();
+  t.linear() =
+      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z).toRotationMatrix();
   return t;
 }
 
@@ -91,7 +92,8 @@ void readVehicleUrdfString(const std::string& urdf_xml, const std::string& sourc
     const auto link = model->getLink(kWheelLinks[w]);
     if (!link) throw VehicleConfigError(source + ": no wheel link named '" + std::string(kWheelLinks[w]) + "'");
     const auto cyl = link->collision ? std::dynamic_pointer_cast<urdf::Cylinder>(link->collision->geometry) : nullptr;
-    if (!cyl) throw VehicleConfigError(source + ": link '" + link->name + "' needs a <collision> <cylinder> for the tyre");
+    if (!cyl)
+      throw VehicleConfigError(source + ": link '" + link->name + "' needs a <collision> <cylinder> for the tyre");
     WheelParams& wheel = params->wheels[w];
     wheel.name = link->name;
     wheel.position = linkInBase(*model, link->name, source).translation();
@@ -127,7 +129,6 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
           tyre = file.child("tyre"), aero = file.child("aero");
   file.finish();  // a misspelt section is named as such, not as the fields it lacks
 
-
   p.front_drive_share = inRange(drivetrain, "front_drive_share", 0, 1);
   p.traction_control = flag(drivetrain, "traction_control", true);
   p.rear_grip_share = inRange(drivetrain, "rear_grip_share", 0, 1);
@@ -144,7 +145,8 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.engine.torque_curve.clear();
   for (std::size_t i = 0; i < curve.size(); ++i) {
     const std::string field = "engine.torque_curve_rpm_nm[" + std::to_string(i) + "]";
-    if (!curve[i].IsSequence() || curve[i].size() != 2) throw VehicleConfigError(yaml_path + ": " + field + ": must be [rpm, N m]");
+    if (!curve[i].IsSequence() || curve[i].size() != 2)
+      throw VehicleConfigError(yaml_path + ": " + field + ": must be [rpm, N m]");
     double rpm, torque;
     try {
       rpm = curve[i][0].as<double>();
@@ -163,7 +165,8 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   }
 
   p.gearbox.ratios = gearbox.require<std::vector<double>>("ratios");
-  if (p.gearbox.ratios.empty() || p.gearbox.ratios.size() > 12) gearbox.fail("gearbox.ratios", "must list 1 to 12 gears");
+  if (p.gearbox.ratios.empty() || p.gearbox.ratios.size() > 12)
+    gearbox.fail("gearbox.ratios", "must list 1 to 12 gears");
   for (double r : p.gearbox.ratios) {
     if (!(r > 0 && r <= 20)) gearbox.fail("gearbox.ratios", show(r) + " is outside (0, 20]");
   }
@@ -234,12 +237,15 @@ void validate(const VehicleParams& p, const std::string& source) {
     range("wheel '" + w.name + "' width", w.width, 0.02, 1, " m");
     for (int i = 0; i < 3; ++i) range("wheel '" + w.name + "' position", w.position[i], -15, 15, " m");
   }
-  if (!(p.wheelbase() > 0.5)) fail("front wheels must be at least 0.5 m ahead of the rear wheels (wheelbase " + show(p.wheelbase()) + " m)");
-  if (!(p.track_width() > 0.3)) fail("left wheels must be on +y, at least 0.3 m from the right ones (track width " + show(p.track_width()) + " m)");
+  if (!(p.wheelbase() > 0.5))
+    fail("front wheels must be at least 0.5 m ahead of the rear wheels (wheelbase " + show(p.wheelbase()) + " m)");
+  if (!(p.track_width() > 0.3))
+    fail("left wheels must be on +y, at least 0.3 m from the right ones (track width " + show(p.track_width()) + " m)");
   if (p.gearbox.ratios.empty()) fail("gearbox.ratios is empty");
   for (std::size_t i = 0; i < p.gearbox.ratios.size(); ++i) {
     if (!(p.gearbox.ratios[i] > 0)) fail("gearbox.ratios[" + std::to_string(i) + "] must be positive");
-    if (i > 0 && p.gearbox.ratios[i] >= p.gearbox.ratios[i - 1]) fail("gearbox.ratios must fall from first to top gear");
+    if (i > 0 && p.gearbox.ratios[i] >= p.gearbox.ratios[i - 1])
+      fail("gearbox.ratios must fall from first to top gear");
   }
   if (p.engine.redline_rpm <= p.engine.idle_rpm) fail("engine.redline_rpm must exceed engine.idle_rpm");
   if (p.gearbox.shift_up_rpm > p.engine.redline_rpm) fail("gearbox.shift_up_rpm must not exceed engine.redline_rpm");
@@ -252,7 +258,8 @@ std::vector<VehicleModelInfo> listVehicleModels(const std::string& urdf_dir, con
   std::vector<VehicleModelInfo> out;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(config_dir, ec)) {
-    if (e.path().extension() != ".yaml" || !fs::exists(fs::path(urdf_dir) / (e.path().stem().string() + ".urdf"))) continue;
+    if (e.path().extension() != ".yaml" || !fs::exists(fs::path(urdf_dir) / (e.path().stem().string() + ".urdf")))
+      continue;
     VehicleModelInfo info;
     info.model = e.path().stem().string();
     try {
@@ -273,11 +280,13 @@ std::string resolveVehicleModel(const std::string& model_or_blueprint, const std
   const auto models = listVehicleModels(urdf_dir, config_dir);
   std::string known;
   for (const auto& m : models) {
-    if (!model_or_blueprint.empty() && (m.model == model_or_blueprint || m.blueprint == model_or_blueprint)) return m.model;
+    if (!model_or_blueprint.empty() && (m.model == model_or_blueprint || m.blueprint == model_or_blueprint))
+      return m.model;
     known += (known.empty() ? "" : ", ") + m.model + (m.blueprint.empty() ? "" : " (" + m.blueprint + ")");
   }
   throw VehicleConfigError("unknown vehicle model or blueprint '" + model_or_blueprint + "': " + config_dir +
-                           " has no such model (known models and blueprints: " + (known.empty() ? "none" : known) + ")");
+                           " has no such model (known models and blueprints: " + (known.empty() ? "none" : known) +
+                           ")");
 }
 
 VehicleParams loadVehicleModel(const std::string& model_or_blueprint, const std::string& urdf_dir,

@@ -126,7 +126,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   body_->setAngularVelocity(btVector3(0, 0, 0));
   body_->clearForces();
   world_->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body_->getBroadphaseHandle(),
-                                                                         world_->getDispatcher());
+                                                                          world_->getDispatcher());
   world_->updateSingleAabb(body_.get());
   for (auto& w : wheels_) {
     w.omega = 0.0;
@@ -178,8 +178,8 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   request.manual = control_.manual_gear_shift;
   request.gear = control_.gear;
   const double front = params_.front_drive_share, rear = 1.0 - front;
-  const double driven_omega = 0.5 * front * (wheels_[0].omega + wheels_[1].omega) +
-                              0.5 * rear * (wheels_[2].omega + wheels_[3].omega);
+  const double driven_omega =
+      0.5 * front * (wheels_[0].omega + wheels_[1].omega) + 0.5 * rear * (wheels_[2].omega + wheels_[3].omega);
   const double drive = powertrain_.update(request, driven_omega, dt);
   // Anti-roll bars from the last substep's compressions (one substep of lag, far below the roll mode).
   const double bars[2] = {params_.suspension.anti_roll_front, params_.suspension.anti_roll_rear};
@@ -246,8 +246,8 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const btVector3 v_contact = body_->getVelocityInLocalPoint(rel);
   const double compression_rate = -v_contact.dot(normal) / std::max(0.2, static_cast<double>(up.dot(normal)));
 
-  double load = wheel.static_load + susp.stiffness * compression + susp.damping * compression_rate +
-                anti_roll_load_[index];
+  double load =
+      wheel.static_load + susp.stiffness * compression + susp.damping * compression_rate + anti_roll_load_[index];
   if (compression > susp.travel) load += 20.0 * susp.stiffness * (compression - susp.travel);  // bump stop
   load = std::max(0.0, load);
 

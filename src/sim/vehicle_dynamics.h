@@ -43,13 +43,13 @@ class VehicleDynamics {
 
  private:
   struct Wheel {
-    btVector3 centre;             // static wheel centre relative to the centre of mass, body frame
-    double static_load = 0.0;     // N at rest, the spring preload
-    double omega = 0.0;           // rad/s
-    double steer = 0.0;           // rad
+    btVector3 centre;          // static wheel centre relative to the centre of mass, body frame
+    double static_load = 0.0;  // N at rest, the spring preload
+    double omega = 0.0;        // rad/s
+    double steer = 0.0;        // rad
     WheelState state;
     const btCollisionObject* road_object = nullptr;  // the road, when the last ray met one of its triangles
-    std::array<btVector3, 3> road_triangle;           // that triangle's corners, world frame
+    std::array<btVector3, 3> road_triangle;          // that triangle's corners, world frame
   };
 
   struct GroundHit {

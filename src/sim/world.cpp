@@ -159,8 +159,8 @@ struct World::Impl {
       if (other == name) continue;
       const btTransform t = s.dynamics->baseLinkPose();
       const btVector3 o = t.getOrigin();
-      const double other_yaw = yawOf(Eigen::Quaterniond(t.getRotation().w(), t.getRotation().x(), t.getRotation().y(),
-                                                        t.getRotation().z()));
+      const double other_yaw =
+          yawOf(Eigen::Quaterniond(t.getRotation().w(), t.getRotation().x(), t.getRotation().y(), t.getRotation().z()));
       if (footprintsOverlap(mine, footprint(s.dynamics->params(), Eigen::Vector2d(o.x(), o.y()), other_yaw, 0.3))) {
         throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +
                          std::to_string(pose.position.y()) + "): it would overlap vehicle '" + other + "'");
@@ -206,8 +206,8 @@ int substepsOf(double control_dt, double physics_dt) {
   const double ratio = control_dt / physics_dt;
   const long substeps = std::lround(ratio);
   if (std::abs(ratio - static_cast<double>(substeps)) > 1e-9 * ratio || substeps > 100000) {
-    throw std::invalid_argument("control_dt (" + std::to_string(control_dt) + ") must be a whole multiple of physics_dt (" +
-                                std::to_string(physics_dt) + ")");
+    throw std::invalid_argument("control_dt (" + std::to_string(control_dt) +
+                                ") must be a whole multiple of physics_dt (" + std::to_string(physics_dt) + ")");
   }
   return static_cast<int>(substeps);
 }
@@ -219,7 +219,8 @@ World::World(const track::Track& track, const WorldOptions& options, const World
   auto& w = *impl_;
   w.substeps = substepsOf(options.control_dt, options.physics_dt);
   if (options.control_timeout < 0) throw std::invalid_argument("control_timeout must not be negative");
-  if (!std::isfinite(start.time) || start.time < 0) throw std::invalid_argument("the start time must be finite and >= 0");
+  if (!std::isfinite(start.time) || start.time < 0)
+    throw std::invalid_argument("the start time must be finite and >= 0");
   w.tick = w.base_tick = start.tick;
   w.base_time = start.time;
   w.friction.road = track.info().friction;
@@ -229,8 +230,8 @@ World::World(const track::Track& track, const WorldOptions& options, const World
   w.dispatcher = std::make_unique<btCollisionDispatcher>(w.config.get());
   w.broadphase = std::make_unique<btDbvtBroadphase>();
   w.solver = std::make_unique<btSequentialImpulseConstraintSolver>();
-  w.dynamics = std::make_unique<btDiscreteDynamicsWorld>(w.dispatcher.get(), w.broadphase.get(), w.solver.get(),
-                                                         w.config.get());
+  w.dynamics =
+      std::make_unique<btDiscreteDynamicsWorld>(w.dispatcher.get(), w.broadphase.get(), w.solver.get(), w.config.get());
   w.dynamics->setGravity(btVector3(0, 0, -options.gravity));
 
   w.road.mesh = toBullet(track::roadSurfaceMesh(track));
@@ -285,7 +286,8 @@ void World::setVehicleVelocity(const std::string& name, const Eigen::Vector3d& l
   if (!angular.allFinite() || angular.norm() > 20.0) {
     throw std::invalid_argument("angular velocity must be finite and at most 20 rad/s");
   }
-  slot.dynamics->setVelocity(btVector3(linear.x(), linear.y(), linear.z()), btVector3(angular.x(), angular.y(), angular.z()));
+  slot.dynamics->setVelocity(btVector3(linear.x(), linear.y(), linear.z()),
+                             btVector3(angular.x(), angular.y(), angular.z()));
 }
 
 bool World::hasVehicle(const std::string& name) const { return impl_->vehicles.count(name) > 0; }
@@ -296,7 +298,9 @@ std::vector<std::string> World::vehicleNames() const {
   return names;
 }
 
-const VehicleParams& World::vehicleParams(const std::string& name) const { return impl_->slot(name).dynamics->params(); }
+const VehicleParams& World::vehicleParams(const std::string& name) const {
+  return impl_->slot(name).dynamics->params();
+}
 
 void World::setControl(const std::string& name, const VehicleControl& control) {
   Impl::Slot& slot = impl_->slot(name);

@@ -19,10 +19,10 @@ struct Entrant {
   RaceCar spec;
   control::TrajectoryTracker tracker;
   RaceCarResult result;
-  long open_pass = -1;        // index into passes while one is under way (the two cars alongside)
-  std::string engaged_with;   // the car it follows or passes
+  long open_pass = -1;       // index into passes while one is under way (the two cars alongside)
+  std::string engaged_with;  // the car it follows or passes
   double engaged_since = 0.0;
-  PassAttempt moving_out;     // the planner's pass before the car is alongside (passer empty: none)
+  PassAttempt moving_out;  // the planner's pass before the car is alongside (passer empty: none)
 };
 
 void checkCars(const std::vector<RaceCar>& cars) {
@@ -38,7 +38,8 @@ void checkCars(const std::vector<RaceCar>& cars) {
     if (!(c.pace > 0.0 && c.pace <= 1.0)) {
       throw std::invalid_argument("race: car '" + c.name + "': pace " + std::to_string(c.pace) + " is not in (0, 1]");
     }
-    if (!(c.max_speed >= 0.0)) throw std::invalid_argument("race: car '" + c.name + "': max_speed must not be negative");
+    if (!(c.max_speed >= 0.0))
+      throw std::invalid_argument("race: car '" + c.name + "': max_speed must not be negative");
   }
 }
 
@@ -70,7 +71,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   planning::FieldOptions field_options = options.field;
   field_options.overtake.car_length = vehicle.chassis.box_size.x();
   field_options.overtake.car_width = vehicle.chassis.box_size.y();
-  planning::FieldPlanner field(track, planning::planRacingTrajectory(track, limits, options.planner), limits, field_options);
+  planning::FieldPlanner field(track, planning::planRacingTrajectory(track, limits, options.planner), limits,
+                               field_options);
   const planning::Trajectory& line = field.line();
 
   sim::World world(track, {});
@@ -161,8 +163,10 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
         e.moving_out = PassAttempt{};
       }
       const double s_line = field.onLine(name).s;
-      if (options.on_tick) options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
-      if (e.open_pass >= 0) result.passes[static_cast<std::size_t>(e.open_pass)].samples.emplace_back(s_line, state.forward_speed);
+      if (options.on_tick)
+        options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
+      if (e.open_pass >= 0)
+        result.passes[static_cast<std::size_t>(e.open_pass)].samples.emplace_back(s_line, state.forward_speed);
       if (!e.moving_out.passer.empty()) e.moving_out.samples.emplace_back(s_line, state.forward_speed);
       if (!control.car(name).finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
       const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
@@ -197,7 +201,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   result.finished = control.finished();
   result.overtakes = control.overtakes();
   for (const auto& standing : control.standings()) {
-    auto it = std::find_if(entrants.begin(), entrants.end(), [&](const Entrant& e) { return e.spec.name == standing.name; });
+    auto it =
+        std::find_if(entrants.begin(), entrants.end(), [&](const Entrant& e) { return e.spec.name == standing.name; });
     RaceCarResult r = it->result;
     const race::CarRecord& record = control.car(standing.name);
     r.position = standing.position;

@@ -41,7 +41,9 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
   } catch (const YAML::Exception& e) {
     throw ScenarioError(path + ": " + e.what());
   }
-  auto fail = [&](const std::string& field, const std::string& what) { throw ScenarioError(path + ": " + field + ": " + what); };
+  auto fail = [&](const std::string& field, const std::string& what) {
+    throw ScenarioError(path + ": " + field + ": " + what);
+  };
   // Strict: a misspelt key (`color:`) is an error naming the nearest known one, not a silent default.
   using Section = config::YamlSection<ScenarioError>;
   Section top(root, "", path);
@@ -79,7 +81,8 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     if (c.read("colour", &rgb)) {
       if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
       car.colour = Eigen::Vector3f(static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]));
-      if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any()) fail(field + ".colour", "each of r, g, b must be 0..1");
+      if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any())
+        fail(field + ".colour", "each of r, g, b must be 0..1");
     }
     c.finish();
     if (car.name.empty() || car.name.find_first_of(" /") != std::string::npos) {
@@ -87,7 +90,8 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     }
     if (!names.insert(car.name).second) fail(field + ".name", "'" + car.name + "' is used by another car");
     if (car.spawn_point < 0 || car.spawn_point >= kGridSlots) {
-      fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is not a grid slot (0.." + std::to_string(kGridSlots - 1) + ")");
+      fail(field + ".spawn_point",
+           std::to_string(car.spawn_point) + " is not a grid slot (0.." + std::to_string(kGridSlots - 1) + ")");
     }
     if (!slots.insert(car.spawn_point).second) {
       fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is taken by another car");
@@ -104,8 +108,10 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
       fail(field + ".model", e.what());
     }
     if (!car.sensors.empty()) {
-      const std::string set = fs::is_regular_file(car.sensors) ? car.sensors : context.sensors_dir + "/" + car.sensors + ".yaml";
-      if (!fs::is_regular_file(set)) fail(field + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
+      const std::string set =
+          fs::is_regular_file(car.sensors) ? car.sensors : context.sensors_dir + "/" + car.sensors + ".yaml";
+      if (!fs::is_regular_file(set))
+        fail(field + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
       try {
         sensors::readSensorSet(set);
       } catch (const std::exception& e) {
@@ -128,7 +134,8 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
 std::string resolveAgentEnv(const std::string& name_or_path, const std::string& rl_dir) {
   if (fs::is_regular_file(name_or_path)) return name_or_path;
   const std::string file = rl_dir + "/" + name_or_path + ".yaml";
-  if (!fs::is_regular_file(file)) throw ScenarioError("no RL environment '" + name_or_path + "' (a file, or a name in " + rl_dir + ")");
+  if (!fs::is_regular_file(file))
+    throw ScenarioError("no RL environment '" + name_or_path + "' (a file, or a name in " + rl_dir + ")");
   return file;
 }
 

@@ -29,14 +29,16 @@ control::TrackerInput trackerInputOf(const sim::VehicleState& state) {
   return in;
 }
 
-TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle, const TimeTrialOptions& options) {
+TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle,
+                             const TimeTrialOptions& options) {
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
   control::TrajectoryTracker tracker(trackerFor(vehicle, options.tracker), limits);
   tracker.setTrajectory(planning::planRacingTrajectory(track, limits, options.planner));
 
   TimeTrialResult result;
   result.promised_lap = tracker.trajectory().lap_time;
-  const double time_limit = options.time_limit > 0 ? options.time_limit : 3.0 * result.promised_lap * (options.laps + 1) + 60.0;
+  const double time_limit =
+      options.time_limit > 0 ? options.time_limit : 3.0 * result.promised_lap * (options.laps + 1) + 60.0;
 
   sim::World world(track, {});
   world.spawnVehicle("ego", vehicle, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
@@ -56,9 +58,11 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
     const Eigen::Vector3d position = world.vehicleState("ego").pose.position;
     timer.update(world.time(), position.head<2>());
     const auto pr = track.projectNear(position.head<2>(), timer.progress() + track.info().start_finish_s, 80.0);
-    result.worst_offroad = std::max(result.worst_offroad, pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right);
+    result.worst_offroad =
+        std::max(result.worst_offroad, pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right);
     const auto& contacts = world.contacts("ego");
-    const bool barrier = std::any_of(contacts.begin(), contacts.end(), [](const sim::Contact& c) { return c.other == "barrier"; });
+    const bool barrier =
+        std::any_of(contacts.begin(), contacts.end(), [](const sim::Contact& c) { return c.other == "barrier"; });
     if (barrier && !touching) ++result.barrier_contacts;
     touching = barrier;
   }

@@ -74,22 +74,38 @@ std::optional<Args> parse(int argc, char** argv) {
     }
     if (i + 1 >= argc) return std::nullopt;
     const std::string v = argv[++i];
-    if (flag == "--map") a.map = v;
-    else if (flag == "--env") a.env = v;
-    else if (flag == "--model") a.model = v;
-    else if (flag == "--out") a.out = v;
-    else if (flag == "--minutes") a.minutes = std::stod(v);
-    else if (flag == "--generations") a.generations = std::stoi(v);
-    else if (flag == "--threads") a.es.threads = std::stoi(v);
-    else if (flag == "--seed") a.es.seed = std::stoull(v);
-    else if (flag == "--directions") a.es.directions = std::stoi(v);
-    else if (flag == "--sigma") a.es.sigma = std::stod(v);
-    else if (flag == "--learning-rate") a.es.learning_rate = std::stod(v);
-    else if (flag == "--hidden") a.es.hidden = parseHidden(v);
-    else if (flag == "--episodes") a.es.episodes = std::stoi(v);
-    else if (flag == "--episode-seconds") a.episode_seconds = std::stod(v);
-    else if (flag == "--eval-every") a.eval_every = std::stoi(v);
-    else return std::nullopt;
+    if (flag == "--map")
+      a.map = v;
+    else if (flag == "--env")
+      a.env = v;
+    else if (flag == "--model")
+      a.model = v;
+    else if (flag == "--out")
+      a.out = v;
+    else if (flag == "--minutes")
+      a.minutes = std::stod(v);
+    else if (flag == "--generations")
+      a.generations = std::stoi(v);
+    else if (flag == "--threads")
+      a.es.threads = std::stoi(v);
+    else if (flag == "--seed")
+      a.es.seed = std::stoull(v);
+    else if (flag == "--directions")
+      a.es.directions = std::stoi(v);
+    else if (flag == "--sigma")
+      a.es.sigma = std::stod(v);
+    else if (flag == "--learning-rate")
+      a.es.learning_rate = std::stod(v);
+    else if (flag == "--hidden")
+      a.es.hidden = parseHidden(v);
+    else if (flag == "--episodes")
+      a.es.episodes = std::stoi(v);
+    else if (flag == "--episode-seconds")
+      a.episode_seconds = std::stod(v);
+    else if (flag == "--eval-every")
+      a.eval_every = std::stoi(v);
+    else
+      return std::nullopt;
   }
   if (a.env.empty()) a.env = a.source + "/config/rl/state.yaml";
   if (a.out.empty()) {
@@ -137,7 +153,8 @@ int main(int argc, char** argv) {
   const Args& args = *parsed;
   try {
     const track::Track track = track::loadMapFolder(track::resolveMapFolder(args.map, args.source + "/maps"));
-    const sim::VehicleParams car = sim::loadVehicleModel(args.model, args.source + "/urdf", args.source + "/config/vehicles");
+    const sim::VehicleParams car =
+        sim::loadVehicleModel(args.model, args.source + "/urdf", args.source + "/config/vehicles");
     rl::EnvOptions training = rl::readEnvOptions(args.env);
     training.termination.time_limit = args.episode_seconds;
     rl::EnvOptions laps = training;
@@ -149,10 +166,12 @@ int main(int argc, char** argv) {
                 track.length(), args.env.c_str(), args.es.threads, args.minutes, args.out.c_str());
     rl::EvolutionStrategy es([&] { return std::make_unique<rl::RacingEnv>(track, car, training); }, args.es);
     rl::RacingEnv lap_env(track, car, laps);
-    std::printf("rl_train: %zu parameters, %d candidates per generation\n", es.policy().params().size(), 2 * args.es.directions);
+    std::printf("rl_train: %zu parameters, %d candidates per generation\n", es.policy().params().size(),
+                2 * args.es.directions);
 
     std::ofstream csv(args.out + "/learning_curve.csv");
-    csv << "generation,minutes,env_steps,mean_return,best_return,mean_progress_m,eval_progress_m,eval_best_lap_s,eval_clean\n";
+    csv << "generation,minutes,env_steps,mean_return,best_return,mean_progress_m,eval_progress_m,eval_best_lap_s,eval_"
+           "clean\n";
     std::optional<stack::TimeTrialResult> stack_lap;
     if (args.compare) {
       stack::TimeTrialOptions trial;
@@ -167,7 +186,9 @@ int main(int argc, char** argv) {
     double best_lap = 0.0;
     std::int64_t steps = 0;
     const auto start = std::chrono::steady_clock::now();
-    auto minutes = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60.0; };
+    auto minutes = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60.0;
+    };
     while (es.generation() < args.generations && minutes() < args.minutes) {
       const rl::GenerationReport g = es.runGeneration();
       steps += g.env_steps;
@@ -219,22 +240,26 @@ int main(int argc, char** argv) {
       return out;
     };
     const std::string title = "ES on " + track.info().name + ": " + std::to_string(es.generation()) + " generations, " +
-                              std::to_string(steps / 1000000) + "M steps, " + std::to_string(static_cast<int>(minutes() + 0.5)) + " min";
+                              std::to_string(steps / 1000000) + "M steps, " +
+                              std::to_string(static_cast<int>(minutes() + 0.5)) + " min";
     report::renderPlot(args.out + "/learning_curve.png", title, "generation", "return",
                        {{"best candidate (20-gen. average)", generations, averaged(best_returns), {90, 220, 90}},
                         {"mean of candidates (20-gen. average)", generations, averaged(mean_returns), {255, 170, 60}}});
     std::vector<report::Series> laps_plot = {lap_curve};
     if (stack_lap && !generations.empty()) {
-      laps_plot.push_back({"planner + controller stack", {generations.front(), generations.back()},
-                           {stack_lap->best_lap(), stack_lap->best_lap()}, {80, 80, 255}});
+      laps_plot.push_back({"planner + controller stack",
+                           {generations.front(), generations.back()},
+                           {stack_lap->best_lap(), stack_lap->best_lap()},
+                           {80, 80, 255}});
     }
-    report::renderPlot(args.out + "/lap_times.png", "Clean laps of " + track.info().name + " from the grid", "generation",
-                       "lap time (s)", laps_plot);
+    report::renderPlot(args.out + "/lap_times.png", "Clean laps of " + track.info().name + " from the grid",
+                       "generation", "lap time (s)", laps_plot);
     const double seconds = minutes() * 60.0;
     std::printf("rl_train: %d generations, %.1fM environment steps in %.0f s (%.0f steps/s)\n", es.generation(),
                 steps / 1e6, seconds, steps / std::max(seconds, 1e-9));
     if (best_policy) {
-      std::printf("rl_train: learned policy's best clean lap from the grid: %.2f s -> %s/policy.yaml\n", best_lap, args.out.c_str());
+      std::printf("rl_train: learned policy's best clean lap from the grid: %.2f s -> %s/policy.yaml\n", best_lap,
+                  args.out.c_str());
     } else {
       std::printf("rl_train: no clean lap yet; the last policy is in %s/policy.yaml\n", args.out.c_str());
     }
@@ -242,7 +267,8 @@ int main(int argc, char** argv) {
       std::printf("rl_train: learned %.2f s against the stack's %.2f s: %.3f times the stack's lap\n", best_lap,
                   stack_lap->best_lap(), best_lap / stack_lap->best_lap());
     }
-    std::printf("rl_train: learning curve %s/learning_curve.png, laps %s/lap_times.png\n", args.out.c_str(), args.out.c_str());
+    std::printf("rl_train: learning curve %s/learning_curve.png, laps %s/lap_times.png\n", args.out.c_str(),
+                args.out.c_str());
     return best_policy ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rl_train: %s\n", e.what());

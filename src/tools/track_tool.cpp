@@ -59,8 +59,8 @@ int check(const std::string& folder) {
     max_width = std::max(max_width, w);
   }
   std::cout << track.info().name << ": " << track.size() << " points, length " << track.length() << " m, width "
-            << min_width << ".." << max_width << " m, tightest corner radius " << min_radius << " m at s = "
-            << track.s(tightest) << " m; closes, no crossing edges\n";
+            << min_width << ".." << max_width << " m, tightest corner radius " << min_radius
+            << " m at s = " << track.s(tightest) << " m; closes, no crossing edges\n";
   return 0;
 }
 
@@ -102,17 +102,20 @@ int main(int argc, char** argv) {
       const LoopGap gap = loopGap(points);
       if (gap.open()) {
         if (!flag(argc, argv, "--close-gap")) {
-          throw MapError(std::string(argv[2]) + ": the loop does not close: its last point is " + std::to_string(gap.gap) +
-                         " m from its first (its points are " + std::to_string(gap.median_step) +
+          throw MapError(std::string(argv[2]) + ": the loop does not close: its last point is " +
+                         std::to_string(gap.gap) + " m from its first (its points are " +
+                         std::to_string(gap.median_step) +
                          " m apart); --close-gap bridges it with a straight stretch, if the course is a circuit");
         }
         if (!gap.bridgeable()) {
           throw MapError(std::string(argv[2]) + ": the loop cannot be closed: its first point lies " +
-                         std::to_string(-gap.ahead) + " m behind its last, not ahead of it (the course runs on past its "
+                         std::to_string(-gap.ahead) +
+                         " m behind its last, not ahead of it (the course runs on past its "
                          "start, or is not a loop: roar_ros imports circuits)");
         }
         points = closeLoopGap(points);
-        std::cout << argv[2] << ": bridged the " << gap.gap << " m from the last point back to the first with a straight stretch\n";
+        std::cout << argv[2] << ": bridged the " << gap.gap
+                  << " m from the last point back to the first with a straight stretch\n";
       }
       const std::string spacing = option(argc, argv, "--spacing", "");
       if (!spacing.empty()) points = resampleClosed(points, std::stod(spacing));

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -83,7 +83,8 @@ std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& contr
   if (n < 3) throw std::invalid_argument("a circuit needs at least 3 control points, got " + std::to_string(n));
   if (spacing <= 0) throw std::invalid_argument("spacing must be positive");
   for (std::size_t i = 0; i < n; ++i) {
-    if (controls[i].width <= 0) throw std::invalid_argument("control point " + std::to_string(i) + ": width must be positive");
+    if (controls[i].width <= 0)
+      throw std::invalid_argument("control point " + std::to_string(i) + ": width must be positive");
   }
   auto at = [&](std::size_t i) {
     const auto& c = controls[i % n];
@@ -94,8 +95,9 @@ std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& contr
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d p0 = at(i + n - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
     const double chord = (p2.head<2>() - p1.head<2>()).norm();
-    if (chord < 1e-6) throw std::invalid_argument("control points " + std::to_string(i) + " and " +
-                                                  std::to_string((i + 1) % n) + " coincide");
+    if (chord < 1e-6)
+      throw std::invalid_argument("control points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
+                                  " coincide");
     const int steps = std::max(4, static_cast<int>(std::ceil(chord / (spacing * 0.1))));
     for (int k = 0; k < steps; ++k) {
       const Eigen::Vector3d p = catmullRom(p0, p1, p2, p3, static_cast<double>(k) / steps);
@@ -118,7 +120,9 @@ LoopGap loopGap(const std::vector<CentreLinePoint>& points) {
   const auto& last = points.back();
   const auto& before = points[points.size() - 2];
   const double step = std::hypot(last.x - before.x, last.y - before.y);
-  if (step > 0) g.ahead = ((points.front().x - last.x) * (last.x - before.x) + (points.front().y - last.y) * (last.y - before.y)) / step;
+  if (step > 0)
+    g.ahead =
+        ((points.front().x - last.x) * (last.x - before.x) + (points.front().y - last.y) * (last.y - before.y)) / step;
   return g;
 }
 

@@ -62,8 +62,8 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
       continue;  // a header line without '#'
     }
     if (fields.size() < 4) {
-      throw MapError(path + ":" + std::to_string(line_no) + ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m, found " +
-                     std::to_string(fields.size()));
+      throw MapError(path + ":" + std::to_string(line_no) +
+                     ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m, found " + std::to_string(fields.size()));
     }
     for (int k = 0; k < 4; ++k) {
       if (!parseDouble(fields[k], &v[k])) {
@@ -76,7 +76,8 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     }
     for (int k = 2; k < 4; ++k) {
       if (v[k] <= 0) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": " + kColumns[k] + " must be positive, got " + fields[k]);
+        throw MapError(path + ":" + std::to_string(line_no) + ": " + kColumns[k] + " must be positive, got " +
+                       fields[k]);
       }
     }
     if (!file.points.empty()) {
@@ -108,13 +109,14 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     file.lines.push_back(line_no);
   }
   // A closed loop written with its first point repeated at the end is the same circuit.
-  if (file.points.size() > 3 && std::hypot(file.points.front().x - file.points.back().x,
-                                           file.points.front().y - file.points.back().y) < 1e-6) {
+  if (file.points.size() > 3 &&
+      std::hypot(file.points.front().x - file.points.back().x, file.points.front().y - file.points.back().y) < 1e-6) {
     file.points.pop_back();
     file.lines.pop_back();
   }
   if (file.points.size() < 3) {
-    throw MapError(path + ": a circuit needs at least 3 centre-line points, found " + std::to_string(file.points.size()));
+    throw MapError(path + ": a circuit needs at least 3 centre-line points, found " +
+                   std::to_string(file.points.size()));
   }
   return file;
 }
@@ -122,7 +124,8 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
 void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoint>& points) {
   std::ofstream out(path);
   if (!out) throw MapError(path + ": cannot write the centre-line file");
-  const bool relief = std::any_of(points.begin(), points.end(), [](const auto& p) { return p.z != 0 || p.banking != 0; });
+  const bool relief =
+      std::any_of(points.begin(), points.end(), [](const auto& p) { return p.z != 0 || p.banking != 0; });
   out << "# x_m,y_m,w_tr_right_m,w_tr_left_m" << (relief ? ",z_m,banking_rad" : "") << "\n" << std::setprecision(17);
   for (const auto& p : points) {
     out << p.x << "," << p.y << "," << p.width_right << "," << p.width_left;
@@ -274,7 +277,8 @@ std::vector<CentreLinePoint> readPointList(const std::string& path, double width
     }
     points.push_back({x, y, 0.5 * width, 0.5 * width});
   }
-  if (points.size() < 3) throw MapError(path + ": a circuit needs at least 3 points, found " + std::to_string(points.size()));
+  if (points.size() < 3)
+    throw MapError(path + ": a circuit needs at least 3 points, found " + std::to_string(points.size()));
   return points;
 }
 
@@ -307,7 +311,8 @@ std::vector<std::string> listMaps(const std::string& maps_dir) {
   std::vector<std::string> names;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(maps_dir, ec)) {
-    if (entry.is_directory() && fs::exists(entry.path() / "track.yaml")) names.push_back(entry.path().filename().string());
+    if (entry.is_directory() && fs::exists(entry.path() / "track.yaml"))
+      names.push_back(entry.path().filename().string());
   }
   std::sort(names.begin(), names.end());
   return names;

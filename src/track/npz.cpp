@@ -41,7 +41,8 @@ NpyArray parseNpy(const std::vector<std::uint8_t>& bytes, const std::string& whe
     offset = 12;
   }
   if (offset + header_len > bytes.size()) throw NpzError(where + ": truncated .npy header");
-  const std::string header(bytes.begin() + static_cast<long>(offset), bytes.begin() + static_cast<long>(offset + header_len));
+  const std::string header(bytes.begin() + static_cast<long>(offset),
+                           bytes.begin() + static_cast<long>(offset + header_len));
   std::smatch m;
   if (!std::regex_search(header, m, std::regex("'descr':\\s*'([<>|=]?)([fi])(\\d)'"))) {
     throw NpzError(where + ": unsupported dtype (float32/64 and int32/64 only): " + header);
@@ -50,8 +51,10 @@ NpyArray parseNpy(const std::vector<std::uint8_t>& bytes, const std::string& whe
   const char kind = m[2].str()[0];
   const int width = std::stoi(m[3]);
   if (big_endian || (width != 4 && width != 8)) throw NpzError(where + ": unsupported dtype " + m[0].str());
-  if (std::regex_search(header, std::regex("'fortran_order':\\s*True"))) throw NpzError(where + ": Fortran-ordered arrays are not supported");
-  if (!std::regex_search(header, m, std::regex("'shape':\\s*\\(([^)]*)\\)"))) throw NpzError(where + ": no shape in the header");
+  if (std::regex_search(header, std::regex("'fortran_order':\\s*True")))
+    throw NpzError(where + ": Fortran-ordered arrays are not supported");
+  if (!std::regex_search(header, m, std::regex("'shape':\\s*\\(([^)]*)\\)")))
+    throw NpzError(where + ": no shape in the header");
   NpyArray array;
   std::size_t count = 1;
   const std::string dims = m[1];
@@ -94,21 +97,23 @@ NpyArray parseNpy(const std::vector<std::uint8_t>& bytes, const std::string& whe
 std::size_t npySize(const std::vector<std::uint8_t>& head, const std::string& where) {
   if (head.size() < 12 || std::memcmp(head.data(), "\x93NUMPY", 6) != 0) throw NpzError(where + ": not a .npy array");
   const int major = head[6];
-  const std::size_t header_len = major == 1 ? (head[8] | (head[9] << 8))
-                                            : (head[8] | (head[9] << 8) | (head[10] << 16) |
-                                               (static_cast<std::size_t>(head[11]) << 24));
+  const std::size_t header_len =
+      major == 1 ? (head[8] | (head[9] << 8))
+                 : (head[8] | (head[9] << 8) | (head[10] << 16) | (static_cast<std::size_t>(head[11]) << 24));
   const std::size_t offset = major == 1 ? 10 : 12;
   if (offset + header_len > head.size()) {
     throw NpzError(where + ": .npy header of " + std::to_string(header_len) + " bytes (at most " +
                    std::to_string(kNpyHeaderRead - offset) + " read)");
   }
-  const std::string header(head.begin() + static_cast<long>(offset), head.begin() + static_cast<long>(offset + header_len));
+  const std::string header(head.begin() + static_cast<long>(offset),
+                           head.begin() + static_cast<long>(offset + header_len));
   std::smatch m;
   if (!std::regex_search(header, m, std::regex("'descr':\\s*'[<>|=]?[fi](\\d)'"))) {
     throw NpzError(where + ": unsupported dtype (float32/64 and int32/64 only): " + header);
   }
   const std::size_t width = std::stoul(m[1]);
-  if (!std::regex_search(header, m, std::regex("'shape':\\s*\\(([^)]*)\\)"))) throw NpzError(where + ": no shape in the header");
+  if (!std::regex_search(header, m, std::regex("'shape':\\s*\\(([^)]*)\\)")))
+    throw NpzError(where + ": no shape in the header");
   const std::string dims = m[1];
   std::size_t count = 1;
   const std::regex number("\\d+");
@@ -126,14 +131,24 @@ std::size_t npySize(const std::vector<std::uint8_t>& head, const std::string& wh
 std::vector<std::uint8_t> toNpy(const NpyArray& a) {
   std::string shape;
   for (std::size_t d : a.shape) shape += std::to_string(d) + ", ";
-  if (a.shape.size() > 1) shape.erase(shape.size() - 2);  // (N, 3) but (N,)
-  else if (!a.shape.empty()) shape.erase(shape.size() - 1);
+  if (a.shape.size() > 1)
+    shape.erase(shape.size() - 2);  // (N, 3) but (N,)
+  else if (!a.shape.empty())
+    shape.erase(shape.size() - 1);
   std::string header = "{'descr': '<f8', 'fortran_order': False, 'shape': (" + shape + "), }";
   // Pad so that the data starts on a 64-byte boundary, ending the header with a newline (format 1.0).
   const std::size_t total = 10 + header.size() + 1;
   header.append((64 - total % 64) % 64, ' ');
   header += '\n';
-  std::vector<std::uint8_t> out = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, static_cast<std::uint8_t>(header.size() & 0xFF),
+  std::vector<std::uint8_t> out = {0x93,
+                                   'N',
+                                   'U',
+                                   'M',
+                                   'P',
+                                   'Y',
+                                   1,
+                                   0,
+                                   static_cast<std::uint8_t>(header.size() & 0xFF),
                                    static_cast<std::uint8_t>(header.size() >> 8)};
   out.insert(out.end(), header.begin(), header.end());
   const auto* bytes = reinterpret_cast<const std::uint8_t*>(a.data.data());
@@ -157,7 +172,8 @@ std::map<std::string, NpyArray> readNpz(const std::string& path) {
   const zip_int64_t entries = zip_get_num_entries(archive.get(), 0);
   for (zip_int64_t i = 0; i < entries; ++i) {
     zip_stat_t st;
-    if (zip_stat_index(archive.get(), static_cast<zip_uint64_t>(i), 0, &st) != 0) throw NpzError(path + ": unreadable entry");
+    if (zip_stat_index(archive.get(), static_cast<zip_uint64_t>(i), 0, &st) != 0)
+      throw NpzError(path + ": unreadable entry");
     std::string name = st.name;
     if (name.size() < 4 || name.substr(name.size() - 4) != ".npy") continue;
     std::unique_ptr<zip_file_t, FileCloser> file(zip_fopen_index(archive.get(), static_cast<zip_uint64_t>(i), 0));
@@ -199,7 +215,8 @@ void writeNpz(const std::string& path, const std::map<std::string, NpyArray>& ar
   for (const auto& [name, array] : arrays) {
     buffers.push_back(toNpy(array));
     zip_source_t* source = zip_source_buffer(archive.get(), buffers.back().data(), buffers.back().size(), 0);
-    const zip_int64_t index = source ? zip_file_add(archive.get(), (name + ".npy").c_str(), source, ZIP_FL_OVERWRITE) : -1;
+    const zip_int64_t index =
+        source ? zip_file_add(archive.get(), (name + ".npy").c_str(), source, ZIP_FL_OVERWRITE) : -1;
     if (index < 0) {
       if (source) zip_source_free(source);
       throw NpzError(path + ": cannot add array '" + name + "': " + zip_strerror(archive.get()));

@@ -92,7 +92,9 @@ KerbMesh kerbMesh(const Track& track, double width, double min_radius, double li
     const std::size_t j = (i + 1) % n;
     if (std::max(std::abs(track.curvature(i)), std::abs(track.curvature(j))) < 1.0 / min_radius) continue;
     for (int side = 0; side < 2; ++side) {
-      auto edge = [&](std::size_t p, double extra) { return side == 0 ? track.leftEdge(p, extra) : track.rightEdge(p, extra); };
+      auto edge = [&](std::size_t p, double extra) {
+        return side == 0 ? track.leftEdge(p, extra) : track.rightEdge(p, extra);
+      };
       const int base = static_cast<int>(out.mesh.vertices.size());
       const double zi = track.surfaceHeight(i, side == 0 ? track.point(i).width_left : -track.point(i).width_right);
       const double zj = track.surfaceHeight(j, side == 0 ? track.point(j).width_left : -track.point(j).width_right);

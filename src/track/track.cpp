@@ -24,7 +24,8 @@ std::string centreLinePointProblem(const CentreLinePoint& p) {
   };
   if (outside("x_m", p.x, -kMaxCoordinate, kMaxCoordinate) || outside("y_m", p.y, -kMaxCoordinate, kMaxCoordinate) ||
       outside("w_tr_right_m", p.width_right, 1e-3, kMaxEdgeDistance) ||
-      outside("w_tr_left_m", p.width_left, 1e-3, kMaxEdgeDistance) || outside("z_m", p.z, -kMaxElevation, kMaxElevation) ||
+      outside("w_tr_left_m", p.width_left, 1e-3, kMaxEdgeDistance) ||
+      outside("z_m", p.z, -kMaxElevation, kMaxElevation) ||
       outside("banking_rad", p.banking, -kMaxBanking, kMaxBanking)) {
     return buf;
   }
@@ -35,8 +36,8 @@ Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std:
   const std::size_t n = points_.size();
   if (n < 3) throw std::invalid_argument("a track needs at least 3 centre-line points, got " + std::to_string(n));
   if (n > kMaxCentreLinePoints) {
-    throw std::invalid_argument("a track has at most " + std::to_string(kMaxCentreLinePoints) + " centre-line points, got " +
-                                std::to_string(n));
+    throw std::invalid_argument("a track has at most " + std::to_string(kMaxCentreLinePoints) +
+                                " centre-line points, got " + std::to_string(n));
   }
   for (std::size_t i = 0; i < n; ++i) {
     const std::string problem = centreLinePointProblem(points_[i]);
@@ -219,7 +220,8 @@ std::string offTrackProblem(const Track& track, const Eigen::Vector2d& point, co
   const Projection where = track.project(point);
   const double barrier = track.info().barrier_offset;
   if (where.beyondEdge() <= barrier) return "";
-  std::snprintf(buf, sizeof buf, "%s (%.1f, %.1f) is off the track: %.1f m beyond the road's edge, past the barriers %.1f m from it",
+  std::snprintf(buf, sizeof buf,
+                "%s (%.1f, %.1f) is off the track: %.1f m beyond the road's edge, past the barriers %.1f m from it",
                 what.c_str(), point.x(), point.y(), where.beyondEdge(), barrier);
   return buf;
 }

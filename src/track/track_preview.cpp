@@ -1,9 +1,9 @@
 #include "roar/track/track_preview.h"
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
 namespace roar::track {
@@ -44,7 +44,8 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   // The road as one quad per segment (works for either winding of the circuit).
   for (std::size_t i = 0; i < track.size(); ++i) {
     const std::size_t j = (i + 1) % track.size();
-    std::vector<cv::Point> quad = {px(track.leftEdge(i)), px(track.leftEdge(j)), px(track.rightEdge(j)), px(track.rightEdge(i))};
+    std::vector<cv::Point> quad = {px(track.leftEdge(i)), px(track.leftEdge(j)), px(track.rightEdge(j)),
+                                   px(track.rightEdge(i))};
     cv::fillConvexPoly(image, quad, cv::Scalar(85, 85, 85), cv::LINE_AA);
   }
   cv::polylines(image, barrier_l, true, cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
@@ -63,12 +64,14 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   }
   line_across(track.info().start_finish_s, cv::Scalar(255, 255, 255), 5);
   // Direction arrow just after the line.
-  const TrackPose a = track.poseAt(track.info().start_finish_s + 20), b = track.poseAt(track.info().start_finish_s + 60);
+  const TrackPose a = track.poseAt(track.info().start_finish_s + 20),
+                  b = track.poseAt(track.info().start_finish_s + 60);
   cv::arrowedLine(image, px(a.position), px(b.position), cv::Scalar(0, 0, 255), 3, cv::LINE_AA, 0, 0.3);
   char title[256];
   std::snprintf(title, sizeof(title), "%s  %.0f m  %d sectors  (100 m = %d px)", track.info().name.c_str(),
                 track.length(), sectors, static_cast<int>(100 * scale));
-  cv::putText(image, title, cv::Point(12, 38), cv::FONT_HERSHEY_SIMPLEX, 0.9, cv::Scalar(255, 255, 255), 2, cv::LINE_AA);
+  cv::putText(image, title, cv::Point(12, 38), cv::FONT_HERSHEY_SIMPLEX, 0.9, cv::Scalar(255, 255, 255), 2,
+              cv::LINE_AA);
   const cv::Scalar white(255, 255, 255);
   int band_y = map_bottom + 28;
   if (paths.size() == 1) {
@@ -92,12 +95,14 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     std::snprintf(label, sizeof(label), "%s: %s %.1f .. %.1f", path.label.c_str(), value_name.c_str(), v_lo, v_hi);
     cv::putText(image, label, {20, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 1, cv::LINE_AA);
     const int x0 = 40 + 11 * static_cast<int>(std::string(label).size()), w = 300;
-    for (int k = 0; k < w; ++k) cv::line(image, {x0 + k, band_y - 14}, {x0 + k, band_y + 2}, colourOf(v_lo + (v_hi - v_lo) * k / w));
+    for (int k = 0; k < w; ++k)
+      cv::line(image, {x0 + k, band_y - 14}, {x0 + k, band_y + 2}, colourOf(v_lo + (v_hi - v_lo) * k / w));
     band_y += 22;
   } else if (!paths.empty()) {
     // Several cars: each its own colour (the speeds are in each car's speed plot), named in the legend.
-    static const cv::Scalar kPalette[] = {{255, 140, 30}, {14, 127, 255}, {40, 39, 214}, {189, 103, 148}, {230, 220, 40},
-                                          {194, 119, 227}, {0, 215, 255},  {245, 245, 245}, {75, 86, 140}, {34, 189, 188}};
+    static const cv::Scalar kPalette[] = {{255, 140, 30}, {14, 127, 255},  {40, 39, 214}, {189, 103, 148},
+                                          {230, 220, 40}, {194, 119, 227}, {0, 215, 255}, {245, 245, 245},
+                                          {75, 86, 140},  {34, 189, 188}};
     constexpr std::size_t kColours = sizeof(kPalette) / sizeof(kPalette[0]);
     int x = 20;
     for (std::size_t k = 0; k < paths.size(); ++k) {
@@ -119,7 +124,8 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     cv::circle(image, at, 11, white, 2, cv::LINE_AA);
     cv::putText(image, number, at + cv::Point(13, -10), cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 2, cv::LINE_AA);
     if (k < listed) {
-      cv::putText(image, number + "  " + marks[k].label, {20, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, white, 1, cv::LINE_AA);
+      cv::putText(image, number + "  " + marks[k].label, {20, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.55, white, 1,
+                  cv::LINE_AA);
       band_y += 22;
     }
   }

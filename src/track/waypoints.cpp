@@ -30,7 +30,8 @@ std::vector<Waypoint> fromArrays(const std::map<std::string, NpyArray>& arrays, 
   const NpyArray& loc = requireArray(arrays, "locations", 3, path);
   const NpyArray& rot = requireArray(arrays, "rotations", 3, path);
   if (rot.rows() != loc.rows()) {
-    throw NpzError(path + ": 'rotations' has " + std::to_string(rot.rows()) + " rows, 'locations' " + std::to_string(loc.rows()));
+    throw NpzError(path + ": 'rotations' has " + std::to_string(rot.rows()) + " rows, 'locations' " +
+                   std::to_string(loc.rows()));
   }
   const NpyArray* width = widths ? &requireArray(arrays, "lane_widths", 1, path) : nullptr;
   if (width && width->rows() != loc.rows()) {
@@ -43,7 +44,8 @@ std::vector<Waypoint> fromArrays(const std::map<std::string, NpyArray>& arrays, 
     out[i].roll_pitch_yaw = Eigen::Vector3d(rot.data[3 * i], rot.data[3 * i + 1], rot.data[3 * i + 2]);
     if (width) {
       out[i].lane_width = width->data[i];
-      if (out[i].lane_width <= 0) throw NpzError(path + ": array 'lane_widths' row " + std::to_string(i) + " is not positive");
+      if (out[i].lane_width <= 0)
+        throw NpzError(path + ": array 'lane_widths' row " + std::to_string(i) + " is not positive");
     }
   }
   return out;
@@ -98,12 +100,14 @@ Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo
   std::vector<CentreLinePoint> pts;
   for (std::size_t i = 0; i < waypoints.size(); ++i) {
     const Waypoint& w = waypoints[i];
-    if (!(w.lane_width > 0)) throw std::invalid_argument("waypoint " + std::to_string(i) + ": lane width must be positive");
+    if (!(w.lane_width > 0))
+      throw std::invalid_argument("waypoint " + std::to_string(i) + ": lane width must be positive");
     if (!pts.empty() && std::hypot(w.location.x() - pts.back().x, w.location.y() - pts.back().y) < 0.01) continue;
-    pts.push_back({w.location.x(), w.location.y(), 0.5 * w.lane_width, 0.5 * w.lane_width, w.location.z(),
-                   w.roll_pitch_yaw.x()});
+    pts.push_back(
+        {w.location.x(), w.location.y(), 0.5 * w.lane_width, 0.5 * w.lane_width, w.location.z(), w.roll_pitch_yaw.x()});
   }
-  while (pts.size() > 3 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < 0.01) pts.pop_back();
+  while (pts.size() > 3 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < 0.01)
+    pts.pop_back();
   repairElevation(&pts);
   return Track(std::move(pts), info);
 }

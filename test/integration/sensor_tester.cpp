@@ -3,10 +3,10 @@
 // detach at run time.
 #include <geometry_msgs/TwistStamped.h>
 #include <gtest/gtest.h>
-#include <ros/ros.h>
 #include <roar_ros/AttachSensor.h>
 #include <roar_ros/DetachSensor.h>
 #include <roar_ros/Step.h>
+#include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
@@ -76,7 +76,8 @@ TEST(Sensors, EverySensorPublishesAtItsRateWithItsFrameAndEncoding) {
     r.watch<sensor_msgs::CameraInfo>(std::string("/ego/camera/") + cam + "/camera_info",
                                      [&](const sensor_msgs::CameraInfo& m) { info = m; });
   }
-  r.watch<sensor_msgs::PointCloud2>("/ego/lidar/top_lidar/points", [&](const sensor_msgs::PointCloud2& m) { cloud = m; });
+  r.watch<sensor_msgs::PointCloud2>("/ego/lidar/top_lidar/points",
+                                    [&](const sensor_msgs::PointCloud2& m) { cloud = m; });
   r.watch<sensor_msgs::Imu>("/ego/imu", [&](const sensor_msgs::Imu& m) { imu = m; });
   r.watch<sensor_msgs::NavSatFix>("/ego/gnss", [&](const sensor_msgs::NavSatFix& m) { fix = m; });
   r.watch<geometry_msgs::TwistStamped>("/ego/velocimeter/twist");
@@ -85,7 +86,8 @@ TEST(Sensors, EverySensorPublishesAtItsRateWithItsFrameAndEncoding) {
   ros::WallDuration(0.5).sleep();
 
   step(20);  // one simulated second
-  ASSERT_TRUE(waitFor([&] { return r.seen["/ego/imu"].count >= 100 && r.seen["/ego/camera/front_semantic/image"].count >= 20; }));
+  ASSERT_TRUE(waitFor(
+      [&] { return r.seen["/ego/imu"].count >= 100 && r.seen["/ego/camera/front_semantic/image"].count >= 20; }));
   ros::WallDuration(0.3).sleep();
   ros::spinOnce();
 
@@ -135,7 +137,8 @@ TEST(Sensors, AttachAndDetachAtRunTime) {
 
   roar_ros::AttachSensor attach;
   attach.request.vehicle = "ego";
-  attach.request.sensor_yaml = "{name: rear_grey, type: camera_grey, x: -2.4, z: 1.4, yaw: 180, rate: 10, image_width: 64, image_height: 48}";
+  attach.request.sensor_yaml =
+      "{name: rear_grey, type: camera_grey, x: -2.4, z: 1.4, yaw: 180, rate: 10, image_width: 64, image_height: 48}";
   ASSERT_TRUE(ros::service::call("/roar_sim/attach_sensor", attach));
   ASSERT_TRUE(attach.response.success) << attach.response.message;
   ASSERT_TRUE(waitFor([&] { return r.connected(); }));

@@ -2,15 +2,15 @@
 // advance, a control message moving the car, bad controls, and the spawn/destroy/reset services.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/ros.h>
-#include <rosgraph_msgs/Clock.h>
-#include <rosgraph_msgs/Log.h>
 #include <roar_ros/DestroyVehicle.h>
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/SpawnVehicle.h>
 #include <roar_ros/Step.h>
 #include <roar_ros/VehicleControl.h>
 #include <roar_ros/VehicleStatus.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <rosgraph_msgs/Log.h>
 
 #include <cmath>
 #include <cstdio>
@@ -23,9 +23,12 @@ namespace {
 struct Listener {
   Listener() {
     ros::NodeHandle nh;
-    odom_sub = nh.subscribe<nav_msgs::Odometry>("ego/odom", 100, [this](const nav_msgs::Odometry::ConstPtr& m) { odom = *m, ++odom_count; });
-    clock_sub = nh.subscribe<rosgraph_msgs::Clock>("/clock", 100, [this](const rosgraph_msgs::Clock::ConstPtr& m) { clock = m->clock, ++clock_count; });
-    status_sub = nh.subscribe<roar_ros::VehicleStatus>("ego/vehicle_status", 100, [this](const roar_ros::VehicleStatus::ConstPtr& m) { status = *m; });
+    odom_sub = nh.subscribe<nav_msgs::Odometry>(
+        "ego/odom", 100, [this](const nav_msgs::Odometry::ConstPtr& m) { odom = *m, ++odom_count; });
+    clock_sub = nh.subscribe<rosgraph_msgs::Clock>(
+        "/clock", 100, [this](const rosgraph_msgs::Clock::ConstPtr& m) { clock = m->clock, ++clock_count; });
+    status_sub = nh.subscribe<roar_ros::VehicleStatus>(
+        "ego/vehicle_status", 100, [this](const roar_ros::VehicleStatus::ConstPtr& m) { status = *m; });
     control_pub = nh.advertise<roar_ros::VehicleControl>("ego/control", 10);
   }
   bool waitFor(const std::function<bool()>& cond, double seconds = 10.0) { return roar::test::waitFor(cond, seconds); }
@@ -147,7 +150,8 @@ TEST(SimNode, AFloodOfBadControlsLeavesNoNaNAndFewLogLines) {
   auto rosout = nh.subscribe<rosgraph_msgs::Log>("/rosout", 1000, [&](const rosgraph_msgs::Log::ConstPtr& m) {
     if (m->name == "/roar_sim" && m->msg.find("rejected") != std::string::npos) ++warnings;
   });
-  ASSERT_TRUE(listener->waitFor([&] { return listener->control_pub.getNumSubscribers() > 0 && rosout.getNumPublishers() > 0; }));
+  ASSERT_TRUE(listener->waitFor(
+      [&] { return listener->control_pub.getNumSubscribers() > 0 && rosout.getNumPublishers() > 0; }));
   const float kBad[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
                         -std::numeric_limits<float>::infinity()};
   const auto started = ros::WallTime::now();
@@ -193,12 +197,15 @@ TEST(SimNode, SpawnDestroyAndResetServices) {
   unknown.request.spawn_point = 5;
   ASSERT_TRUE(ros::service::call("/roar_sim/spawn_vehicle", unknown));
   EXPECT_FALSE(unknown.response.success);
-  EXPECT_NE(unknown.response.message.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << unknown.response.message;
-  EXPECT_NE(unknown.response.message.find("sedan (vehicle.tesla.model3)"), std::string::npos) << unknown.response.message;
+  EXPECT_NE(unknown.response.message.find("unknown vehicle model or blueprint 'bus'"), std::string::npos)
+      << unknown.response.message;
+  EXPECT_NE(unknown.response.message.find("sedan (vehicle.tesla.model3)"), std::string::npos)
+      << unknown.response.message;
 
   ros::NodeHandle nh;
   nav_msgs::Odometry rival_odom;
-  auto sub = nh.subscribe<nav_msgs::Odometry>("rival/odom", 10, [&](const nav_msgs::Odometry::ConstPtr& m) { rival_odom = *m; });
+  auto sub = nh.subscribe<nav_msgs::Odometry>("rival/odom", 10,
+                                              [&](const nav_msgs::Odometry::ConstPtr& m) { rival_odom = *m; });
   listener->waitFor([&] { return sub.getNumPublishers() > 0; });
   const auto stepped = listener->step(2);
   EXPECT_TRUE(listener->waitFor([&] { return rival_odom.header.stamp == stepped.stamp; }));

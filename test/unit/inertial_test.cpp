@@ -84,8 +84,8 @@ TEST(Gnss, TheMapOriginReadsTheOriginAndEastIsEast) {
   east.pose.translation() = Eigen::Vector3d(1000.0, 0.0, 0.0);
   const auto e = sensors::sampleGnss(east, {}, {}, origin, &rng);
   double distance, azimuth1, azimuth2;
-  GeographicLib::Geodesic::WGS84().Inverse(origin.latitude, origin.longitude, e.latitude, e.longitude, distance, azimuth1,
-                                           azimuth2);
+  GeographicLib::Geodesic::WGS84().Inverse(origin.latitude, origin.longitude, e.latitude, e.longitude, distance,
+                                           azimuth1, azimuth2);
   EXPECT_NEAR(distance, 1000.0, 0.01);
   EXPECT_NEAR(azimuth1, 90.0, 0.01);
 }
@@ -155,10 +155,10 @@ TEST(VectorSensors, ReadWhatROARPYsSensorsReadOfATurningCar) {
 
 TEST(VectorSensors, RollPitchYawOfARotationRoundTrips) {
   for (const Eigen::Vector3d& rpy : {Eigen::Vector3d(0.1, -0.2, 3.0), Eigen::Vector3d(-1.0, 0.5, -2.0)}) {
-    const Eigen::Matrix3d r = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                                  .toRotationMatrix();
+    const Eigen::Matrix3d r =
+        (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
     EXPECT_LT((sensors::rollPitchYaw(r) - rpy).norm(), 1e-12);
   }
 }

@@ -32,8 +32,8 @@ TEST(Lidar, EachScanIsTheSliceSweptSinceTheLast) {
   const auto track = test::stadiumTrack();
   sensors::RayScene scene(track);
   sensors::LidarSpec spec = defaultLidar();
-  spec.rotation_frequency = 10.0;   // half a turn per 0.05 s scan
-  spec.upper_fov = -5.0;            // every beam hits the ground or a wall
+  spec.rotation_frequency = 10.0;  // half a turn per 0.05 s scan
+  spec.upper_fov = -5.0;           // every beam hits the ground or a wall
   spec.max_distance = 200.0;
   sensors::SpinningLidar lidar(spec, 1);
   std::vector<sensors::LidarPoint> points;

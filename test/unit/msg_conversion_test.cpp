@@ -48,7 +48,8 @@ TEST(MsgConversion, PoseRoundTripAndZeroQuaternion) {
   huge.orientation.w = 1e300;
   const auto normalised = ros_bridge::fromMessage(huge).orientation;
   EXPECT_NEAR(normalised.norm(), 1.0, 1e-12);
-  EXPECT_NEAR(normalised.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()))), 0.0, 1e-12);
+  EXPECT_NEAR(normalised.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()))),
+              0.0, 1e-12);
   for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
     geometry_msgs::Pose broken;
     broken.orientation.w = 1.0;
@@ -101,7 +102,8 @@ TEST(MsgConversion, OdometryGivesBackPoseAndVelocities) {
   s.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   s.body_linear_velocity = {5, 0.5, 0};
   s.body_angular_velocity = {0, 0, 0.2};
-  const sim::VehicleState back = ros_bridge::fromOdometry(ros_bridge::toOdometry(s, ros_bridge::toRosTime(1.0), "map", "b"));
+  const sim::VehicleState back =
+      ros_bridge::fromOdometry(ros_bridge::toOdometry(s, ros_bridge::toRosTime(1.0), "map", "b"));
   EXPECT_EQ(back.pose.position, s.pose.position);
   EXPECT_EQ(back.body_linear_velocity, s.body_linear_velocity);
   EXPECT_EQ(back.body_angular_velocity, s.body_angular_velocity);

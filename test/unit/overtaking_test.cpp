@@ -151,7 +151,8 @@ TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   EXPECT_EQ(d.side, planner.roomLeft(s) >= planner.roomRight(s) ? 1 : -1) << "to the side with more room";
   const planning::OvertakeOptions o;
   double furthest = 0.0;  // the move is a smooth one over 2.5 s at speed
-  for (const auto& p : plan.points) furthest = std::max(furthest, std::abs(p.offset - planning::sampleAt(f.line, p.s).offset));
+  for (const auto& p : plan.points)
+    furthest = std::max(furthest, std::abs(p.offset - planning::sampleAt(f.line, p.s).offset));
   EXPECT_GE(furthest, o.car_width + o.lateral_margin - 0.3) << "out of the racing line by a car's width and air";
   // The same car racing for position (not a lap up), or with blue flags off, is not let by.
   planning::TrafficCar racing = leader;
@@ -261,7 +262,8 @@ TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
   d = planner.decision("defender");
   EXPECT_EQ(d.mode, RaceMode::kDefend);
   EXPECT_EQ(d.side, side) << "no second move";
-  for (double ahead : {0.0, 20.0, 60.0, 120.0}) EXPECT_GE(side * shiftAt(plan, s + 30.0 + ahead), side * lateral - 0.05) << ahead;
+  for (double ahead : {0.0, 20.0, 60.0, 120.0})
+    EXPECT_GE(side * shiftAt(plan, s + 30.0 + ahead), side * lateral - 0.05) << ahead;
   // Alongside now on the other side: the defender holds its place, leaving it the room.
   attacker = {"attacker", s + 60.0 - 2.0, -side * 2.0, v + 2.0};
   const double held = shiftAt(plan, s + 60.0);
@@ -316,7 +318,8 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
     drive(&fast, fast_plan);
     drive(&slow, slow_plan);
     const double gap = wrapAhead(slow.s, fast.s, L);
-    if (std::abs(gap) < o.car_length && std::abs(slow.lateral - fast.lateral) < o.car_width) overlap = std::max(overlap, t);
+    if (std::abs(gap) < o.car_length && std::abs(slow.lateral - fast.lateral) < o.car_width)
+      overlap = std::max(overlap, t);
     if (passed_at < 0 && gap < -(o.car_length + o.longitudinal_margin)) passed_at = t;
   }
   EXPECT_GT(passed_at, 0.0) << "the fast car got by";

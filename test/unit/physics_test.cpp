@@ -14,7 +14,8 @@ namespace {
 constexpr double kG = 9.81;
 
 struct Drive {
-  explicit Drive(double mu = 1.0, const std::string& model = "sedan") : track(test::openGround(mu)), world(track, options()) {
+  explicit Drive(double mu = 1.0, const std::string& model = "sedan")
+      : track(test::openGround(mu)), world(track, options()) {
     world.spawnVehicle("ego", test::vehicle(model), sim::Pose());
     for (int i = 0; i < 20; ++i) world.step();  // settle on the springs
   }
@@ -87,9 +88,9 @@ struct ClassFigures {
   double skidpad_lo, skidpad_hi;          // g held on a 40 m circle at road friction 1
 };
 constexpr ClassFigures kClasses[] = {
-    {"sedan", 3.8, 5.5, 250, 300, 0.85, 1.1},      // Tesla Model 3 Performance: 3.3-4.4 s, 261 km/h, 1 g
+    {"sedan", 3.8, 5.5, 250, 300, 0.85, 1.1},        // Tesla Model 3 Performance: 3.3-4.4 s, 261 km/h, 1 g
     {"hatchback", 10.5, 13.5, 165, 185, 0.72, 0.9},  // Audi A2 1.4: 12.0 s, 173 km/h, 0.8 g
-    {"racecar", 2.6, 4.0, 240, 270, 1.35, 1.9},    // Formula 3: 3.1 s, ~255 km/h, ~1.6 g at 100 km/h
+    {"racecar", 2.6, 4.0, 240, 270, 1.35, 1.9},      // Formula 3: 3.1 s, ~255 km/h, ~1.6 g at 100 km/h
 };
 
 // A steady skid pad: the car drives a 40 m circle (pure pursuit on it) at a speed held for 5 s, the speed
@@ -111,7 +112,7 @@ double skidpadG(const std::string& model) {
       const double lookahead = std::max(6.0, 0.6 * s.forward_speed);
       const double angle_now = std::atan2(pos.y() - centre.y(), pos.x() - centre.x());
       const Eigen::Vector2d aim = centre + kRadius * Eigen::Vector2d(std::cos(angle_now + lookahead / kRadius),
-                                                                      std::sin(angle_now + lookahead / kRadius));
+                                                                     std::sin(angle_now + lookahead / kRadius));
       const double alpha = std::atan2(aim.y() - pos.y(), aim.x() - pos.x()) - yaw;
       const double wheel_angle = std::atan2(2.0 * p.wheelbase() * std::sin(alpha), lookahead);
       sim::VehicleControl c;

@@ -2,9 +2,9 @@
 #include "roar/report/race_report.h"
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -187,7 +187,8 @@ TEST(RaceControl, RespawnRulePutsTheCarBackAtTheLastWaypoint) {
   ASSERT_TRUE(incident);
   EXPECT_TRUE(incident->respawn);
   EXPECT_EQ(incident->penalty, 0.0) << "the clock running is the penalty";
-  EXPECT_NEAR((incident->respawn_pose.position - onCircle(150)).norm(), 0.0, 1.5) << "on the centre line, where the car was";
+  EXPECT_NEAR((incident->respawn_pose.position - onCircle(150)).norm(), 0.0, 1.5)
+      << "on the centre line, where the car was";
   EXPECT_NEAR(track::wrapAngle(incident->respawn_pose.heading - (1.5 + M_PI / 2)), 0.0, 0.02);
 }
 
@@ -258,8 +259,8 @@ TEST(RaceControl, OvertakesAreRecordedOnceWithWhoWhereAndWhen) {
   race::RaceControl race(track, rules, {"fast", "slow", "twin"});
   // 200 s: fast is a lap ahead of slow (628 m) from t = 131 s on, which is lapping, not another pass.
   for (double t = 0.0; t < 200.0; t += 0.05) {
-    race.updatePosition("slow", t, onCircle(-5 + 15.0 * t));                          // 15 m/s, starts ahead
-    race.updatePosition("fast", t, onCircle(-30 + 20.0 * t));                         // 20 m/s
+    race.updatePosition("slow", t, onCircle(-5 + 15.0 * t));                           // 15 m/s, starts ahead
+    race.updatePosition("fast", t, onCircle(-30 + 20.0 * t));                          // 20 m/s
     race.updatePosition("twin", t, onCircle(-5 + 15.0 * t + 1.5 * std::sin(t), 3.0));  // beside slow, wobbling
   }
   ASSERT_EQ(race.overtakes().size(), 2u) << "fast passes slow and twin once each; twin and slow swap nothing";

@@ -101,7 +101,8 @@ TEST(FieldPlanner, ACarALapUpIsToldFromOneJustBehind) {
   field.window("slow");
   EXPECT_NE(field.decision("slow").mode, RaceMode::kYield) << "the same lap: racing";
   double t = 0.0;
-  for (double covered = 10.0; covered <= L; covered += 10.0) field.locate("fast", onLineAt(s - 40.0 + covered), 40.0, t += 0.25);
+  for (double covered = 10.0; covered <= L; covered += 10.0)
+    field.locate("fast", onLineAt(s - 40.0 + covered), 40.0, t += 0.25);
   field.locate("fast", onLineAt(s - 40.0), 40.0, t += 0.25);
   field.locate("slow", onLineAt(s), 20.0, t);
   field.window("slow");
@@ -130,8 +131,7 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   field.overtaking = true;
   stack::RaceOptions options;
   options.field = field;
-  const auto r = stack::runRace(sprint().track, sprint().vehicle,
-                                {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "ego");
   EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
@@ -165,11 +165,18 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
 }
 
 TEST(Race, RefusesBadFields) {
-  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"), std::string::npos);
-  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"a", 1}}, {}); }).find("twice"),
+  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"),
             std::string::npos);
-  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"b", 0}}, {}); }).find("grid slot 0"),
+  EXPECT_NE(test::errorOf([] {
+              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"a", 1}}, {});
+            }).find("twice"),
             std::string::npos);
-  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {{"a", 0, 0.0}}, {}); }).find("pace"),
+  EXPECT_NE(test::errorOf([] {
+              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"b", 0}}, {});
+            }).find("grid slot 0"),
+            std::string::npos);
+  EXPECT_NE(test::errorOf([] {
+              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0, 0.0}}, {});
+            }).find("pace"),
             std::string::npos);
 }

@@ -33,8 +33,9 @@ TEST(RacingLine, StaysInsideTheMarginsAndBendsLessThanTheCentreLine) {
     planning::RacingLineOptions options;
     const auto started = std::chrono::steady_clock::now();
     const auto line = planning::minimumCurvatureLine(track, options);
-    RecordProperty(name + "_plan_ms",
-                   std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count()));
+    RecordProperty(
+        name + "_plan_ms",
+        std::to_string(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count()));
     const double keep = 0.5 * options.vehicle_width + options.safety_margin;
     for (std::size_t i = 0; i < line.points.size(); ++i) {
       const auto pr = track.project(line.points[i]);
@@ -121,7 +122,6 @@ TEST(MinimumTimeLine, IsFasterThanItsStartAndStaysInsideTheMargins) {
     ASSERT_GE(pr.lateral, -(pr.width_right - keep) - 0.05) << "point " << i;
   }
   // Its lap time is the profile of the line it returns.
-  const double again =
-      planning::computeSpeedProfile(result.line.step, result.line.curvature, limits, true).total_time;
+  const double again = planning::computeSpeedProfile(result.line.step, result.line.curvature, limits, true).total_time;
   EXPECT_NEAR(again, result.lap_time, 1e-6);
 }

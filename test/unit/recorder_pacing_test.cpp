@@ -12,7 +12,8 @@ TEST(RecorderPacing, TicksGoOutOnlyWhileEveryRecorderIsWithinTheLag) {
   RecorderPacing pacing({"/recorder", "/other"}, dt, 5.0);
   std::vector<std::string> given_up;
   // Nothing recorded yet: the first kRecorderMaxLag ticks may go out, the next may not.
-  for (int tick = 1; tick <= kRecorderMaxLag; ++tick) EXPECT_EQ(pacing.waitingFor(tick * dt, 0.0, &given_up), "") << tick;
+  for (int tick = 1; tick <= kRecorderMaxLag; ++tick)
+    EXPECT_EQ(pacing.waitingFor(tick * dt, 0.0, &given_up), "") << tick;
   EXPECT_EQ(pacing.waitingFor((kRecorderMaxLag + 1) * dt, 0.0, &given_up), "/recorder");
   pacing.recorded("/recorder", 0.0, 0.1);
   EXPECT_EQ(pacing.waitingFor((kRecorderMaxLag + 1) * dt, 0.1, &given_up), "/recorder") << "tick 1 not yet written";

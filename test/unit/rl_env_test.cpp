@@ -6,8 +6,8 @@
 #include <fstream>
 #include <regex>
 
-#include "roar/rl/racing_env.h"
 #include "roar/rl/async_vector_env.h"
+#include "roar/rl/racing_env.h"
 #include "roar/rl/vector_env.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
@@ -51,14 +51,15 @@ TEST(RlEnv, WhatResetAndStepReturnLiesInTheSpaces) {
   rl::EnvOptions options = rl::readEnvOptions(test::sourceDir() + "/config/rl/camera.yaml");
   rl::RacingEnv env(sprint(), test::sedan(), options);
   const Space& obs = env.observationSpace();
-  EXPECT_EQ(obs.keys, (std::vector<std::string>{"angular_velocity", "camera_depth", "camera_rgb", "imu", "lidar", "speed",
-                                                "velocity", "waypoints_information"}));
+  EXPECT_EQ(obs.keys, (std::vector<std::string>{"angular_velocity", "camera_depth", "camera_rgb", "imu", "lidar",
+                                                "speed", "velocity", "waypoints_information"}));
   EXPECT_EQ(obs.at("camera_rgb").shape, (std::vector<int>{84, 84, 3}));
   EXPECT_EQ(obs.at("camera_rgb").dtype, rl::DType::kUInt8);
   EXPECT_EQ(obs.at("camera_depth").shape, (std::vector<int>{84, 84}));
   EXPECT_EQ(obs.at("lidar").shape, std::vector<int>{64});
   EXPECT_EQ(obs.at("lidar").high[0], 50.0);
-  EXPECT_EQ(obs.at("waypoints_information").keys, (std::vector<std::string>{"waypoint_10", "waypoint_20", "waypoint_40"}));
+  EXPECT_EQ(obs.at("waypoints_information").keys,
+            (std::vector<std::string>{"waypoint_10", "waypoint_20", "waypoint_40"}));
   rl::ResetResult reset = env.reset(11);
   rl::check(obs, reset.observation, "reset observation");
   Value o = reset.observation;
@@ -87,7 +88,8 @@ TEST(RlEnv, TheSameSeedGivesTheSameEpisodeBitForBit) {
     std::mt19937_64 actions(99);
     for (int i = 0; i < 150; ++i) {
       Value a = chase(env.actionSpace(), o, 0.8);
-      a.at("steer").numbers[0] = std::clamp(a.at("steer").numbers[0] + std::uniform_real_distribution<double>(-0.3, 0.3)(actions), -1.0, 1.0);
+      a.at("steer").numbers[0] =
+          std::clamp(a.at("steer").numbers[0] + std::uniform_real_distribution<double>(-0.3, 0.3)(actions), -1.0, 1.0);
       const rl::StepResult r = env.step(a);
       out.push_back(trace(r));
       o = r.observation;
@@ -124,7 +126,8 @@ TEST(RlEnv, SteppingIntoAnEarlierResultGivesTheSameEpisode) {
     in_place.step(a, &reused);
     EXPECT_EQ(trace(r), trace(reused)) << "step " << i;
     EXPECT_EQ(rl::flatten(by_value.observationSpace(), r.observation),
-              rl::flatten(in_place.observationSpace(), reused.observation)) << "step " << i;
+              rl::flatten(in_place.observationSpace(), reused.observation))
+        << "step " << i;
     o = r.observation;
   }
 }
@@ -151,7 +154,8 @@ TEST(RlEnv, ResetPutsTheCarAtRestOnItsSpawnAndClearsTheEpisode) {
   EXPECT_EQ(again.info.episode_return, 0.0);
   EXPECT_EQ(again.info.laps, 0);
   EXPECT_NEAR(again.info.track_s, first.info.track_s, 1e-9) << "the same spawn point";
-  EXPECT_EQ(again.observation.at("lidar").numbers, first.observation.at("lidar").numbers) << "the sensors see the spawn";
+  EXPECT_EQ(again.observation.at("lidar").numbers, first.observation.at("lidar").numbers)
+      << "the sensors see the spawn";
   const sim::VehicleState state = env.world().vehicleState(rl::RacingEnv::kCar);
   EXPECT_LT(state.speed, 0.05);
   const rl::StepResult step = env.step(rl::zeros(env.actionSpace()));
@@ -207,7 +211,8 @@ TEST(RlEnv, TheTimeLimitTruncates) {
 
 TEST(RlEnv, AnActionOutsideTheSpaceIsRejectedAndNothingMoves) {
   rl::RacingEnv env(sprint(), test::sedan(), stateOptions());
-  EXPECT_NE(test::errorOf([&] { env.step(rl::zeros(env.actionSpace())); }).find("before the first reset"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { env.step(rl::zeros(env.actionSpace())); }).find("before the first reset"),
+            std::string::npos);
   env.reset(2);
   const std::uint64_t tick = env.world().tick();
   Value a = rl::zeros(env.actionSpace());
@@ -324,10 +329,14 @@ TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
   EXPECT_EQ(finals, 4) << "each environment ended its 20-step episode once and was reset";
   // Misuse, refused by name with nothing sent.
   async.send({chase(async.actionSpace(), ao[1])}, {1});
-  EXPECT_NE(test::errorOf([&] { async.send({chase(async.actionSpace(), ao[1])}, {1}); }).find("environment 1 is still stepping"),
+  EXPECT_NE(test::errorOf([&] {
+              async.send({chase(async.actionSpace(), ao[1])}, {1});
+            }).find("environment 1 is still stepping"),
             std::string::npos);
-  EXPECT_NE(test::errorOf([&] { async.send({rl::zeros(async.actionSpace())}, {9}); }).find("env_ids[0] = 9"), std::string::npos);
-  EXPECT_NE(test::errorOf([&] { async.recv(2); }).find("batch_size 2 with 1 environment(s) in flight"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { async.send({rl::zeros(async.actionSpace())}, {9}); }).find("env_ids[0] = 9"),
+            std::string::npos);
+  EXPECT_NE(test::errorOf([&] { async.recv(2); }).find("batch_size 2 with 1 environment(s) in flight"),
+            std::string::npos);
   std::vector<Value> bad(1, rl::zeros(async.actionSpace()));
   bad[0].at("brake").numbers[0] = -1;
   EXPECT_EQ(test::errorOf([&] { async.send(bad, {2}); }), "actions[0]['brake'][0] = -1 is outside [0, 1]");

@@ -20,7 +20,8 @@ Space mixedSpace() {
   return Space::dict({{"speed", Space::box(0.0, 100.0, {1})},
                       {"gear", Space::discrete(5, 1)},
                       {"flags", Space::multiBinary(2)},
-                      {"nested", Space::dict({{"b", Space::box(-1.0, 1.0, {2, 2})}, {"a", Space::box(0.0, 255.0, {3}, rl::DType::kUInt8)}})}});
+                      {"nested", Space::dict({{"b", Space::box(-1.0, 1.0, {2, 2})},
+                                              {"a", Space::box(0.0, 255.0, {3}, rl::DType::kUInt8)}})}});
 }
 
 }  // namespace
@@ -81,17 +82,21 @@ TEST(RlSpace, ValuesOutsideTheSpaceAreNamed) {
   missing.at("speed") = Value::of({1});
   EXPECT_NE(test::errorOf([&] { rl::check(s, missing, "obs"); }).find("obs['flags'] is missing"), std::string::npos);
   EXPECT_NE(test::errorOf([] { Space::box({1.0}, {0.0}, {1}); }).find("not an interval"), std::string::npos);
-  EXPECT_NE(test::errorOf([] { Space::dict({{"a", Space::discrete(2)}, {"a", Space::discrete(3)}}); }).find("'a' is given twice"),
+  EXPECT_NE(test::errorOf([] {
+              Space::dict({{"a", Space::discrete(2)}, {"a", Space::discrete(3)}});
+            }).find("'a' is given twice"),
             std::string::npos);
 }
 
 TEST(RlSpace, YamlDescribesTheSpaceInGymnasiumsTerms) {
-  const std::string yaml = rl::toYaml(Space::dict({{"steer", Space::box(-1.0, 1.0, {1})}, {"gear", Space::discrete(6, 1)}}));
+  const std::string yaml =
+      rl::toYaml(Space::dict({{"steer", Space::box(-1.0, 1.0, {1})}, {"gear", Space::discrete(6, 1)}}));
   EXPECT_EQ(yaml,
             "type: Dict\nspaces:\n"
             "  gear:\n    type: Discrete\n    dtype: int64\n    n: 6\n    start: 1\n"
             "  steer:\n    type: Box\n    dtype: float32\n    shape: [1]\n    low: [-1]\n    high: [1]\n");
-  EXPECT_NE(rl::toYaml(Space::box(0.0, std::numeric_limits<double>::infinity(), {1})).find("high: [.inf]"), std::string::npos);
+  EXPECT_NE(rl::toYaml(Space::box(0.0, std::numeric_limits<double>::infinity(), {1})).find("high: [.inf]"),
+            std::string::npos);
 }
 
 TEST(RlAction, RoarPysActionSpecAndItsControls) {
@@ -137,12 +142,14 @@ TEST(RlEnvOptions, EveryShippedFileLoadsAndBadOnesNameTheKey) {
 
   auto error = [](const std::string& yaml) { return test::errorOf([&] { rl::parseEnvOptions(yaml, "bad.yaml"); }); };
   EXPECT_EQ(error("{}"), "");
-  EXPECT_NE(error("observation: {camera: {widht: 84}}").find("bad.yaml: observation.camera.widht: is not a known key (did you mean 'width'?)"),
+  EXPECT_NE(error("observation: {camera: {widht: 84}}")
+                .find("bad.yaml: observation.camera.widht: is not a known key (did you mean 'width'?)"),
             std::string::npos);
   EXPECT_NE(error("reward: {progress_weight: fast}").find("bad.yaml: reward.progress_weight: is not a number"),
             std::string::npos);
   EXPECT_NE(error("spawn: anywhere").find("bad.yaml: spawn: must be random or grid"), std::string::npos);
-  EXPECT_NE(error("observation: {camera: {width: 84, height: 0}}").find("bad.yaml: observation: camera.width and camera.height"),
+  EXPECT_NE(error("observation: {camera: {width: 84, height: 0}}")
+                .find("bad.yaml: observation: camera.width and camera.height"),
             std::string::npos);
   EXPECT_NE(error("observation: {camera: {width: 84, height: 84, fov: 200}}").find("camera.fov must be in (0, 180)"),
             std::string::npos);
@@ -150,8 +157,10 @@ TEST(RlEnvOptions, EveryShippedFileLoadsAndBadOnesNameTheKey) {
                 .find("nothing is observed"),
             std::string::npos);
   EXPECT_NE(error("termination: {time_limit: -1}").find("termination.time_limit"), std::string::npos);
-  EXPECT_NE(error("physics_dt: 0.1").find("physics_dt must be positive and no larger than control_dt"), std::string::npos);
-  EXPECT_NE(error("observation: [1, 2]").find("bad.yaml: observation: must be a mapping"), std::string::npos);
-  EXPECT_NE(test::errorOf([] { rl::readEnvOptions("/nonexistent/env.yaml"); }).find("/nonexistent/env.yaml: cannot be read"),
+  EXPECT_NE(error("physics_dt: 0.1").find("physics_dt must be positive and no larger than control_dt"),
             std::string::npos);
+  EXPECT_NE(error("observation: [1, 2]").find("bad.yaml: observation: must be a mapping"), std::string::npos);
+  EXPECT_NE(
+      test::errorOf([] { rl::readEnvOptions("/nonexistent/env.yaml"); }).find("/nonexistent/env.yaml: cannot be read"),
+      std::string::npos);
 }

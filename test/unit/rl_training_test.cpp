@@ -49,8 +49,9 @@ TEST(RlPolicy, OutputsStayInRangeAndTheFileRoundTripsExactly) {
   EXPECT_TRUE(rl::contains(actions, a));
   EXPECT_EQ(a.at("throttle").numbers[0] > 0.0, out[1] > 0.0f);
   EXPECT_EQ(a.at("brake").numbers[0] > 0.0, out[1] < 0.0f);
-  EXPECT_NE(test::errorOf([&] { back.act(rl::actionSpace({true}, 8), rl::unflatten(back.observationSpace(), obs)); })
-                .find("automatic gearbox"),
+  EXPECT_NE(test::errorOf([&] {
+              back.act(rl::actionSpace({true}, 8), rl::unflatten(back.observationSpace(), obs));
+            }).find("automatic gearbox"),
             std::string::npos);
 }
 
@@ -63,14 +64,18 @@ TEST(RlPolicy, BrokenFilesAreNamed) {
   good.save(tempPath("good.yaml"));
   std::ifstream in(tempPath("good.yaml"));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load(write("wrong.yaml", "format: something else\n")); }).find("not a policy file"),
+  EXPECT_NE(test::errorOf([&] {
+              rl::MlpPolicy::load(write("wrong.yaml", "format: something else\n"));
+            }).find("not a policy file"),
             std::string::npos);
   std::string short_params = text.substr(0, text.find("params:")) + "params: [1, 2, 3]\n";
   const std::string e = test::errorOf([&] { rl::MlpPolicy::load(write("short.yaml", short_params)); });
   EXPECT_NE(e.find("short.yaml: params: 3 numbers, the network needs"), std::string::npos) << e;
   std::string bad_obs = text;
   bad_obs.replace(bad_obs.find("speed: true"), 11, "sped: true");
-  EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load(write("obs.yaml", bad_obs)); }).find("observation.sped: is not a known key (did you mean 'speed'?)"),
+  EXPECT_NE(test::errorOf([&] {
+              rl::MlpPolicy::load(write("obs.yaml", bad_obs));
+            }).find("observation.sped: is not a known key (did you mean 'speed'?)"),
             std::string::npos);
   EXPECT_NE(test::errorOf([&] { rl::MlpPolicy::load("/nonexistent/policy.yaml"); }).find("/nonexistent/policy.yaml"),
             std::string::npos);
@@ -79,7 +84,8 @@ TEST(RlPolicy, BrokenFilesAreNamed) {
   misspelt.replace(misspelt.find("spread:"), 7, "sprad:");
   const std::string m = test::errorOf([&] { rl::MlpPolicy::load(write("misspelt.yaml", misspelt)); });
   EXPECT_NE(m.find("misspelt.yaml: spread: is missing (is 'sprad' a misspelling of it?)"), std::string::npos) << m;
-  const std::string f = test::errorOf([&] { rl::MlpPolicy::load(write("foreign.yaml", text + "learning_rate: 0.1\n")); });
+  const std::string f =
+      test::errorOf([&] { rl::MlpPolicy::load(write("foreign.yaml", text + "learning_rate: 0.1\n")); });
   EXPECT_NE(f.find("foreign.yaml: learning_rate: is not a known key"), std::string::npos) << f;
   std::string huge = text;  // the first parameter replaced by 1e300, the count kept
   const std::size_t first = huge.find("params: [") + 9;

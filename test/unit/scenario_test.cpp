@@ -59,20 +59,26 @@ TEST(Scenario, BadScenariosNameTheFieldAndTheProblem) {
   EXPECT_NE(errorLoading("map: monaco\n" + car).find("map: "), std::string::npos);
   EXPECT_NE(errorLoading("map: monaco\n" + car).find("monaco"), std::string::npos);
   EXPECT_NE(errorLoading(car).find("map: is missing"), std::string::npos);
-  const std::string two_on_one = errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n");
+  const std::string two_on_one =
+      errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 2}\n  - {name: b, spawn_point: 2}\n");
   EXPECT_NE(two_on_one.find("cars[1].spawn_point: 2 is taken by another car"), std::string::npos) << two_on_one;
-  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a}\n  - {name: a}\n").find("cars[1].name"), std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a}\n  - {name: a}\n").find("cars[1].name"),
+            std::string::npos);
   const std::string sensors = errorLoading("map: roar_ring\ncars:\n  - {name: a, sensors: radar}\n");
   EXPECT_NE(sensors.find("cars[0].sensors: no sensor set 'radar'"), std::string::npos) << sensors;
-  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, model: bus}\n").find("cars[0].model"), std::string::npos);
-  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, colour: [1, 2]}\n").find("cars[0].colour"), std::string::npos);
-  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 40}\n").find("not a grid slot"), std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, model: bus}\n").find("cars[0].model"),
+            std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, colour: [1, 2]}\n").find("cars[0].colour"),
+            std::string::npos);
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, spawn_point: 40}\n").find("not a grid slot"),
+            std::string::npos);
   EXPECT_NE(errorLoading("map: roar_ring\ncars: []\n").find("cars: must be a list"), std::string::npos);
   EXPECT_NE(errorLoading("map: [roar_ring\n").find(".yaml"), std::string::npos) << "broken YAML names the file";
   EXPECT_EQ(errorLoading("map: roar_ring\ncars:\n  - {name: a, driven: false, agent: state}\n"), "");
   const std::string agent = errorLoading("map: roar_ring\ncars:\n  - {name: a, driven: false, agent: telepathy}\n");
   EXPECT_NE(agent.find("cars[0].agent: no RL environment 'telepathy'"), std::string::npos) << agent;
-  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, agent: state}\n").find("cars[0].agent: an agent's car must have driven: false"),
+  EXPECT_NE(errorLoading("map: roar_ring\ncars:\n  - {name: a, agent: state}\n")
+                .find("cars[0].agent: an agent's car must have driven: false"),
             std::string::npos);
   // Misspelt keys are refused, naming the nearest known one (they used to fall back to the default silently).
   const std::string color = errorLoading("map: roar_ring\ncars:\n  - {name: a, color: [1, 0, 0]}\n");
@@ -109,7 +115,8 @@ TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {
   EXPECT_NEAR(following.points[200].speed, 10.0, 1e-9);
   for (int i = 0; i < 200; ++i) {
     const double decel = (following.points[i].speed * following.points[i].speed -
-                          following.points[i + 1].speed * following.points[i + 1].speed) / 2.0;
+                          following.points[i + 1].speed * following.points[i + 1].speed) /
+                         2.0;
     EXPECT_LE(decel, planning::decelerationAt(limits, following.points[i + 1].speed, 0.0) + 1e-6) << i;
     EXPECT_NEAR(following.points[i].acceleration, -decel, 1e-6) << i;
   }
@@ -124,11 +131,8 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
   // Property test (issue 17): each number of a two-car scenario set to 0, -1, 1e-30, 1e30, 1e300, NaN and inf
   // in turn: refused naming the field, or a scenario whose numbers are finite and physical.
   const std::vector<std::pair<std::string, std::string>> fields = {
-      {"laps", "laps: 2"},
-      {"spawn_point", "spawn_point: 1"},
-      {"max_speed", "max_speed: 15.0"},
-      {"pace", "pace: 0.9"},
-      {"colour", "colour: [0.5, 0.5, 0.5]"},
+      {"laps", "laps: 2"},   {"spawn_point", "spawn_point: 1"},     {"max_speed", "max_speed: 15.0"},
+      {"pace", "pace: 0.9"}, {"colour", "colour: [0.5, 0.5, 0.5]"},
   };
   const std::string base =
       "name: t\nmap: roar_sprint\nlaps: 2\ncars:\n"
@@ -147,7 +151,8 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
         const auto s = stack::loadScenario(path.string(), shipped());
         EXPECT_GE(s.laps, 1) << key << " = " << extreme;
         for (const auto& car : s.cars) {
-          EXPECT_TRUE(std::isfinite(car.max_speed) && car.max_speed >= 0 && car.max_speed <= 150) << key << " = " << extreme;
+          EXPECT_TRUE(std::isfinite(car.max_speed) && car.max_speed >= 0 && car.max_speed <= 150)
+              << key << " = " << extreme;
           EXPECT_TRUE(car.pace > 0 && car.pace <= 1) << key << " = " << extreme;
           EXPECT_TRUE(car.colour.allFinite() && car.colour.maxCoeff() <= 1) << key << " = " << extreme;
           EXPECT_TRUE(car.spawn_point >= 0) << key << " = " << extreme;
@@ -160,6 +165,6 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
       fs::remove(path);
     }
   }
-  std::printf("scenario property test: %zu fields x 7 extremes: %d refused by name, %d loaded in range\n", fields.size(),
-              refused, loaded);
+  std::printf("scenario property test: %zu fields x 7 extremes: %d refused by name, %d loaded in range\n",
+              fields.size(), refused, loaded);
 }

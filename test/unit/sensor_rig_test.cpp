@@ -17,11 +17,14 @@ struct Counter : sensors::SensorSink {
   std::map<std::string, int> count;
   std::map<std::string, const sensors::CameraFrame*> frame;
   std::vector<double> imu_stamps;
-  void camera(const sensors::SensorSpec& s, double, const sensors::CameraFrame& f, const sensors::CameraIntrinsics&) override {
+  void camera(const sensors::SensorSpec& s, double, const sensors::CameraFrame& f,
+              const sensors::CameraIntrinsics&) override {
     ++count[s.name];
     frame[s.name] = &f;
   }
-  void lidar(const sensors::SensorSpec& s, double, const std::vector<sensors::LidarPoint>&) override { ++count[s.name]; }
+  void lidar(const sensors::SensorSpec& s, double, const std::vector<sensors::LidarPoint>&) override {
+    ++count[s.name];
+  }
   void imu(const sensors::SensorSpec& s, double t, const sensors::ImuSample&) override {
     ++count[s.name];
     imu_stamps.push_back(t);
@@ -168,7 +171,8 @@ TEST(SensorRig, OneVectorSensorsAndTheOccupancyMapReport) {
   ASSERT_EQ(map.width, 80);
   ASSERT_EQ(map.height, 80);
   auto pixel = [&](double forward, double left) {
-    const int row = static_cast<int>(std::floor(40 - forward / 0.5)), col = static_cast<int>(std::floor(40 - left / 0.5));
+    const int row = static_cast<int>(std::floor(40 - forward / 0.5)),
+              col = static_cast<int>(std::floor(40 - left / 0.5));
     return map.pixels[static_cast<std::size_t>(row) * 80 + static_cast<std::size_t>(col)];
   };
   EXPECT_EQ(pixel(0.2, 0.2), sensors::kOccupancyRoad) << "the car's own body is left out";
@@ -188,14 +192,16 @@ struct FiniteSink : sensors::SensorSink {
     ++readings;
     bad += !finite;
   }
-  void camera(const sensors::SensorSpec&, double, const sensors::CameraFrame& f, const sensors::CameraIntrinsics&) override {
+  void camera(const sensors::SensorSpec&, double, const sensors::CameraFrame& f,
+              const sensors::CameraIntrinsics&) override {
     bool ok = true;
     for (float d : f.depth) ok = ok && !std::isnan(d) && d >= 0.0f;
     check(ok);
   }
   void lidar(const sensors::SensorSpec&, double, const std::vector<sensors::LidarPoint>& points) override {
     bool ok = true;
-    for (const auto& p : points) ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.intensity);
+    for (const auto& p : points)
+      ok = ok && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.intensity);
     check(ok);
   }
   void imu(const sensors::SensorSpec&, double, const sensors::ImuSample& s) override {
@@ -205,7 +211,8 @@ struct FiniteSink : sensors::SensorSink {
     check(std::isfinite(f.latitude) && std::isfinite(f.longitude) && std::isfinite(f.altitude));
   }
   void velocity(const sensors::SensorSpec&, double, const sensors::Velocity& v) override {
-    check(v.linear_body.allFinite() && v.angular_body.allFinite() && v.linear_world.allFinite() && v.angular_world.allFinite());
+    check(v.linear_body.allFinite() && v.angular_body.allFinite() && v.linear_world.allFinite() &&
+          v.angular_world.allFinite());
   }
   void vector(const sensors::SensorSpec&, double, const Eigen::Vector3d& v) override { check(v.allFinite()); }
   void occupancy(const sensors::SensorSpec&, double, const sensors::OccupancyFrame& f) override {
@@ -220,7 +227,8 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
   // and inf in turn: refused naming the field, or a sensor whose every reading over a second on a moving
   // car is finite.
   const std::vector<std::string> sensors = {
-      "{name: s, type: camera_rgb, x: 0.6, y: 0.1, z: 1.55, roll: 1, pitch: 5, yaw: 2, rate: 20, fov: 90, image_width: 32, "
+      "{name: s, type: camera_rgb, x: 0.6, y: 0.1, z: 1.55, roll: 1, pitch: 5, yaw: 2, rate: 20, fov: 90, image_width: "
+      "32, "
       "image_height: 24, seed: 3}",
       "{name: s, type: camera_depth, x: 0.6, z: 1.55, rate: 10, fov: 60, image_width: 16, image_height: 16}",
       "{name: s, type: lidar, x: 0.1, z: 1.9, rate: 20, num_lasers: 16, max_distance: 50, points_per_second: 20000, "
@@ -276,5 +284,6 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
       }
     }
   }
-  std::printf("sensor property test: %d fields x 7 extremes: %d refused by name, %d read finite\n", fields, refused, loaded);
+  std::printf("sensor property test: %d fields x 7 extremes: %d refused by name, %d read finite\n", fields, refused,
+              loaded);
 }

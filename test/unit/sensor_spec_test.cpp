@@ -25,22 +25,28 @@ TEST(SensorSpec, TheDefaultSetLoads) {
 }
 
 TEST(SensorSpec, BadFieldsAreNamedWithTheSensor) {
-  EXPECT_NE(parseError("{name: cam, type: camera_rgb, image_width: 0}").find("set.yaml: sensor 'cam': image_width: 0 is outside [1, 4096] pixels"),
+  EXPECT_NE(parseError("{name: cam, type: camera_rgb, image_width: 0}")
+                .find("set.yaml: sensor 'cam': image_width: 0 is outside [1, 4096] pixels"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: cam, type: camera_rgb, image_height: -4}").find("sensor 'cam': image_height: -4 is outside"),
-            std::string::npos);
-  EXPECT_NE(parseError("{name: cam, type: camera_depth, fov: 180}").find("sensor 'cam': fov: 180 must be in (0, 180) degrees"),
+  EXPECT_NE(
+      parseError("{name: cam, type: camera_rgb, image_height: -4}").find("sensor 'cam': image_height: -4 is outside"),
+      std::string::npos);
+  EXPECT_NE(parseError("{name: cam, type: camera_depth, fov: 180}")
+                .find("sensor 'cam': fov: 180 must be in (0, 180) degrees"),
             std::string::npos);
   EXPECT_NE(parseError("{name: cam, type: camera_depth, fov: 0}").find("fov: 0 must be"), std::string::npos);
-  EXPECT_NE(parseError("{name: l, type: lidar, num_lasers: 1000}").find("sensor 'l': num_lasers: 1000 is outside [1, 256]"), std::string::npos);
-  EXPECT_NE(parseError("{name: l, type: lidar, upper_fov: -40}").find("upper_fov: must be above lower_fov"), std::string::npos);
+  EXPECT_NE(
+      parseError("{name: l, type: lidar, num_lasers: 1000}").find("sensor 'l': num_lasers: 1000 is outside [1, 256]"),
+      std::string::npos);
+  EXPECT_NE(parseError("{name: l, type: lidar, upper_fov: -40}").find("upper_fov: must be above lower_fov"),
+            std::string::npos);
   EXPECT_NE(parseError("{name: r, type: radar}").find("sensor 'r': type: unknown type 'radar'"), std::string::npos);
-  EXPECT_NE(parseError("{name: i, type: imu, rate: 0}").find("sensor 'i': rate: 0 is outside [0.01, 10000] Hz"), std::string::npos);
+  EXPECT_NE(parseError("{name: i, type: imu, rate: 0}").find("sensor 'i': rate: 0 is outside [0.01, 10000] Hz"),
+            std::string::npos);
   EXPECT_NE(parseError("{name: i, type: imu, x: abc}").find("sensor 'i': x: is not a number"), std::string::npos);
   EXPECT_NE(parseError("{type: imu}").find("needs a 'name'"), std::string::npos);
-  const auto twice = errorOf([] {
-    sensors::parseSensorSetYaml("sensors: [{name: a, type: imu}, {name: a, type: gnss}]", "set.yaml");
-  });
+  const auto twice = errorOf(
+      [] { sensors::parseSensorSetYaml("sensors: [{name: a, type: imu}, {name: a, type: gnss}]", "set.yaml"); });
   EXPECT_NE(twice.find("'a' is used twice"), std::string::npos) << twice;
   EXPECT_NE(errorOf([] { sensors::readSensorSet("/no/such/set.yaml"); }).find("/no/such/set.yaml"), std::string::npos);
 }
@@ -53,35 +59,46 @@ TEST(SensorSpec, MisspeltAndForeignKeysAreRefusedWithTheNearestKey) {
   // A key of another type is as wrong as a misspelt one: an IMU has no image.
   EXPECT_NE(parseError("{name: i, type: imu, image_width: 84}").find("sensor 'i': image_width: is not a known key"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { sensors::parseSensorSetYaml("sensor: []", "set.yaml"); }).find("set.yaml: sensor: is not a known key (did you mean 'sensors'?)"),
+  EXPECT_NE(errorOf([] {
+              sensors::parseSensorSetYaml("sensor: []", "set.yaml");
+            }).find("set.yaml: sensor: is not a known key (did you mean 'sensors'?)"),
             std::string::npos);
 }
 
 TEST(SensorSpec, ValuesOutsidePhysicalRangesAreRefusedWithTheValue) {
-  EXPECT_NE(parseError("{name: c, type: camera_rgb, x: 1e38}").find("sensor 'c': x: 1e+38 is outside [-20, 20] m of base_link"),
+  EXPECT_NE(parseError("{name: c, type: camera_rgb, x: 1e38}")
+                .find("sensor 'c': x: 1e+38 is outside [-20, 20] m of base_link"),
             std::string::npos);
   EXPECT_NE(parseError("{name: l, type: lidar, z: 1e300}").find("z: 1e+300 is outside"), std::string::npos);
   EXPECT_NE(parseError("{name: c, type: camera_rgb, yaw: 1e9}").find("yaw: 1e+09 is outside [-360, 360] degrees"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: c, type: camera_rgb, image_width: 8192, image_height: 8192}").find("image_width: 8192 is outside"),
+  EXPECT_NE(parseError("{name: c, type: camera_rgb, image_width: 8192, image_height: 8192}")
+                .find("image_width: 8192 is outside"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: c, type: camera_rgb, image_width: 4096, image_height: 4096}").find("more than 8388608 pixels"),
-            std::string::npos);
-  EXPECT_NE(parseError("{name: i, type: imu, accel_bias: [.nan, 0, 0]}").find("accel_bias: holds a number that is not finite"),
+  EXPECT_NE(
+      parseError("{name: c, type: camera_rgb, image_width: 4096, image_height: 4096}").find("more than 8388608 pixels"),
+      std::string::npos);
+  EXPECT_NE(parseError("{name: i, type: imu, accel_bias: [.nan, 0, 0]}")
+                .find("accel_bias: holds a number that is not finite"),
             std::string::npos);
   EXPECT_NE(parseError("{name: i, type: imu, gyro_bias: [.inf, 0, 0]}").find("gyro_bias:"), std::string::npos);
-  EXPECT_NE(parseError("{name: i, type: imu, accel_bias: [0, 0]}").find("accel_bias: must be [x, y, z]"), std::string::npos);
-  EXPECT_NE(parseError("{name: l, type: lidar, points_per_second: 1e9}").find("points_per_second: 1e+09 must be at least"),
+  EXPECT_NE(parseError("{name: i, type: imu, accel_bias: [0, 0]}").find("accel_bias: must be [x, y, z]"),
             std::string::npos);
+  EXPECT_NE(
+      parseError("{name: l, type: lidar, points_per_second: 1e9}").find("points_per_second: 1e+09 must be at least"),
+      std::string::npos);
   EXPECT_NE(parseError("{name: a, type: accelerometer, noise_std: -1}").find("noise_std: -1 is outside [0, 100] m/s^2"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: a, type: accelerometer, frame: body}").find("frame: must be 'sensor' or 'map', not 'body'"),
+  EXPECT_NE(
+      parseError("{name: a, type: accelerometer, frame: body}").find("frame: must be 'sensor' or 'map', not 'body'"),
+      std::string::npos);
+  EXPECT_NE(parseError("{name: r, type: roll_pitch_yaw, frame: map}").find("frame: is not a known key"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: r, type: roll_pitch_yaw, frame: map}").find("frame: is not a known key"), std::string::npos);
   EXPECT_NE(parseError("{name: o, type: occupancy_map, width_m: 0}").find("width_m: 0 is outside (0, 1000] m"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: o, type: occupancy_map, image_height: 5000}").find("image_height: 5000 is outside [1, 2048]"),
-            std::string::npos);
+  EXPECT_NE(
+      parseError("{name: o, type: occupancy_map, image_height: 5000}").find("image_height: 5000 is outside [1, 2048]"),
+      std::string::npos);
 }
 
 TEST(SensorSpec, ROARPYsOtherSensorsParse) {

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <yaml-cpp/yaml.h>
+#include <cstdio>
 
 #include <filesystem>
 #include <fstream>
@@ -19,7 +19,9 @@ namespace {
 
 class TempDir {
  public:
-  TempDir() : path_(fs::temp_directory_path() / ("roar_track_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++))) {
+  TempDir()
+      : path_(fs::temp_directory_path() /
+              ("roar_track_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++))) {
     fs::create_directories(path_);
   }
   ~TempDir() { fs::remove_all(path_); }
@@ -33,7 +35,6 @@ class TempDir {
   static inline int counter_ = 0;
   fs::path path_;
 };
-
 
 }  // namespace
 
@@ -104,7 +105,8 @@ TEST(Track, ShippedDefaultMapLoadsAndCloses) {
 
 TEST(MapFolder, CsvWithTumftmHeader) {
   TempDir dir;
-  const auto path = dir.write("c.csv", "# x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n0,0,5,5\n");
+  const auto path =
+      dir.write("c.csv", "# x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n0,0,5,5\n");
   const auto file = track::readCentreLineCsv(path);
   ASSERT_EQ(file.points.size(), 4u) << "a repeated closing point is dropped";
   EXPECT_EQ(file.lines[1], 3);
@@ -160,7 +162,8 @@ TEST(MapFolder, ValuesOutsidePhysicalRangesAreRefusedByColumn) {
   }
   // The Track itself checks what other readers give it (waypoint files), and counts its points.
   std::vector<track::CentreLinePoint> far = {{0, 0, 5, 5}, {1e300, 0, 5, 5}, {0, 100, 5, 5}};
-  EXPECT_NE(errorOf([&] { track::Track(far, {}); }).find("centre-line point 1: column x_m = 1e+300"), std::string::npos);
+  EXPECT_NE(errorOf([&] { track::Track(far, {}); }).find("centre-line point 1: column x_m = 1e+300"),
+            std::string::npos);
   std::string many;
   for (std::size_t k = 0; k <= track::kMaxCentreLinePoints; ++k) {
     const double a = 2 * M_PI * static_cast<double>(k) / (track::kMaxCentreLinePoints + 1.0);
@@ -191,7 +194,8 @@ TEST(MapFolder, CornerTooTightForTheWidthIsRefused) {
   std::string csv;
   for (int i = 0; i < 60; ++i) {
     const double t = 2 * M_PI * i / 60;
-    csv += std::to_string(8 * std::cos(t)) + "," + std::to_string(8 * std::sin(t)) + ",3,10\n";  // left (inner) edge past the centre
+    csv += std::to_string(8 * std::cos(t)) + "," + std::to_string(8 * std::sin(t)) +
+           ",3,10\n";  // left (inner) edge past the centre
   }
   dir.write("centerline.csv", csv);
   dir.write("track.yaml", "name: tight\n");
@@ -262,7 +266,8 @@ TEST(RoadMesh, CoversTheRoadAndWallsStandOutside) {
   const auto walls = track::barrierMesh(track);
   for (const auto& v : walls.vertices) {
     const double r = v.head<2>().norm();
-    EXPECT_TRUE(r <= 50 - 6 - track.info().barrier_offset + 1e-6 || r >= 50 + 6 + track.info().barrier_offset - 1e-6) << r;
+    EXPECT_TRUE(r <= 50 - 6 - track.info().barrier_offset + 1e-6 || r >= 50 + 6 + track.info().barrier_offset - 1e-6)
+        << r;
   }
 }
 
@@ -304,8 +309,10 @@ TEST(MapFolder, WrittenMapsLoadBackAndBadPointListsAreRefused) {
   EXPECT_EQ(track::readPointList(list, 10).size(), 3u);
   const auto bad = dir.write("bad.txt", "0 0\n100 zero\n100 100\n");
   EXPECT_NE(errorOf([&] { track::readPointList(bad, 10); }).find(bad + ":2: expected two numbers"), std::string::npos);
-  EXPECT_NE(errorOf([&] { track::writeMapFolder(dir.str() + "/eight", {{0, 0, 5, 5}, {100, 100, 5, 5}, {100, 0, 5, 5}, {0, 100, 5, 5}}, info); })
-                .find("crosses"),
+  EXPECT_NE(errorOf([&] {
+              track::writeMapFolder(dir.str() + "/eight",
+                                    {{0, 0, 5, 5}, {100, 100, 5, 5}, {100, 0, 5, 5}, {0, 100, 5, 5}}, info);
+            }).find("crosses"),
             std::string::npos)
       << "a crossing centre line is refused before anything is written";
   EXPECT_FALSE(fs::exists(dir.str() + "/eight"));
@@ -315,7 +322,8 @@ TEST(CircuitBuilder, ALoopThatStopsShortIsBridgedOneThatRunsPastItsStartIsNot) {
   // A 100 m circle at 2 m steps without its last 40 m: 40 m short of its start.
   std::vector<track::CentreLinePoint> points;
   const double length = 2 * M_PI * 100.0;
-  for (double s = 0; s < length - 40.0; s += 2.0) points.push_back({100 * std::cos(s / 100), 100 * std::sin(s / 100), 5, 5});
+  for (double s = 0; s < length - 40.0; s += 2.0)
+    points.push_back({100 * std::cos(s / 100), 100 * std::sin(s / 100), 5, 5});
   const auto gap = track::loopGap(points);
   EXPECT_TRUE(gap.open());
   EXPECT_NEAR(gap.median_step, 2.0, 0.01);
@@ -327,7 +335,8 @@ TEST(CircuitBuilder, ALoopThatStopsShortIsBridgedOneThatRunsPastItsStartIsNot) {
   EXPECT_NEAR(track::loadMapFolder(dir.str() + "/bridged").length(), length, 1.0);
   // The same circle running 40 m on past its start (its last point beyond the first): no straight closes it.
   std::vector<track::CentreLinePoint> overlapping;
-  for (double s = 0; s < length + 40.0; s += 2.0) overlapping.push_back({100 * std::cos(s / 100) + 0.01 * s, 100 * std::sin(s / 100), 5, 5});
+  for (double s = 0; s < length + 40.0; s += 2.0)
+    overlapping.push_back({100 * std::cos(s / 100) + 0.01 * s, 100 * std::sin(s / 100), 5, 5});
   EXPECT_TRUE(track::loopGap(overlapping).open());
   EXPECT_FALSE(track::loopGap(overlapping).bridgeable());
 }
@@ -422,8 +431,9 @@ TEST(MapFolder, EveryNumberOfTrackYamlAtEveryExtremeIsRefusedByNameOrLoadsFinite
   fs::copy_file(test::sourceDir() + "/maps/roar_sprint/centerline.csv", folder + "/centerline.csv");
   const YAML::Node original = YAML::LoadFile(test::sourceDir() + "/maps/roar_sprint/track.yaml");
   const std::vector<std::pair<std::string, std::string>> fields = {
-      {"origin", "latitude"}, {"origin", "longitude"}, {"origin", "altitude"}, {"", "friction"}, {"", "ground_friction"},
-      {"start_finish", "s"},  {"", "sectors"},         {"", "barrier_offset"}, {"", "barrier_height"}};
+      {"origin", "latitude"}, {"origin", "longitude"}, {"origin", "altitude"},
+      {"", "friction"},       {"", "ground_friction"}, {"start_finish", "s"},
+      {"", "sectors"},        {"", "barrier_offset"},  {"", "barrier_height"}};
   int refused = 0, loaded = 0;
   for (const auto& [parent, key] : fields) {
     for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
@@ -434,8 +444,9 @@ TEST(MapFolder, EveryNumberOfTrackYamlAtEveryExtremeIsRefusedByNameOrLoadsFinite
       try {
         const auto track = track::loadMapFolder(folder);
         const auto& info = track.info();
-        EXPECT_TRUE(std::isfinite(track.length()) && std::isfinite(info.friction) && std::isfinite(info.barrier_offset) &&
-                    std::isfinite(info.origin.latitude) && std::isfinite(info.start_finish_s))
+        EXPECT_TRUE(std::isfinite(track.length()) && std::isfinite(info.friction) &&
+                    std::isfinite(info.barrier_offset) && std::isfinite(info.origin.latitude) &&
+                    std::isfinite(info.start_finish_s))
             << key << " = " << extreme << " loaded a map with a non-finite value";
         ++loaded;
       } catch (const std::exception& e) {
@@ -444,7 +455,7 @@ TEST(MapFolder, EveryNumberOfTrackYamlAtEveryExtremeIsRefusedByNameOrLoadsFinite
       }
     }
   }
-  std::printf("track.yaml property test: %zu fields x 7 extremes: %d refused by name, %d loaded finite\n", fields.size(),
-              refused, loaded);
+  std::printf("track.yaml property test: %zu fields x 7 extremes: %d refused by name, %d loaded finite\n",
+              fields.size(), refused, loaded);
   EXPECT_GT(refused, 40);
 }

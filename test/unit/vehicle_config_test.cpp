@@ -14,7 +14,6 @@
 using namespace roar;
 using test::errorOf;
 
-
 TEST(VehicleConfig, SedanLoadsFromUrdfAndYaml) {
   const auto p = test::sedan();
   EXPECT_DOUBLE_EQ(p.chassis.mass, 1850.0);
@@ -31,11 +30,12 @@ TEST(VehicleConfig, SedanLoadsFromUrdfAndYaml) {
 }
 
 TEST(VehicleConfig, UnknownModelListsTheKnownOnes) {
-  const auto msg = errorOf([] {
-    sim::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles");
-  });
+  const auto msg = errorOf(
+      [] { sim::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles"); });
   EXPECT_NE(msg.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("hatchback (vehicle.audi.a2), racecar (vehicle.roar.racecar), sedan (vehicle.tesla.model3)"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("hatchback (vehicle.audi.a2), racecar (vehicle.roar.racecar), sedan (vehicle.tesla.model3)"),
+            std::string::npos)
+      << msg;
 }
 
 TEST(VehicleConfig, BlueprintIdsNameTheirModels) {
@@ -59,9 +59,8 @@ TEST(VehicleConfig, BrokenUrdfIsAClearError) {
   sim::VehicleParams p;
   auto msg = errorOf([&] { sim::readVehicleUrdfString("<robot name='x'><link", "car.urdf", &p); });
   EXPECT_NE(msg.find("car.urdf: not a valid URDF"), std::string::npos) << msg;
-  msg = errorOf([&] {
-    sim::readVehicleUrdfString("<robot name='x'><link name='base_link'/></robot>", "car.urdf", &p);
-  });
+  msg =
+      errorOf([&] { sim::readVehicleUrdfString("<robot name='x'><link name='base_link'/></robot>", "car.urdf", &p); });
   EXPECT_NE(msg.find("car.urdf: base_link has no <inertial>"), std::string::npos) << msg;
 }
 
@@ -99,19 +98,24 @@ TEST(VehicleConfig, MisspeltKeysAndValuesOutsidePhysicalRangesAreRefused) {
     sim::VehicleParams p;
     return errorOf([&] { sim::readVehicleYaml(path, &p); });
   };
-  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 4500000").find("suspension.stiffness_n_per_m: 4.5e+06 is outside [1000, 1e+06] N/m"),
-            std::string::npos) << "a 100x typo";
-  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 1e300").find("stiffness_n_per_m: 1e+300 is outside"),
-            std::string::npos);
+  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 4500000")
+                .find("suspension.stiffness_n_per_m: 4.5e+06 is outside [1000, 1e+06] N/m"),
+            std::string::npos)
+      << "a 100x typo";
+  EXPECT_NE(
+      errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 1e300").find("stiffness_n_per_m: 1e+300 is outside"),
+      std::string::npos);
   EXPECT_NE(errorWith("drag_area_m2: 0.62", "drag_area_m2: 1e30").find("aero.drag_area_m2: 1e+30 is outside [0, 10]"),
             std::string::npos);
-  EXPECT_NE(errorWith("downforce_area_m2: 0.25", "downforce_area_m2: 1e30").find("aero.downforce_area_m2"), std::string::npos);
+  EXPECT_NE(errorWith("downforce_area_m2: 0.25", "downforce_area_m2: 1e30").find("aero.downforce_area_m2"),
+            std::string::npos);
   EXPECT_NE(errorWith("drag_area_m2: 0.62", "drag_area_m2: .nan").find("aero.drag_area_m2: is not a finite number"),
             std::string::npos);
   EXPECT_NE(errorWith("  abs: true", "  abss: true").find("brakes.abss: is not a known key (did you mean 'abs'?)"),
             std::string::npos);
   EXPECT_NE(errorWith("aero:", "areo:").find("areo: is not a known key (did you mean 'aero'?)"), std::string::npos);
-  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stifness_n_per_m: 45000").find("suspension.stiffness_n_per_m: is missing (is 'stifness_n_per_m' a misspelling of it?)"),
+  EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stifness_n_per_m: 45000")
+                .find("suspension.stiffness_n_per_m: is missing (is 'stifness_n_per_m' a misspelling of it?)"),
             std::string::npos);
   std::filesystem::remove_all(dir);
 }
@@ -122,10 +126,12 @@ TEST(VehicleConfig, ValidateRejectsImplausibleValues) {
   EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("must fall"), std::string::npos);
   p = test::sedan();
   p.chassis.mass = -1;
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("base_link mass -1 is outside [50, 50000] kg"), std::string::npos);
+  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("base_link mass -1 is outside [50, 50000] kg"),
+            std::string::npos);
   p = test::sedan();
   p.wheels[0].radius = 1e300;
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"), std::string::npos);
+  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"),
+            std::string::npos);
 }
 
 namespace {
@@ -133,7 +139,8 @@ namespace {
 // Every numeric leaf of a YAML document, with its dotted path (sequence items by index).
 void numericLeaves(const YAML::Node& node, const std::string& path, std::vector<std::string>* out) {
   if (node.IsMap()) {
-    for (const auto& kv : node) numericLeaves(kv.second, (path.empty() ? "" : path + ".") + kv.first.as<std::string>(), out);
+    for (const auto& kv : node)
+      numericLeaves(kv.second, (path.empty() ? "" : path + ".") + kv.first.as<std::string>(), out);
   } else if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i) numericLeaves(node[i], path + "[" + std::to_string(i) + "]", out);
   } else if (node.IsScalar()) {
@@ -174,7 +181,8 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
   const auto dir = fs::temp_directory_path() / ("roar_vc_property_" + std::to_string(::getpid()));
   fs::create_directories(dir / "urdf");
   fs::create_directories(dir / "config");
-  fs::copy_file(test::sourceDir() + "/urdf/sedan.urdf", dir / "urdf" / "sedan.urdf", fs::copy_options::overwrite_existing);
+  fs::copy_file(test::sourceDir() + "/urdf/sedan.urdf", dir / "urdf" / "sedan.urdf",
+                fs::copy_options::overwrite_existing);
   const YAML::Node original = YAML::LoadFile(test::sourceDir() + "/config/vehicles/sedan.yaml");
   std::vector<std::string> fields;
   numericLeaves(original, "", &fields);
@@ -213,7 +221,8 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
         world.setControl("ego", control);
         world.step();
         const auto state = world.vehicleState("ego");
-        finite = state.pose.position.allFinite() && state.linear_velocity.allFinite() && state.pose.position.norm() < 1e5;
+        finite =
+            state.pose.position.allFinite() && state.linear_velocity.allFinite() && state.pose.position.norm() < 1e5;
       }
       EXPECT_TRUE(finite) << field << " = " << extreme << " was accepted and the car's state left the finite";
       ++drove;

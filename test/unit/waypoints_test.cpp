@@ -4,11 +4,11 @@
 #include <fstream>
 
 #include "roar/sim/world.h"
+#include "roar/stack/time_trial.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/npz.h"
 #include "roar/track/waypoints.h"
-#include "roar/stack/time_trial.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -96,7 +96,9 @@ TEST(Waypoints, NumpyReadsOurFilesAndWeReadNumpys) {
                            "assert abs(d['locations'][0, 0] - 100.123456789012) < 1e-12\n"
                            "np.savez_compressed(sys.argv[2], locations=d['locations'] * 2, rotations=d['rotations'],"
                            " lane_widths=d['lane_widths'].astype(np.float32))\n";
-  ASSERT_EQ(std::system(("/usr/bin/python3 " + script + " " + dir.file("ours.npz") + " " + dir.file("theirs.npz")).c_str()), 0);
+  ASSERT_EQ(
+      std::system(("/usr/bin/python3 " + script + " " + dir.file("ours.npz") + " " + dir.file("theirs.npz")).c_str()),
+      0);
   const auto theirs = track::readRoarWaypoints(dir.file("theirs.npz"));
   ASSERT_EQ(theirs.size(), 50u);
   EXPECT_EQ(theirs[0].location.x(), 2 * 100.123456789012);
@@ -129,7 +131,8 @@ TEST(Waypoints, MalformedNpzIsAClearError) {
   EXPECT_NE(msg.find(dir.file("cut.npz") + ": not a readable .npz"), std::string::npos) << msg;
   // Not a zip at all.
   std::ofstream(dir.file("text.npz")) << "locations,rotations\n";
-  EXPECT_NE(errorOf([&] { track::readRoarWaypoints(dir.file("text.npz")); }).find("not a readable .npz"), std::string::npos);
+  EXPECT_NE(errorOf([&] { track::readRoarWaypoints(dir.file("text.npz")); }).find("not a readable .npz"),
+            std::string::npos);
   // Missing key, wrong shape, NaN.
   track::NpyArray loc{{5, 3}, std::vector<double>(15, 1.0)}, rot{{5, 3}, std::vector<double>(15, 0.0)};
   track::writeNpz(dir.file("nokey.npz"), {{"locations", loc}, {"rotations", rot}});

@@ -4,9 +4,9 @@
 #include "test_support.h"
 
 using namespace roar;
-using test::errorOf;
 using sim::Pose;
 using sim::World;
+using test::errorOf;
 
 namespace {
 
@@ -16,7 +16,6 @@ Pose at(double x, double y, double yaw = 0.0) {
   p.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
   return p;
 }
-
 
 }  // namespace
 
@@ -79,7 +78,8 @@ TEST(World, SpawnErrorsGiveReasons) {
   const auto track = test::openGround();
   World world(track, {});
   world.spawnVehicle("ego", test::sedan(), at(0, 0));
-  EXPECT_NE(errorOf([&] { world.spawnVehicle("ego", test::sedan(), at(50, 0)); }).find("already exists"), std::string::npos);
+  EXPECT_NE(errorOf([&] { world.spawnVehicle("ego", test::sedan(), at(50, 0)); }).find("already exists"),
+            std::string::npos);
   const auto msg = errorOf([&] { world.spawnVehicle("rival", test::sedan(), at(2, 1)); });
   EXPECT_NE(msg.find("overlap vehicle 'ego'"), std::string::npos) << msg;
   EXPECT_FALSE(world.hasVehicle("rival"));
@@ -161,7 +161,8 @@ TEST(World, ACarWhoseDriverFallsSilentStopsOnTheRoad) {
   cruise.throttle = 0.3;
   world.setControl("ego", cruise);
   world.step();
-  world.setVehicleVelocity("ego", {25.0 * std::cos(start.heading), 25.0 * std::sin(start.heading), 0}, {0, 0, 25.0 / 100.0});
+  world.setVehicleVelocity("ego", {25.0 * std::cos(start.heading), 25.0 * std::sin(start.heading), 0},
+                           {0, 0, 25.0 / 100.0});
   double worst = -1e9;
   for (int i = 0; i < 800; ++i) {  // 40 s
     world.step();

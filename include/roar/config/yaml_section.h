@@ -22,7 +22,8 @@ class YamlSection {
   // `path`: where the mapping sits in the file ("" for the top), `source`: the file (or request) for errors.
   YamlSection(const YAML::Node& node, std::string path, std::string source)
       : node_(node), path_(std::move(path)), source_(std::move(source)) {
-    if (node_ && !node_.IsNull() && !node_.IsMap()) fail(path_.empty() ? "the file" : path_, "must be a mapping of keys");
+    if (node_ && !node_.IsNull() && !node_.IsMap())
+      fail(path_.empty() ? "the file" : path_, "must be a mapping of keys");
   }
 
   bool has(const std::string& key) const { return node_ && node_.IsMap() && node_[key]; }
@@ -76,7 +77,8 @@ class YamlSection {
       const std::string near = nearestKey(key, known);
       std::string keys;
       for (const auto& k : known) keys += (keys.empty() ? "" : ", ") + k;
-      fail(where(key), "is not a known key" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; known: " + keys);
+      fail(where(key),
+           "is not a known key" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; known: " + keys);
     }
   }
 

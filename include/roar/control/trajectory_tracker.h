@@ -17,20 +17,20 @@ struct TrackerOptions {
   // Pure pursuit by measurement (roar_bench, 3 circuits): the same lap times as Stanley within 0.4%, and
   // 20-30% less tracking error.
   LateralMethod lateral = LateralMethod::kPurePursuit;
-  double wheelbase = 2.875;       // m
-  double front_axle = 2.875;      // m ahead of base_link
-  double stanley_gain = 2.5;      // 1/s: cross-track gain (rad of steering per m of error at 1 m/s)
-  double stanley_softening = 2.0; // m/s added to the speed under the cross-track term (gentle when slow)
-  double steer_preview = 0.1;     // s: the line's curvature is read this far ahead (steering lag)
-  double max_steer_angle = 0.61;  // rad at steer = 1
-  double lookahead_min = 6.0;     // m
-  double lookahead_time = 0.3;    // s: lookahead = max(min, time * speed)
+  double wheelbase = 2.875;        // m
+  double front_axle = 2.875;       // m ahead of base_link
+  double stanley_gain = 2.5;       // 1/s: cross-track gain (rad of steering per m of error at 1 m/s)
+  double stanley_softening = 2.0;  // m/s added to the speed under the cross-track term (gentle when slow)
+  double steer_preview = 0.1;      // s: the line's curvature is read this far ahead (steering lag)
+  double max_steer_angle = 0.61;   // rad at steer = 1
+  double lookahead_min = 6.0;      // m
+  double lookahead_time = 0.3;     // s: lookahead = max(min, time * speed)
   // Steering added per rad/s of yaw rate missing from what the pursuit arc asks (v * kappa): pure pursuit
   // alone weaves when braking hard from high speed.
-  double yaw_rate_gain = 0.1;     // rad per rad/s
-  double speed_gain = 1.0;        // throttle or brake per m/s of speed error
-  double speed_preview = 0.1;     // s: the profile is read this far ahead to cover the car's response
-  double max_speed = 0.0;         // m/s cap on the profile; 0: none
+  double yaw_rate_gain = 0.1;  // rad per rad/s
+  double speed_gain = 1.0;     // throttle or brake per m/s of speed error
+  double speed_preview = 0.1;  // s: the profile is read this far ahead to cover the car's response
+  double max_speed = 0.0;      // m/s cap on the profile; 0: none
 };
 
 struct TrackerInput {
@@ -55,7 +55,7 @@ class TrajectoryTracker {
 
   double lateralError() const { return lateral_error_; }  // m, positive: the car is left of the line
   double targetSpeed() const { return target_speed_; }
-  double progress() const { return progress_; }           // s on the trajectory
+  double progress() const { return progress_; }  // s on the trajectory
 
   const TrackerOptions& options() const { return options_; }
   void setOptions(const TrackerOptions& options);

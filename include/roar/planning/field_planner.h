@@ -5,8 +5,8 @@
 // in-process race (stack/race.h) both plan through this class, so the choice of the car to follow lives
 // in one place that gtest reaches.
 #include <Eigen/Core>
-#include <map>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -59,8 +59,8 @@ class FieldPlanner {
     double speed = 0.0;
     double line_share = 0.0;  // its speed over the line's, smoothed (OvertakePlanner's prediction)
     double time = std::numeric_limits<double>::quiet_NaN();  // s of the last position
-    double lateral_speed = 0.0;  // m/s leftwards across the line, smoothed
-    double progress = 0.0;       // m round the laps since it was first seen (from the first car's place then)
+    double lateral_speed = 0.0;                              // m/s leftwards across the line, smoothed
+    double progress = 0.0;  // m round the laps since it was first seen (from the first car's place then)
   };
   // Without overtaking: the nearest car ahead on the line within the window, if one is in the way.
   void followCarAhead(const std::string& car, const Place& place, Trajectory* window, RaceDecision* decision) const;

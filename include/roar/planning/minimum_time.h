@@ -9,10 +9,10 @@
 namespace roar::planning {
 
 struct MinimumTimeOptions {
-  int knot_spacing = 4;       // line points between the optimised offsets (linear in between)
-  int max_iterations = 200;    // sweeps over every knot
-  double first_move = 1.0;    // m: the first push of a bump
-  double stop_move = 0.05;    // m: the smallest
+  int knot_spacing = 4;      // line points between the optimised offsets (linear in between)
+  int max_iterations = 200;  // sweeps over every knot
+  double first_move = 1.0;   // m: the first push of a bump
+  double stop_move = 0.05;   // m: the smallest
 };
 
 struct MinimumTimeResult {

@@ -38,30 +38,31 @@ struct OvertakeOptions {
   double car_width = 1.85;           // m
   double lateral_margin = 0.9;       // m of air kept beside another car (to start a move; half of it to go on with one)
   double longitudinal_margin = 1.5;  // m kept to the car ahead or behind when beside it in the plan
-  double edge_margin = 1.0;          // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
-  double horizon = 6.0;              // s over which other cars are predicted and candidates compared
+  // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
+  double edge_margin = 1.0;
+  double horizon = 6.0;  // s over which other cars are predicted and candidates compared
   // s over which a lateral move is made (and undone) at the car's speed: 2.5 s asks about 2.8 m/s^2 of
   // sideways acceleration for a 3 m move; 1.5 s asked 7.7, all the grip, and cars ran wide at Monza.
   double shift_time = 2.5;
-  double min_shift_length = 20.0;    // m, at least
-  double min_gain = 4.0;             // m further in the horizon a pass must get than following
-  double follow_gap = 12.0;          // m, centre to centre, kept behind a car followed
-  double sample_step = 2.0;          // m between the points checked against other cars
+  double min_shift_length = 20.0;  // m, at least
+  double min_gain = 4.0;           // m further in the horizon a pass must get than following
+  double follow_gap = 12.0;        // m, centre to centre, kept behind a car followed
+  double sample_step = 2.0;        // m between the points checked against other cars
   // A pass is considered only for a car ahead within this many seconds at the car's speed (plus a car's
   // length), and given up when the car passed gets half as far again away: a car far ahead is caught on
   // the racing line, not on a line beside it.
-  double engage_time = 2.0;          // s
-  double min_pass_speed = 8.0;       // m/s the car must be doing to start a pass (not from the grid)
-  int abort_plans = 3;               // plans in a row a committed pass must look blocked or not worth it to be given up
-  double stall_time = 3.0;           // s a committed pass may go without gaining a metre on the car before it is given up
-  double plan_period = 0.05;         // s between plans (the odometry's period)
-  int retry_plans = 60;              // plans (ticks) after an aborted pass before another on the same car
+  double engage_time = 2.0;     // s
+  double min_pass_speed = 8.0;  // m/s the car must be doing to start a pass (not from the grid)
+  int abort_plans = 3;          // plans in a row a committed pass must look blocked or not worth it to be given up
+  double stall_time = 3.0;      // s a committed pass may go without gaining a metre on the car before it is given up
+  double plan_period = 0.05;    // s between plans (the odometry's period)
+  int retry_plans = 60;         // plans (ticks) after an aborted pass before another on the same car
   // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
-  double guard_lateral = 0.4;        // m
-  double guard_time = 0.25;          // s
-  double max_pass_offset = 5.0;      // m from the racing line a pass may go
-  double offline_grip = 0.8;         // share of the plan's grip a path off the racing line is planned with where it is off it
+  double guard_lateral = 0.4;    // m
+  double guard_time = 0.25;      // s
+  double max_pass_offset = 5.0;  // m from the racing line a pass may go
+  double offline_grip = 0.8;  // share of the plan's grip a path off the racing line is planned with where it is off it
   // s over which a car without a plan to go by is predicted to go on moving sideways as it is.
   double lateral_lookahead = 1.0;
   // m a car may be off its own last plan (sideways) for that plan to be taken as its prediction.
@@ -71,16 +72,16 @@ struct OvertakeOptions {
   // moves aside, to the side with more room, and keeps its pace until it has been lapped. Off by default:
   // see README (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
   bool blue_flags = false;
-  double blue_flag_time = 3.0;       // s at speed behind within which a car a lap up is let by
+  double blue_flag_time = 3.0;  // s at speed behind within which a car a lap up is let by
   // Defending: a car on its line at racing speed, with another closing from behind and pulling out to
   // pass, makes one move across to cover that side (at most defend_shift, only while the move keeps clear
   // of everyone, and held at most defend_hold); no second move while that car stays near, and once it is
   // alongside the defender holds its place (leaving it a car's width). Off by default: it makes passes
   // harder (README, traffic benchmark).
   bool defend = false;
-  double defend_time = 1.0;          // s at speed behind within which a car is defended against
-  double defend_shift = 1.85;        // m at most the defensive move goes across (a car's width)
-  double defend_hold = 4.0;          // s at most a defensive move is held before the car goes back to its line
+  double defend_time = 1.0;    // s at speed behind within which a car is defended against
+  double defend_shift = 1.85;  // m at most the defensive move goes across (a car's width)
+  double defend_hold = 4.0;    // s at most a defensive move is held before the car goes back to its line
 };
 
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield, kDefend };
@@ -88,10 +89,10 @@ const char* raceModeName(RaceMode mode);
 
 struct RaceDecision {
   RaceMode mode = RaceMode::kRacingLine;
-  int side = 0;            // kPass: +1 left of the car passed, -1 right; kYield, kDefend: the side moved to
-  std::string other;       // the car followed, passed, let by or defended against
-  double offset = 0.0;     // m left of the racing line the plan goes to
-  double progress = 0.0;   // m the plan gets in the horizon
+  int side = 0;           // kPass: +1 left of the car passed, -1 right; kYield, kDefend: the side moved to
+  std::string other;      // the car followed, passed, let by or defended against
+  double offset = 0.0;    // m left of the racing line the plan goes to
+  double progress = 0.0;  // m the plan gets in the horizon
   // The lateral move under way: from `ramp_from` metres at line s `ramp_s`, reaching `offset` a
   // shift_length later. Kept from tick to tick, so that the move is made rather than restarted.
   double ramp_s = 0.0;
@@ -106,8 +107,8 @@ class OvertakePlanner {
   // The window (behind .. ahead metres around s) for `car` at (s, lateral, speed) on the racing line,
   // with the others of `traffic` (the car itself may be in it; it is skipped by name), driven at `pace`
   // (the share of the line's speeds the car is planned at).
-  Trajectory plan(const std::string& car, double s, double lateral, double speed, const std::vector<TrafficCar>& traffic,
-                  double behind, double ahead, double pace = 1.0);
+  Trajectory plan(const std::string& car, double s, double lateral, double speed,
+                  const std::vector<TrafficCar>& traffic, double behind, double ahead, double pace = 1.0);
   // What the last plan for `car` chose.
   RaceDecision decision(const std::string& car) const;
   const Trajectory& line() const { return line_; }
@@ -175,7 +176,7 @@ class OvertakePlanner {
   std::map<std::string, Abort> aborts_;
   std::map<std::string, double> holds_;  // the lateral place (m) a car holds while another is alongside
   struct Headway {
-    std::string other;  // the car being passed
+    std::string other;      // the car being passed
     double best_gap = 0.0;  // m, the nearest the pass has come to it
     double stalled = 0.0;   // s since it last came a metre nearer
   };
@@ -187,9 +188,10 @@ class OvertakePlanner {
   };
   std::map<std::string, Defence> defences_;
   // The defensive move for `car` if it makes (or goes on with) one now; mode kRacingLine if not.
-  Candidate defend(const std::string& car, double s, double lateral, double speed, const std::vector<TrafficCar>& traffic,
-                   const Trajectory& base, const std::vector<Prediction>& predicted, const RaceDecision& memory);
-  std::map<std::string, int> doubts_;  // plans in a row a committed pass has looked blocked
+  Candidate defend(const std::string& car, double s, double lateral, double speed,
+                   const std::vector<TrafficCar>& traffic, const Trajectory& base,
+                   const std::vector<Prediction>& predicted, const RaceDecision& memory);
+  std::map<std::string, int> doubts_;        // plans in a row a committed pass has looked blocked
   std::map<std::string, Trajectory> plans_;  // each car's last window
 };
 

@@ -30,7 +30,7 @@ struct RacingLine {
   std::vector<double> track_s;    // progress of each point's projection on the track's centre line
   std::vector<double> offset;     // m left of the centre line
   double length = 0.0;
-  int iterations = 0;             // solves it took
+  int iterations = 0;  // solves it took
   double last_curvature_change = 0.0;
 };
 

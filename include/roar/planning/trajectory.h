@@ -12,8 +12,8 @@ namespace roar::planning {
 
 struct TrajectoryPoint {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // m, map frame
-  double z = 0.0;             // m, road height (for display)
-  double yaw = 0.0;           // rad
+  double z = 0.0;                                      // m, road height (for display)
+  double yaw = 0.0;                                    // rad
   double s = 0.0;             // m along the trajectory (a window keeps the circuit's s, unwrapped)
   double curvature = 0.0;     // 1/m, positive left
   double speed = 0.0;         // m/s

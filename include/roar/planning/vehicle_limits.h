@@ -9,22 +9,22 @@
 namespace roar::planning {
 
 struct VehicleLimits {
-  double mass = 1850.0;             // kg
-  double rotating_mass = 40.0;      // kg: the wheels' inertia as mass at the road (sum I / r^2)
-  double shift_time = 0.15;         // s without drive while the gearbox shifts
-  double gravity = 9.81;            // m/s^2
-  double friction = 1.0;            // tyre-road friction the plan uses (road friction x tyre grip x grip_use)
-  double drag_coefficient = 0.35;   // N per (m/s)^2: 0.5 rho CdA
+  double mass = 1850.0;                 // kg
+  double rotating_mass = 40.0;          // kg: the wheels' inertia as mass at the road (sum I / r^2)
+  double shift_time = 0.15;             // s without drive while the gearbox shifts
+  double gravity = 9.81;                // m/s^2
+  double friction = 1.0;                // tyre-road friction the plan uses (road friction x tyre grip x grip_use)
+  double drag_coefficient = 0.35;       // N per (m/s)^2: 0.5 rho CdA
   double downforce_coefficient = 0.15;  // N per (m/s)^2: 0.5 rho ClA
   double rolling_resistance = 0.012;    // share of the weight
   double max_brake_force = 30000.0;     // N at the road, all wheels
   // Share of the grip the driven wheels can turn into drive force: the drive split between the axles,
   // the load on each (with weight transfer under acceleration) and traction control's limit per wheel.
   double traction_share = 1.0;
-  double max_speed = 80.0;              // m/s: top speed (drive force = resistance) or gearing
-  double drive_force_step = 0.5;        // m/s between entries of drive_force
-  std::vector<double> drive_force;      // N at the road at full throttle in the best gear, per speed step
-  std::vector<int> gear;                // that gear (1 = first), per speed step
+  double max_speed = 80.0;          // m/s: top speed (drive force = resistance) or gearing
+  double drive_force_step = 0.5;    // m/s between entries of drive_force
+  std::vector<double> drive_force;  // N at the road at full throttle in the best gear, per speed step
+  std::vector<int> gear;            // that gear (1 = first), per speed step
 
   double driveForce(double speed) const;
   int gearAt(double speed) const;
@@ -32,9 +32,7 @@ struct VehicleLimits {
   double dragForce(double speed) const { return drag_coefficient * speed * speed; }
   double resistance(double speed) const { return dragForce(speed) + rolling_resistance * mass * gravity; }
   // Total tyre force the road can take: friction x (weight + downforce).
-  double gripForce(double speed) const {
-    return friction * (mass * gravity + downforce_coefficient * speed * speed);
-  }
+  double gripForce(double speed) const { return friction * (mass * gravity + downforce_coefficient * speed * speed); }
   // Highest speed on a curvature (1/m) where the grip carries the centripetal force alone.
   double corneringSpeed(double curvature) const;
   // Longitudinal force left once the cornering force m v^2 kappa is taken from the friction circle.

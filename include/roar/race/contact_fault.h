@@ -10,7 +10,7 @@ namespace roar::race {
 struct CarAtContact {
   std::string name;
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // m, map frame (the same point of every car: base_link)
-  double yaw = 0.0;                                     // rad
+  double yaw = 0.0;                                    // rad
   Eigen::Vector2d velocity = Eigen::Vector2d::Zero();  // m/s, map frame
 };
 

@@ -34,7 +34,7 @@ class LapTimer {
   int lapsCompleted() const { return static_cast<int>(laps_.size()); }
   const std::vector<LapRecord>& laps() const { return laps_; }
   std::optional<double> bestLap() const;
-  double progress() const { return progress_; }  // metres after the start/finish line, [0, length)
+  double progress() const { return progress_; }   // metres after the start/finish line, [0, length)
   double lapStart() const { return lap_start_; }  // s, when the lap under way began (once started)
   // Distance covered since the first crossing: laps * length + progress; for gaps between cars.
   double distanceCovered() const;

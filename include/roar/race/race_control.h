@@ -19,7 +19,7 @@ enum class IncidentRule { kIgnore, kPenalty, kRespawn };
 struct RaceRules {
   int laps = 3;
   IncidentRule collision = IncidentRule::kPenalty;
-  double collision_penalty = 5.0;     // s per contact with a barrier or another car
+  double collision_penalty = 5.0;  // s per contact with a barrier or another car
   IncidentRule track_limits = IncidentRule::kPenalty;
   double track_limits_penalty = 5.0;  // s per excursion
   // The car has left the track when base_link is this far beyond the road edge (half the car's width:
@@ -30,19 +30,19 @@ struct RaceRules {
   double car_length = 4.7;            // m, for judging who was at fault in a contact between cars
   // A car is in traffic while another car (of any lap) is on the road ahead of it within a car's length
   // plus this many seconds at its speed.
-  double traffic_gap = 1.0;           // s
+  double traffic_gap = 1.0;  // s
 };
 
 struct Incident {
-  double time = 0.0;      // s, simulated
-  std::string kind;       // "barrier", "car <name>" or "track limits"
+  double time = 0.0;  // s, simulated
+  std::string kind;   // "barrier", "car <name>" or "track limits"
   // A contact between cars, once both cars' motion is known (RaceControl::updateMotion): the car at fault
   // (empty: a racing incident, nobody) and how they met ("from behind", "alongside"). Only the car at
   // fault is penalised; before motion is known, both are.
   std::string at_fault;
   std::string contact;
-  double penalty = 0.0;   // s added to the car's race time
-  bool respawn = false;   // the car is to be put back on the track at respawn_pose
+  double penalty = 0.0;  // s added to the car's race time
+  bool respawn = false;  // the car is to be put back on the track at respawn_pose
   track::TrackPose respawn_pose;
 };
 
@@ -60,14 +60,14 @@ struct CarRecord {
   double last_time = 0.0;
   double last_contact = -1e9;
   bool off_track = false;
-  std::vector<double> passage;  // s at which the car first covered each 10 m since its first crossing
-  double time_in_traffic = 0.0;      // s in traffic (RaceRules::traffic_gap) since the start
-  std::vector<double> lap_traffic;   // s in traffic in each completed lap
-  double traffic_this_lap = 0.0;     // s in traffic in the lap under way
+  std::vector<double> passage;      // s at which the car first covered each 10 m since its first crossing
+  double time_in_traffic = 0.0;     // s in traffic (RaceRules::traffic_gap) since the start
+  std::vector<double> lap_traffic;  // s in traffic in each completed lap
+  double traffic_this_lap = 0.0;    // s in traffic in the lap under way
   // (time, distance covered) over the last seconds: where the car was when another car's position of the
   // same moment is judged (odometry of different cars arrives in any order).
   std::deque<std::pair<double, double>> recent;
-  bool motion_known = false;    // position, yaw and velocity below are set (updateMotion)
+  bool motion_known = false;  // position, yaw and velocity below are set (updateMotion)
   Eigen::Vector2d position = Eigen::Vector2d::Zero(), velocity = Eigen::Vector2d::Zero();
   double yaw = 0.0;
 };
@@ -76,11 +76,11 @@ struct CarRecord {
 // other's to ahead of it (by more than RaceRules::overtake_hysteresis, so that cars side by side do not
 // swap back and forth).
 struct Overtake {
-  double time = 0.0;   // s, simulated
+  double time = 0.0;  // s, simulated
   std::string passer;
   std::string passed;
-  int lap = 0;         // the passer's lap (1 = the first)
-  double s = 0.0;      // m along the track's centre line where it happened
+  int lap = 0;     // the passer's lap (1 = the first)
+  double s = 0.0;  // m along the track's centre line where it happened
 };
 
 struct Standing {
@@ -100,7 +100,8 @@ class RaceControl {
                                           std::optional<Incident>* incident = nullptr);
   // The car's heading (rad) and velocity (m/s, map frame) with its position: what a contact between cars
   // is judged by (race/contact_fault.h).
-  void updateMotion(const std::string& car, const Eigen::Vector2d& position, double yaw, const Eigen::Vector2d& velocity);
+  void updateMotion(const std::string& car, const Eigen::Vector2d& position, double yaw,
+                    const Eigen::Vector2d& velocity);
   // A contact reported by the simulator; returns the incident it makes, if it makes one.
   std::optional<Incident> updateContact(const std::string& car, double time, const std::string& other);
 

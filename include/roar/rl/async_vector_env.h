@@ -7,9 +7,9 @@
 // final_observation. The synchronous step is send to every environment then recv of all of them.
 #include <atomic>
 #include <condition_variable>
-#include <exception>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -22,7 +22,7 @@ namespace roar::rl {
 
 struct AsyncResult {
   std::size_t env_id = 0;
-  StepResult step;                        // after reset(): the first observation, reward 0, not done
+  StepResult step;                         // after reset(): the first observation, reward 0, not done
   std::optional<Value> final_observation;  // set where an episode ended this step
 };
 

@@ -16,10 +16,10 @@
 namespace roar::rl {
 
 struct RewardOptions {
-  double progress_weight = 20.0;       // per metre forwards along the centre line
-  double centre_weight = 0.2;          // 1/m: forward progress is divided by 1 + centre_weight * |lateral|
-  double backwards_weight = 20.0;      // per metre backwards (a negative reward)
-  double step_penalty = 0.0;           // every step
+  double progress_weight = 20.0;   // per metre forwards along the centre line
+  double centre_weight = 0.2;      // 1/m: forward progress is divided by 1 + centre_weight * |lateral|
+  double backwards_weight = 20.0;  // per metre backwards (a negative reward)
+  double step_penalty = 0.0;       // every step
   double collision_penalty_scale = 1.0;
   double collision_penalty_cap = 100.0;  // the most one collision costs
   double off_track_penalty = 10.0;
@@ -48,9 +48,9 @@ struct StepInfo {
   bool off_track = false;          // beyond the margin
   bool stalled = false;
   bool wrong_way = false;
-  int laps = 0;                    // completed, from the car's first crossing of the start/finish line
-  double last_lap_time = 0.0;      // s, 0 before the first
-  double episode_time = 0.0;       // s since the episode's first observation
+  int laps = 0;                // completed, from the car's first crossing of the start/finish line
+  double last_lap_time = 0.0;  // s, 0 before the first
+  double episode_time = 0.0;   // s since the episode's first observation
   int episode_steps = 0;
   double episode_return = 0.0;
 };
@@ -81,8 +81,8 @@ class Episode {
   TrackProgress progress_;
   std::optional<race::LapTimer> lap_timer_;  // made anew for every episode
   double start_time_ = 0.0;
-  double stall_progress_ = 0.0;   // progress when the stall clock last restarted
-  double stall_since_ = 0.0;      // s
+  double stall_progress_ = 0.0;  // progress when the stall clock last restarted
+  double stall_since_ = 0.0;     // s
   StepInfo info_;
 };
 

@@ -2,7 +2,8 @@
 // Evolution strategies (Salimans et al. 2017) for the MLP policy: each generation perturbs the parameters
 // along `directions` random directions both ways (antithetic pairs), runs an episode with each candidate
 // from the generation's spawn seeds (all candidates meet the same spawns), ranks the returns (centred
-// ranks) and moves the parameters along the estimated gradient with Adam. Candidates run in parallel, one environment per thread; a run is deterministic for a seed and thread count.
+// ranks) and moves the parameters along the estimated gradient with Adam. Candidates run in parallel, one environment
+// per thread; a run is deterministic for a seed and thread count.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -22,16 +23,16 @@ struct EvolutionOptions {
   double weight_decay = 0.005;  // pulls every parameter towards zero, per generation, times the learning rate
   int episodes = 1;             // per candidate, from as many spawn seeds
   std::vector<int> hidden = {32};
-  int threads = 2;              // the caller's included
+  int threads = 2;  // the caller's included
   std::uint64_t seed = 1;
 };
 
 struct GenerationReport {
-  int generation = 0;               // 1 for the first
-  double mean_return = 0.0;         // over the candidates
+  int generation = 0;        // 1 for the first
+  double mean_return = 0.0;  // over the candidates
   double best_return = 0.0;
-  double mean_progress = 0.0;       // m along the track per episode, over the candidates
-  std::int64_t env_steps = 0;       // this generation
+  double mean_progress = 0.0;  // m along the track per episode, over the candidates
+  std::int64_t env_steps = 0;  // this generation
 };
 
 // How a policy drives one episode from a reset of `env`: its return and what the last step said.

@@ -27,10 +27,10 @@ class CameraRenderer;
 namespace roar::rl {
 
 struct LidarObservation {
-  int beams = 0;             // 0: no lidar key
-  double max_range = 50.0;   // m: a beam that hits nothing nearer reads this
-  double fov_deg = 180.0;    // horizontal, centred straight ahead
-  double height = 0.6;       // m above base_link
+  int beams = 0;            // 0: no lidar key
+  double max_range = 50.0;  // m: a beam that hits nothing nearer reads this
+  double fov_deg = 180.0;   // horizontal, centred straight ahead
+  double height = 0.6;      // m above base_link
 };
 
 struct CameraObservation {
@@ -38,7 +38,7 @@ struct CameraObservation {
   double fov_deg = 90.0;      // horizontal
   bool rgb = true;
   bool depth = false;
-  double max_depth = 100.0;   // m: farther (and sky) reads this
+  double max_depth = 100.0;  // m: farther (and sky) reads this
   sensors::Mount mount = defaultMount();
   static sensors::Mount defaultMount();  // the default sensor set's front camera: 0.6 m ahead, 1.55 m up, 5 deg down
 };

@@ -25,7 +25,8 @@ bool spinFor(const Ready& ready) {
   const auto until = std::chrono::steady_clock::now() + kSpinTime;
   for (unsigned spins = 0; !ready(); ++spins) {
     relax();
-    if (spins % 256 == 255 && std::chrono::steady_clock::now() >= until) return ready();  // the clock is dearer than a spin
+    if (spins % 256 == 255 && std::chrono::steady_clock::now() >= until)
+      return ready();  // the clock is dearer than a spin
   }
   return true;
 }

@@ -4,11 +4,11 @@
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
-#include <sensor_msgs/JointState.h>
-#include <ros/time.h>
 #include <roar_ros/CollisionEvent.h>
 #include <roar_ros/VehicleControl.h>
 #include <roar_ros/VehicleStatus.h>
+#include <ros/time.h>
+#include <sensor_msgs/JointState.h>
 
 #include "roar/sim/world.h"
 
@@ -35,7 +35,7 @@ roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time
 sensor_msgs::JointState toJointState(const sim::VehicleState& state, const sim::VehicleParams& params,
                                      const std::array<double, 4>& wheel_angles, const ros::Time& stamp);
 geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
-                                           const std::string& child);
+                                            const std::string& child);
 roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
                                           const std::string& map_frame);
 

@@ -1,9 +1,9 @@
 #pragma once
 // Conversions between the RL core's spaces, observations and step outcomes and roar_ros messages.
-#include <ros/time.h>
 #include <roar_ros/EpisodeStep.h>
 #include <roar_ros/Observation.h>
 #include <roar_ros/SpaceDescription.h>
+#include <ros/time.h>
 
 #include "roar/rl/episode.h"
 #include "roar/rl/space.h"

@@ -28,10 +28,11 @@ sensor_msgs::Imu toImu(const sensors::ImuSample& sample, const sensors::ImuSpec&
                        const std::string& frame);
 sensor_msgs::NavSatFix toNavSatFix(const sensors::GnssFix& fix, const sensors::GnssSpec& spec, const ros::Time& stamp,
                                    const std::string& frame);
-geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular, const ros::Time& stamp,
-                                    const std::string& frame);
+geometry_msgs::TwistStamped toTwist(const Eigen::Vector3d& linear, const Eigen::Vector3d& angular,
+                                    const ros::Time& stamp, const std::string& frame);
 // Accelerometer, gyroscope and roll-pitch-yaw readings; a location is a point.
-geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp, const std::string& frame);
+geometry_msgs::Vector3Stamped toVector3Stamped(const Eigen::Vector3d& v, const ros::Time& stamp,
+                                               const std::string& frame);
 Eigen::Vector3d fromMessage(const geometry_msgs::Vector3Stamped& msg);
 geometry_msgs::PointStamped toPointStamped(const Eigen::Vector3d& p, const ros::Time& stamp, const std::string& frame);
 Eigen::Vector3d fromMessage(const geometry_msgs::PointStamped& msg);

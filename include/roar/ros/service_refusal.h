@@ -15,7 +15,8 @@ bool refuse(Response& res, const std::string& service, const std::string& why) {
   res.success = false;
   res.message = why;
   const std::string& node = ros::this_node::getName();
-  ROAR_WARN_WALL_THROTTLE(1.0, "%s: %s refused: %s", node.c_str() + (node.empty() ? 0 : 1), service.c_str(), why.c_str());
+  ROAR_WARN_WALL_THROTTLE(1.0, "%s: %s refused: %s", node.c_str() + (node.empty() ? 0 : 1), service.c_str(),
+                          why.c_str());
   return true;
 }
 

@@ -12,7 +12,8 @@ namespace roar::ros_bridge {
 
 roar_ros::Waypoint toMessage(const track::Waypoint& w, double s);
 // The track's waypoints at the given centre-line indices (all of them when `indices` is empty).
-std::vector<roar_ros::Waypoint> waypointMessages(const track::Track& track, const std::vector<std::size_t>& indices = {});
+std::vector<roar_ros::Waypoint> waypointMessages(const track::Track& track,
+                                                 const std::vector<std::size_t>& indices = {});
 roar_ros::WaypointArray toWaypointArray(const track::Track& track, const std::string& frame);
 nav_msgs::Path toPath(const track::Track& track, const std::string& frame);
 // Road surface, edges, centre line, barriers, start/finish line and sector lines, each in its namespace.

@@ -11,18 +11,18 @@ namespace roar::sensors {
 
 // Motion of the car's base_link, all in the map frame.
 struct BodyMotion {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // base_link in map
-  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();       // of base_link
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();     // base_link in map
+  Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();  // of base_link
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
-  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();   // of base_link, gravity not included
+  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  // of base_link, gravity not included
 };
 
 Eigen::Isometry3d mountTransform(const Mount& mount);  // sensor frame in base_link
 
 struct ImuSample {
-  Eigen::Quaterniond orientation;           // sensor frame in map
-  Eigen::Vector3d angular_velocity;         // rad/s, sensor frame
-  Eigen::Vector3d linear_acceleration;      // m/s^2 specific force (reads +g upwards at rest), sensor frame
+  Eigen::Quaterniond orientation;       // sensor frame in map
+  Eigen::Vector3d angular_velocity;     // rad/s, sensor frame
+  Eigen::Vector3d linear_acceleration;  // m/s^2 specific force (reads +g upwards at rest), sensor frame
 };
 ImuSample sampleImu(const BodyMotion& motion, const Mount& mount, const ImuSpec& spec, double gravity,
                     std::mt19937* rng);

@@ -12,8 +12,8 @@
 namespace roar::sensors {
 
 struct LidarPoint {
-  float x, y, z;      // m, sensor frame
-  float intensity;    // 0..1: material reflectivity, incidence angle and atmospheric attenuation
+  float x, y, z;    // m, sensor frame
+  float intensity;  // 0..1: material reflectivity, incidence angle and atmospheric attenuation
 };
 
 class SpinningLidar {

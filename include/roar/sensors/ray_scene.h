@@ -20,10 +20,10 @@ struct VisualMesh {
 
 struct RayHit {
   bool hit = false;
-  float distance = 0.0f;            // m along the (unit) ray
+  float distance = 0.0f;                              // m along the (unit) ray
   Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();  // unit, facing the ray
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();   // surface colour, linear RGB 0..1
-  float reflectivity = 0.0f;        // LiDAR return strength of the material, 0..1
+  float reflectivity = 0.0f;                          // LiDAR return strength of the material, 0..1
   SemanticClass semantic = SemanticClass::kSky;
 };
 
@@ -46,8 +46,8 @@ class RayScene {
   void cast(const Eigen::Vector3d& origin, const Eigen::Vector3f* directions, std::size_t count, int own_vehicle,
             float max_distance, bool coherent, RayHit* hits) const;
   // Parallel rays from `count` origins along one unit direction (an orthographic view from above).
-  void castParallel(const Eigen::Vector3d* origins, const Eigen::Vector3f& direction, std::size_t count, int own_vehicle,
-                    float max_distance, RayHit* hits) const;
+  void castParallel(const Eigen::Vector3d* origins, const Eigen::Vector3f& direction, std::size_t count,
+                    int own_vehicle, float max_distance, RayHit* hits) const;
 
  private:
   struct Impl;

@@ -1,8 +1,9 @@
 #pragma once
 // The sensors of one car. Motion sensors (IMU, GNSS, velocimeter, accelerometer, gyroscope, roll-pitch-yaw,
 // location) are sampled after physics substeps, so they may run up to the physics rate; cameras, LiDAR and
-// occupancy maps are cast once per control tick when due, so their rate may not exceed the control rate. Cameras on one mount with the same intrinsics and rate share one
-// cast. Readings go to a SensorSink (the ROS node publishes them; tests collect them).
+// occupancy maps are cast once per control tick when due, so their rate may not exceed the control rate. Cameras on one
+// mount with the same intrinsics and rate share one cast. Readings go to a SensorSink (the ROS node publishes them;
+// tests collect them).
 #include <Eigen/Geometry>
 #include <memory>
 #include <random>

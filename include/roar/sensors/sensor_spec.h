@@ -13,8 +13,19 @@ class Node;
 namespace roar::sensors {
 
 enum class SensorType {
-  kCameraRgb, kCameraGrey, kCameraDepth, kCameraSemantic, kLidar, kImu, kGnss, kVelocimeter,
-  kAccelerometer, kGyroscope, kRollPitchYaw, kLocation, kOccupancyMap
+  kCameraRgb,
+  kCameraGrey,
+  kCameraDepth,
+  kCameraSemantic,
+  kLidar,
+  kImu,
+  kGnss,
+  kVelocimeter,
+  kAccelerometer,
+  kGyroscope,
+  kRollPitchYaw,
+  kLocation,
+  kOccupancyMap
 };
 
 const char* typeName(SensorType type);
@@ -37,13 +48,13 @@ struct CameraSpec {
 // ROAR_PY's (CARLA's) LiDAR parameters.
 struct LidarSpec {
   int num_lasers = 32;
-  double max_distance = 50.0;          // m
+  double max_distance = 50.0;  // m
   double points_per_second = 56000.0;
-  double rotation_frequency = 20.0;    // Hz
-  double upper_fov = 10.0;             // deg
-  double lower_fov = -30.0;            // deg
-  double horizontal_fov = 360.0;       // deg
-  double noise_std = 0.0;              // m, range noise
+  double rotation_frequency = 20.0;  // Hz
+  double upper_fov = 10.0;           // deg
+  double lower_fov = -30.0;          // deg
+  double horizontal_fov = 360.0;     // deg
+  double noise_std = 0.0;            // m, range noise
 };
 
 struct ImuSpec {

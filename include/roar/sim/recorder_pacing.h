@@ -36,7 +36,7 @@ class RecorderPacing {
   struct Recorder {
     std::string name;
     double recorded = -std::numeric_limits<double>::infinity();  // s simulated
-    double heard_wall = -1.0;     // wall s of its last report, or of the first wait for it
+    double heard_wall = -1.0;  // wall s of its last report, or of the first wait for it
     bool given_up = false;
   };
   Recorder* find(const std::string& name);

@@ -22,8 +22,8 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params);
 
 // A car model there is: `<config_dir>/<model>.yaml` with its `<urdf_dir>/<model>.urdf`.
 struct VehicleModelInfo {
-  std::string model;        // e.g. hatchback
-  std::string blueprint;    // e.g. vehicle.audi.a2 (the yaml's `blueprint`)
+  std::string model;      // e.g. hatchback
+  std::string blueprint;  // e.g. vehicle.audi.a2 (the yaml's `blueprint`)
   std::string description;
 };
 std::vector<VehicleModelInfo> listVehicleModels(const std::string& urdf_dir, const std::string& config_dir);

@@ -10,18 +10,18 @@
 namespace roar::sim {
 
 struct ChassisParams {
-  double mass = 1850.0;                                  // kg
-  Eigen::Vector3d inertia{600.0, 2800.0, 3100.0};        // kg m^2, principal, about the centre of mass
-  Eigen::Vector3d centre_of_mass{0.0, 0.0, 0.5};        // m, in base_link
-  Eigen::Vector3d box_size{4.7, 1.85, 1.0};              // m, collision box of the body
-  Eigen::Vector3d box_centre{0.0, 0.0, 0.85};            // m, in base_link
+  double mass = 1850.0;                            // kg
+  Eigen::Vector3d inertia{600.0, 2800.0, 3100.0};  // kg m^2, principal, about the centre of mass
+  Eigen::Vector3d centre_of_mass{0.0, 0.0, 0.5};   // m, in base_link
+  Eigen::Vector3d box_size{4.7, 1.85, 1.0};        // m, collision box of the body
+  Eigen::Vector3d box_centre{0.0, 0.0, 0.85};      // m, in base_link
 };
 
 struct WheelParams {
-  std::string name;             // URDF link name
-  Eigen::Vector3d position;     // m, wheel centre in base_link at static ride height
-  double radius = 0.34;         // m
-  double width = 0.235;         // m
+  std::string name;          // URDF link name
+  Eigen::Vector3d position;  // m, wheel centre in base_link at static ride height
+  double radius = 0.34;      // m
+  double width = 0.235;      // m
   bool front = false;
   bool left = false;
 };
@@ -41,10 +41,10 @@ struct TyreParams {
   // Pacejka magic formula, pure slip, with normalised combined slip (see tyre.h).
   double long_b = 20.0, long_c = 1.55, long_e = 0.3;
   double lat_b = 18.0, lat_c = 1.45, lat_e = 0.3;
-  double nominal_load = 4500.0;     // N, Fz0
-  double load_sensitivity = 0.08;   // friction drop per unit of (Fz - Fz0) / Fz0
+  double nominal_load = 4500.0;    // N, Fz0
+  double load_sensitivity = 0.08;  // friction drop per unit of (Fz - Fz0) / Fz0
   double rolling_resistance = 0.012;
-  double wheel_inertia = 1.2;       // kg m^2, wheel and tyre about the axle
+  double wheel_inertia = 1.2;  // kg m^2, wheel and tyre about the axle
   // The tyre's friction relative to the road's rating: 1 for performance road tyres, below for economy
   // tyres, above for racing slicks. The friction a wheel has is road friction x grip (before load sensitivity).
   double grip = 1.0;
@@ -86,15 +86,15 @@ struct SteeringParams {
 };
 
 struct AeroParams {
-  double drag_area = 0.58;     // m^2, Cd * A
+  double drag_area = 0.58;       // m^2, Cd * A
   double downforce_area = 0.25;  // m^2, Cl * A, positive pushes down
   double front_downforce_share = 0.45;
-  double air_density = 1.2;    // kg/m^3
+  double air_density = 1.2;  // kg/m^3
 };
 
 struct VehicleParams {
   std::string model;
-  std::string blueprint;    // the CARLA-style id ROAR_PY programs spawn it by, e.g. vehicle.tesla.model3
+  std::string blueprint;  // the CARLA-style id ROAR_PY programs spawn it by, e.g. vehicle.tesla.model3
   std::string description;
   ChassisParams chassis;
   std::array<WheelParams, 4> wheels;  // front left, front right, rear left, rear right

@@ -18,10 +18,10 @@
 namespace roar::sim {
 
 struct WorldOptions {
-  double control_dt = 0.05;     // s, one tick: controls are applied and states reported once per tick
-  double physics_dt = 0.005;    // s, Bullet substep; control_dt must be a whole multiple of it
-  double gravity = 9.81;        // m/s^2
-  double control_timeout = 0.5; // s of simulated time without a new control before the car brakes (0: never)
+  double control_dt = 0.05;      // s, one tick: controls are applied and states reported once per tick
+  double physics_dt = 0.005;     // s, Bullet substep; control_dt must be a whole multiple of it
+  double gravity = 9.81;         // m/s^2
+  double control_timeout = 0.5;  // s of simulated time without a new control before the car brakes (0: never)
 };
 
 struct Pose {
@@ -34,16 +34,16 @@ struct WheelState {
   double steer_angle = 0.0;       // rad
   double load = 0.0;              // N
   double slip_ratio = 0.0;
-  double slip_angle = 0.0;        // rad
-  double compression = 0.0;       // m from static ride height, positive compressed
+  double slip_angle = 0.0;   // rad
+  double compression = 0.0;  // m from static ride height, positive compressed
   bool in_contact = false;
   bool on_road = false;
 };
 
 struct VehicleState {
-  Pose pose;                         // base_link in the map frame
-  Eigen::Vector3d linear_velocity;   // m/s of base_link, map frame
-  Eigen::Vector3d angular_velocity;  // rad/s, map frame
+  Pose pose;                              // base_link in the map frame
+  Eigen::Vector3d linear_velocity;        // m/s of base_link, map frame
+  Eigen::Vector3d angular_velocity;       // rad/s, map frame
   Eigen::Vector3d body_linear_velocity;   // m/s, base_link frame
   Eigen::Vector3d body_angular_velocity;  // rad/s, base_link frame
   Eigen::Vector3d body_acceleration;      // m/s^2 of the centre of mass over the last physics substep,
@@ -54,13 +54,13 @@ struct VehicleState {
   double engine_rpm = 0.0;
   double steering_angle = 0.0;  // rad, mean of the front wheels
   std::array<WheelState, 4> wheels;
-  bool on_track = false;        // every wheel on the road surface
+  bool on_track = false;  // every wheel on the road surface
   VehicleControl applied_control;
 };
 
 // A contact of a vehicle's body during the last tick, summed per other body.
 struct Contact {
-  std::string other;              // vehicle name, "barrier" or "ground"
+  std::string other;                                   // vehicle name, "barrier" or "ground"
   Eigen::Vector3d impulse = Eigen::Vector3d::Zero();   // N s on this vehicle, map frame
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // impulse-weighted contact point, map frame
 };

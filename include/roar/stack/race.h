@@ -16,9 +16,9 @@ namespace roar::stack {
 
 struct RaceCar {
   std::string name;
-  int grid_slot = 0;        // 0 = pole (track::Track::gridSpawnPoints)
-  double pace = 1.0;        // share of the planned speeds it is driven at
-  double max_speed = 0.0;   // m/s cap; 0: none
+  int grid_slot = 0;       // 0 = pole (track::Track::gridSpawnPoints)
+  double pace = 1.0;       // share of the planned speeds it is driven at
+  double max_speed = 0.0;  // m/s cap; 0: none
 };
 
 // One car at one tick, as the race saw it (RaceOptions::on_tick).
@@ -49,10 +49,10 @@ struct RaceOptions {
 // planner chose the pass (pulling out) to the end.
 struct PassAttempt {
   std::string passer, passed;
-  int side = 0;               // +1 on the left of the car passed, -1 on the right
-  double caught_time = 0.0;   // s when the passer first followed or went for the car passed (this time round)
-  double start_time = 0.0;    // s the planner chose the pass
-  double end_time = 0.0;      // s it was complete or aborted
+  int side = 0;              // +1 on the left of the car passed, -1 on the right
+  double caught_time = 0.0;  // s when the passer first followed or went for the car passed (this time round)
+  double start_time = 0.0;   // s the planner chose the pass
+  double end_time = 0.0;     // s it was complete or aborted
   bool completed = false;
   // The passer's speed during the pass, sampled each tick: line s (m, wrapped) and speed (m/s).
   std::vector<std::pair<double, double>> samples;
@@ -68,12 +68,12 @@ struct CarContactRecord {
 struct RaceCarResult {
   std::string name;
   double pace = 1.0;
-  int position = 0;                // finishing order (1 = winner)
+  int position = 0;  // finishing order (1 = winner)
   bool finished = false;
-  double race_time = 0.0;          // s from the start signal, penalties included
-  std::vector<double> lap_times;   // s
+  double race_time = 0.0;         // s from the start signal, penalties included
+  std::vector<double> lap_times;  // s
   int car_contacts = 0, barrier_contacts = 0, track_limit_violations = 0;
-  double time_in_traffic = 0.0;    // s spent following a car or passing one
+  double time_in_traffic = 0.0;  // s spent following a car or passing one
   // The car's speed (m/s) in each speed_bin of the racing line, as it last went through it (NaN: never).
   std::vector<double> lap_speeds;
 };
@@ -86,7 +86,7 @@ struct RaceResult {
   double sim_time = 0.0;
   double line_length = 0.0;  // m, the racing line's
   double speed_bin = 2.0;
-  bool finished = false;     // every car finished within the time limit
+  bool finished = false;  // every car finished within the time limit
   const RaceCarResult& car(const std::string& name) const;
 };
 

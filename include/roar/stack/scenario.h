@@ -14,12 +14,12 @@ struct ScenarioCar {
   std::string model = "sedan";
   int spawn_point = 0;
   Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB 0..1; negative: the simulator picks one
-  std::string sensors;      // a sensor set of config/sensors (empty: none)
-  bool driven = true;       // the stack's controller drives it (false: yours does)
-  double max_speed = 0.0;   // m/s the stack may drive it at; 0: no cap
-  double pace = 1.0;        // share of the planned speeds the stack drives it at (a slower car in a field)
-  std::string agent;        // an RL environment of config/rl (or a path): an agent drives it through roar_sim's
-                            // RL interface (then driven must be false); empty: none
+  std::string sensors;                                   // a sensor set of config/sensors (empty: none)
+  bool driven = true;                                    // the stack's controller drives it (false: yours does)
+  double max_speed = 0.0;                                // m/s the stack may drive it at; 0: no cap
+  double pace = 1.0;  // share of the planned speeds the stack drives it at (a slower car in a field)
+  std::string agent;  // an RL environment of config/rl (or a path): an agent drives it through roar_sim's
+                      // RL interface (then driven must be false); empty: none
 };
 
 struct Scenario {

@@ -13,28 +13,29 @@
 namespace roar::stack {
 
 struct TimeTrialOptions {
-  int laps = 1;              // timed flying laps after an untimed out-lap from the grid
-  double time_limit = 0.0;   // s simulated; 0: three times the promised time plus a minute
-  double grip_use = 0.85;    // share of the road's friction the plan uses
+  int laps = 1;             // timed flying laps after an untimed out-lap from the grid
+  double time_limit = 0.0;  // s simulated; 0: three times the promised time plus a minute
+  double grip_use = 0.85;   // share of the road's friction the plan uses
   planning::PlannerOptions planner;
   control::TrackerOptions tracker;  // wheelbase and steering angle are taken from the vehicle
 };
 
 struct TimeTrialResult {
-  std::vector<double> lap_times;     // s, each flying lap
-  double out_lap = 0.0;              // s from the first crossing of the line after the grid (not timed)
-  double promised_lap = 0.0;         // s, the planner's profile
-  double max_lateral_error = 0.0;    // m from the racing line
+  std::vector<double> lap_times;   // s, each flying lap
+  double out_lap = 0.0;            // s from the first crossing of the line after the grid (not timed)
+  double promised_lap = 0.0;       // s, the planner's profile
+  double max_lateral_error = 0.0;  // m from the racing line
   double rms_lateral_error = 0.0;
-  int barrier_contacts = 0;          // separate contacts (a scrape over several ticks counts once)
-  double worst_offroad = -1e9;       // m of base_link beyond the road edge at its worst (negative: inside)
-  double sim_time = 0.0;             // s simulated
-  bool finished = false;             // every lap done within the time limit
+  int barrier_contacts = 0;     // separate contacts (a scrape over several ticks counts once)
+  double worst_offroad = -1e9;  // m of base_link beyond the road edge at its worst (negative: inside)
+  double sim_time = 0.0;        // s simulated
+  bool finished = false;        // every lap done within the time limit
   double best_lap() const;
 };
 
 // Plans with the vehicle's own limits (planning::vehicleLimits) and drives from the grid's pole position.
-TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle, const TimeTrialOptions& options);
+TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle,
+                             const TimeTrialOptions& options);
 
 // The tracker options the vehicle implies: its wheelbase and maximum steering angle over `base`.
 control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base = {});

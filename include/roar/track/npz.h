@@ -24,7 +24,7 @@ std::map<std::string, NpyArray> readNpz(const std::string& path);
 void writeNpz(const std::string& path, const std::map<std::string, NpyArray>& arrays);
 
 // The array `key`, checked to be finite and of shape (N) or (N, columns); names file, key and problem.
-const NpyArray& requireArray(const std::map<std::string, NpyArray>& arrays, const std::string& key,
-                             std::size_t columns, const std::string& path);
+const NpyArray& requireArray(const std::map<std::string, NpyArray>& arrays, const std::string& key, std::size_t columns,
+                             const std::string& path);
 
 }  // namespace roar::track
