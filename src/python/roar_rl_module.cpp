@@ -199,11 +199,15 @@ struct Infos {
 };
 
 // The arrays a step (or a recv) returns, `rows` of them, owned by the module and written in place.
+// write() touches only its row's memory and makes no Python call: the threads that step the environments
+// call it without the GIL, each for its own rows.
 struct StepBuffers {
   std::unique_ptr<Batch> observations, final_observations;
   std::unique_ptr<Infos> infos;
   py::array_t<double> rewards;
   py::array_t<bool> terminations, truncations, final_mask;
+  double* reward_data;
+  bool *terminated_data, *truncated_data, *final_data;
 
   StepBuffers(const rl::Space& observation_space, std::size_t rows)
       : observations(std::make_unique<Batch>(observation_space, rows)),
@@ -212,15 +216,19 @@ struct StepBuffers {
         rewards(static_cast<py::ssize_t>(rows)),
         terminations(static_cast<py::ssize_t>(rows)),
         truncations(static_cast<py::ssize_t>(rows)),
-        final_mask(static_cast<py::ssize_t>(rows)) {}
+        final_mask(static_cast<py::ssize_t>(rows)),
+        reward_data(rewards.mutable_data()),
+        terminated_data(terminations.mutable_data()),
+        truncated_data(truncations.mutable_data()),
+        final_data(final_mask.mutable_data()) {}
 
   void write(std::size_t row, const rl::StepResult& r, const std::optional<rl::Value>& final_observation) {
     observations->write(row, r.observation);
     infos->write(row, r.info);
-    rewards.mutable_at(row) = r.reward;
-    terminations.mutable_at(row) = r.terminated;
-    truncations.mutable_at(row) = r.truncated;
-    final_mask.mutable_at(row) = final_observation.has_value();
+    reward_data[row] = r.reward;
+    terminated_data[row] = r.terminated;
+    truncated_data[row] = r.truncated;
+    final_data[row] = final_observation.has_value();
     if (final_observation) final_observations->write(row, *final_observation);
   }
 
@@ -327,12 +335,13 @@ class PyVectorEnv {
     const std::size_t n = env_->size();
     const std::vector<rl::Value>& values = actions_->read(actions, n);
     // VectorEnv::step checks every action first (naming actions[i] and the field) and steps nothing then.
-    const rl::VectorStepResult* result = nullptr;
     {
+      // Each result is copied into its NumPy rows by the thread that stepped it, not one by one after.
       py::gil_scoped_release released;
-      result = &env_->step(values);
+      env_->step(values, [this](std::size_t i, const rl::StepResult& r, const std::optional<rl::Value>& ended) {
+        out_->write(i, r, ended);
+      });
     }
-    for (std::size_t i = 0; i < n; ++i) out_->write(i, result->steps[i], result->final_observations[i]);
     return out_->views();
   }
 

@@ -21,7 +21,7 @@ std::vector<ResetResult> VectorEnv::reset(std::uint64_t seed) {
   return out;
 }
 
-const VectorStepResult& VectorEnv::step(const std::vector<Value>& actions) {
+const VectorStepResult& VectorEnv::step(const std::vector<Value>& actions, const RowSink& sink) {
   if (actions.size() != envs_.size()) {
     throw std::invalid_argument("VectorEnv::step: " + std::to_string(actions.size()) + " actions for " +
                                 std::to_string(envs_.size()) + " environments");
@@ -38,6 +38,7 @@ const VectorStepResult& VectorEnv::step(const std::vector<Value>& actions) {
       last_.final_observations[i] = std::move(r.observation);
       r.observation = envs_[i]->reset().observation;
     }
+    if (sink) sink(i, r, last_.final_observations[i]);
   });
   return last_;
 }

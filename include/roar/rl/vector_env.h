@@ -3,6 +3,7 @@
 // environment in, one result per environment out, and an environment whose episode ended starts its next
 // one at once (auto-reset): its result then holds the new episode's first observation, and the last
 // observation of the old one is kept in final_observation.
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -31,9 +32,13 @@ class VectorEnv {
 
   // Environment i is reset with seed + i.
   std::vector<ResetResult> reset(std::uint64_t seed);
+  // Called for each environment by the thread that stepped it, as soon as its result is ready: where a
+  // caller copies results out (the Python module's NumPy rows) in parallel rather than after the step.
+  using RowSink =
+      std::function<void(std::size_t env, const StepResult& step, const std::optional<Value>& final_observation)>;
   // Throws SpaceError (for the first bad one) when an action is outside the space; nothing is stepped then.
   // The result stays valid until the next step().
-  const VectorStepResult& step(const std::vector<Value>& actions);
+  const VectorStepResult& step(const std::vector<Value>& actions, const RowSink& sink = {});
 
  private:
   std::vector<std::unique_ptr<RacingEnv>> envs_;
