@@ -1,7 +1,6 @@
 """Gymnasium's vector API over the C++ VectorEnv (roar_rl_core)."""
 import os
 import typing
-from pathlib import Path
 
 import numpy as np
 

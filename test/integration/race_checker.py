@@ -8,6 +8,7 @@ import sys
 import time
 import unittest
 
+import rosnode
 import rospy
 import rostest
 import yaml
@@ -40,6 +41,19 @@ def wait_for_results(output_dir, until):
             return results
         time.sleep(0.5)
     return None
+
+
+def wait_for_bag(output_dir, since):
+    """This launch's race.bag in output_dir once the race is over and the recorder, stopped, has closed it
+    (a bag newer than `since`, a time.time()), or None."""
+    if wait_for_results(output_dir, time.time() + 250) is None:
+        return None
+    rosnode.kill_nodes(["/recorder"])
+    path = os.path.join(output_dir, "race.bag")
+    deadline = time.time() + 60
+    while time.time() < deadline and not (os.path.exists(path) and os.path.getmtime(path) > since):
+        time.sleep(0.5)
+    return path if os.path.exists(path) and os.path.getmtime(path) > since else None
 
 
 class SimClock:

@@ -3,31 +3,17 @@
 every car (odom, vehicle_status, joint_states, control, local_trajectory), /clock and /tf, and every
 reading of the sensor car (IMU and GNSS at 100 Hz, three cameras and a LiDAR at 20 Hz), each once, from
 tick 0 to the finish; and the bag ends with the race."""
-import os
 import sys
 import time
 import unittest
 
 import rosbag
-import rosnode
 import rospy
 import rostest
 
-from race_checker import wait_for_results
+from race_checker import wait_for_bag
 
 TICK = 0.05
-
-
-def wait_for_bag(output_dir):
-    """race.bag once the race is over and the recorder, stopped, has closed it (None if not)."""
-    if wait_for_results(output_dir, time.time() + 250) is None:
-        return None
-    rosnode.kill_nodes(["/recorder"])
-    path = os.path.join(output_dir, "race.bag")
-    deadline = time.time() + 60
-    while time.time() < deadline and not (os.path.exists(path) and os.path.getmtime(path) > START):
-        time.sleep(0.5)
-    return path if os.path.exists(path) else None
 
 
 def stamp_of(topic, msg):
@@ -41,7 +27,7 @@ def stamp_of(topic, msg):
 class RecordUnderLoad(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.path = wait_for_bag(rospy.get_param("~output_dir"))
+        cls.path = wait_for_bag(rospy.get_param("~output_dir"), START)
         cls.stamps, cls.finish = {}, None
         if not cls.path:
             return

@@ -1,17 +1,16 @@
 #!/usr/bin/env python3
 """rostest: the race bag holds every tick of the recorded topics, and feeding its controls to a second
 roar_sim in step mode reproduces its odometry exactly."""
-import os
 import sys
 import threading
 import time
 import unittest
 
 import rosbag
-import rosnode
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
+from race_checker import wait_for_bag
 from roar_ros.srv import Step
 
 BAG = None
@@ -22,26 +21,10 @@ def state(odom):
     return (p.x, p.y, p.z, q.x, q.y, q.z, q.w, v.x, v.y, v.z, w.x, w.y, w.z)
 
 
-def wait_for_bag(out):
-    results = os.path.join(out, "results.yaml")
-    deadline = time.time() + 250
-    while time.time() < deadline and not (os.path.exists(results) and os.path.getmtime(results) > START):
-        time.sleep(0.5)
-    if not os.path.exists(results):
-        return None
-    # The race is over: stop the recorder so it closes the bag.
-    rosnode.kill_nodes(["/recorder"])
-    path = os.path.join(out, "race.bag")
-    deadline = time.time() + 60
-    while time.time() < deadline and not (os.path.exists(path) and os.path.getmtime(path) > START):
-        time.sleep(0.5)
-    return path if os.path.exists(path) else None
-
-
 class RecordResim(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.path = wait_for_bag(rospy.get_param("~output_dir"))
+        cls.path = wait_for_bag(rospy.get_param("~output_dir"), START)
         cls.messages = {}
         if cls.path:
             with rosbag.Bag(cls.path) as bag:
