@@ -13,9 +13,10 @@ import rospy
 import rostest
 import yaml
 from roar_ros.msg import RaceStatus
-from rosgraph_msgs.msg import Clock
+from rosgraph_msgs.msg import Clock, Log
 
 STATUS = []
+LOGGED = []
 
 
 def this_runs_results(path, run_id):
@@ -119,9 +120,13 @@ class RaceResults(unittest.TestCase):
         final = {c.name: c for c in STATUS[-1].cars}
         for car in results["cars"]:
             self.assertAlmostEqual(final[car["name"]].time_in_traffic, car["time_in_traffic_s"], delta=0.5)
+        # Lines the nodes must have logged on the way (~logged: substrings of /rosout messages).
+        for expected in rospy.get_param("~logged", []):
+            self.assertTrue(any(expected in line for line in LOGGED), "nothing on /rosout says '%s'" % expected)
 
 
 if __name__ == "__main__":
     rospy.init_node("race_checker", anonymous=True)
     rospy.Subscriber("/race_status", RaceStatus, STATUS.append)
+    rospy.Subscriber("/rosout", Log, lambda m: LOGGED.append(m.msg), queue_size=1000)
     rostest.rosrun("roar_ros", "race_results", RaceResults, sys.argv)
