@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """A ROAR competition run, written against ROAR_PY's interface: a vehicle.tesla.model3 on the first
 waypoint with a camera, location, velocimeter, roll-pitch-yaw, occupancy-map and collision sensors,
 driven by ROAR_PY's documented waypoint-following agent; a collision over 100 N s puts the car back on the

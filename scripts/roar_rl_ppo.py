@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Learns to race a circuit with PPO (PyTorch, CPU) on roar_rl.VectorEnv, within a time budget: a progress
 line per iteration (steps/s, episodes, return, best lap), then a learning curve (learning_curve.png), the
 policy in rl_train's format (policy.yaml: `race.launch policy:=<it>` races it), and the fastest clean
