@@ -13,10 +13,15 @@
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include "roar/race/race_control.h"
@@ -39,7 +44,21 @@ struct RaceControlOptions {
   double max_sim_time = 0.0;
   double sim_silence = 10.0;  // s of wall time without odometry before roar_sim is probed (dead: aborted)
   std::string output_dir;
+  // At a finished race, end the roslaunch that started this node as Ctrl-C would (race.launch's
+  // end_with_race), not by exiting as a required node: roslaunch prints that as "REQUIRED process has died".
+  bool end_launch = false;
 };
+
+// Sends the roslaunch that started this process (its parent) what Ctrl-C sends; false when the parent is
+// no roslaunch (rosrun, rostest, a shell), which is left alone.
+bool askRoslaunchToEnd() {
+  const pid_t parent = getppid();
+  std::ifstream cmdline("/proc/" + std::to_string(parent) + "/cmdline");
+  std::string args((std::istreambuf_iterator<char>(cmdline)), std::istreambuf_iterator<char>());
+  std::replace(args.begin(), args.end(), '\0', ' ');
+  if (parent <= 1 || args.find("/roslaunch ") == std::string::npos) return false;
+  return kill(parent, SIGINT) == 0;
+}
 
 race::IncidentRule readRule(const ros::NodeHandle& nh, const std::string& name, const std::string& fallback) {
   const std::string rule = ros_bridge::readChoice(nh, name, fallback, {"ignore", "penalty", "respawn"});
@@ -68,6 +87,7 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   o.max_sim_time = readDouble(nh, "max_sim_time", 0.0, 0.0, 1e7);
   o.sim_silence = readDouble(nh, "sim_silence", o.sim_silence, 1.0, 3600.0);
   o.output_dir = readString(nh, "output_dir", "");
+  o.end_launch = readBool(nh, "end_launch", o.end_launch);
   // One spelling of the folder in what is printed and written ("a/../b/" is "b").
   if (!o.output_dir.empty()) {
     o.output_dir = std::filesystem::absolute(o.output_dir).lexically_normal().string();
@@ -395,6 +415,12 @@ int main(int argc, char** argv) {
           options.output_dir.c_str());
     }
     std::fflush(stdout);
+    if (complete && options.end_launch && askRoslaunchToEnd()) {
+      // roslaunch stops every node, this one too (its SIGINT shuts ROS down); a while at most.
+      const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(15.0);
+      while (ros::ok() && ros::WallTime::now() < until) ros::WallDuration(0.05).sleep();
+      return 0;
+    }
     ros::shutdown();
     return complete ? 0 : 1;
   } catch (const std::exception& e) {

@@ -68,3 +68,16 @@ def test_ros_env_preloads_the_shim_unless_a_network_is_asked_for(network, expect
               f"source {REPO}/scripts/ros_env.sh; echo \"$ROS_IP|${{LD_PRELOAD:-}}\"")
     done = subprocess.run(["bash", "-c", script], capture_output=True, text=True, timeout=60)
     assert done.stdout.strip().splitlines()[-1] == expected, done.stdout + done.stderr
+
+
+def test_a_finished_race_ends_roslaunch_as_ctrl_c_would(tmp_path):
+    """`roslaunch roar_ros race.launch` on its own: when the race is over, race_control ends the launch
+    as Ctrl-C does, not by dying as a required node (roslaunch's red "REQUIRED process has died")."""
+    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11657", "ROS_LOG_DIR": str(tmp_path / "log")}
+    done = subprocess.run(["roslaunch", "-p", "11657", "roar_ros", "race.launch", "map:=roar_sprint", "laps:=1",
+                           "real_time_factor:=0", f"output_dir:={tmp_path / 'out'}"], capture_output=True, text=True,
+                          env=env, cwd=tmp_path, timeout=240)
+    output = done.stdout + done.stderr
+    assert "race finished" in output, output[-3000:]
+    assert "REQUIRED process" not in output and "has died" not in output, output[-3000:]
+    assert done.returncode == 0, output[-3000:]
