@@ -407,10 +407,9 @@ std::string SimNode::notReadyToStart() const {
     }
     // A recorder that reports its progress: its reports must reach us before the first tick.
     const std::string progress = node + "/recorded";
-    for (const auto& sub : recorded_subs_) {
-      if (sub.getTopic() == progress && graph.publishers[progress].count(node) && sub.getNumPublishers() == 0) {
-        return "the link to " + progress;
-      }
+    const auto sub = recorded_subs_.find(node);
+    if (sub != recorded_subs_.end() && graph.publishers[progress].count(node) && sub->second.getNumPublishers() == 0) {
+      return "the link to " + progress;
     }
   }
   if (options_.wait_for_drivers) {
@@ -446,14 +445,14 @@ std::string SimNode::notReadyToStart() const {
 void SimNode::subscribeRecorderProgress() {
   for (const auto& recorder : options_.wait_for_recorders) {
     const std::string node = ros::names::resolve(recorder);
-    recorded_subs_.push_back(nh_.subscribe<rosgraph_msgs::Clock>(
+    recorded_subs_[node] = nh_.subscribe<rosgraph_msgs::Clock>(
         node + "/recorded", 100,
         [this, node](const rosgraph_msgs::Clock::ConstPtr& m) {
           if (recorder_pacing_ && recorder_pacing_->recorded(node, m->clock.toSec(), ros::WallTime::now().toSec())) {
             ROS_INFO("roar_sim: the recorder %s is recording again at t = %.2f s", node.c_str(), m->clock.toSec());
           }
         },
-        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay()));
+        ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   }
 }
 
@@ -480,10 +479,9 @@ void SimNode::setUpRecorderPacing() {
 bool SimNode::recordersKeptUp() {
   if (!recorder_pacing_) return true;
   const double wall = ros::WallTime::now().toSec();
-  for (std::size_t i = 0; i < recorded_subs_.size(); ++i) {
+  for (const auto& [node, sub] : recorded_subs_) {
     // A recorder whose node is gone (it had connected) is not waited for.
-    const std::string node = recorded_subs_[i].getTopic().substr(0, recorded_subs_[i].getTopic().rfind('/'));
-    if (recorded_subs_[i].getNumPublishers() == 0 && !recorder_pacing_->givenUp(node) &&
+    if (sub.getNumPublishers() == 0 && !recorder_pacing_->givenUp(node) &&
         recorder_pacing_->lastRecorded(node) > -1.0) {
       recorder_pacing_->gone(node);
       ROS_WARN("roar_sim: the recorder %s has gone at t = %.2f s: the race goes on and its recording ends there",

@@ -152,7 +152,7 @@ class SimNode {
   ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;
   std::unique_ptr<sim::RecorderPacing> recorder_pacing_;
-  std::vector<ros::Subscriber> recorded_subs_;
+  std::map<std::string, ros::Subscriber> recorded_subs_;  // each recorder's progress, by its node's name
 };
 
 }  // namespace roar::ros_bridge
