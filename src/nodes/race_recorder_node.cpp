@@ -17,6 +17,7 @@
 #include <rosgraph_msgs/Clock.h>
 #include <topic_tools/shape_shifter.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -128,8 +129,13 @@ class RaceRecorder {
 
 }  // namespace
 
+// SIGTERM as SIGINT: the bag is closed and named either way (a bag left .active is unindexed).
+void requestShutdown(int) { ros::requestShutdown(); }
+
 int main(int argc, char** argv) {
-  ros::init(argc, argv, "race_recorder");
+  ros::init(argc, argv, "race_recorder", ros::init_options::NoSigintHandler);
+  std::signal(SIGINT, requestShutdown);
+  std::signal(SIGTERM, requestShutdown);
   ros::NodeHandle nh, pnh("~");
   try {
     RaceRecorder recorder(nh, pnh, readParameters(pnh));
