@@ -352,40 +352,35 @@ TEST(RlEnv, EveryNumberOfTheOptionsAtEveryExtremeIsRefusedByNameOrStepsFinite) {
   const std::string original((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   const std::regex number(R"(([a-z_]+): \[?(-?[0-9.]+))");
   int refused = 0, stepped = 0, fields = 0;
-  for (auto it = std::sregex_iterator(original.begin(), original.end(), number); it != std::sregex_iterator(); ++it) {
-    const std::string key = (*it)[1];
-    ++fields;
-    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
-      std::string text = original;
-      text.replace((*it).position(2), (*it).length(2), extreme);
-      const std::string what = key + " = " + extreme;
-      std::unique_ptr<rl::RacingEnv> env;
-      try {
-        env = std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), rl::parseEnvOptions(text, "state.yaml"));
-      } catch (const std::exception& e) {
-        EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
-        ++refused;
-        continue;
-      }
-      ++stepped;
-      auto finite = [](const Value& v, const auto& self) -> bool {
-        for (double x : v.numbers) {
-          if (!std::isfinite(x)) return false;
+  fields = test::forEachNumberAtExtremes(
+      original, number, [&](const std::string& key, const std::string& text, const std::string& extreme) {
+        const std::string what = key + " = " + extreme;
+        std::unique_ptr<rl::RacingEnv> env;
+        try {
+          env = std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), rl::parseEnvOptions(text, "state.yaml"));
+        } catch (const std::exception& e) {
+          EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
+          ++refused;
+          return;
         }
-        for (const auto& inner : v.entries) {
-          if (!self(inner, self)) return false;
+        ++stepped;
+        auto finite = [](const Value& v, const auto& self) -> bool {
+          for (double x : v.numbers) {
+            if (!std::isfinite(x)) return false;
+          }
+          for (const auto& inner : v.entries) {
+            if (!self(inner, self)) return false;
+          }
+          return true;
+        };
+        Value obs = env->reset(3).observation;
+        ASSERT_TRUE(finite(obs, finite)) << what << ": the first observation";
+        for (int k = 0; k < 200; ++k) {
+          const rl::StepResult r = env->step(chase(env->actionSpace(), obs));
+          ASSERT_TRUE(std::isfinite(r.reward) && finite(r.observation, finite)) << what << ": step " << k;
+          obs = r.done() ? env->reset().observation : r.observation;
         }
-        return true;
-      };
-      Value obs = env->reset(3).observation;
-      ASSERT_TRUE(finite(obs, finite)) << what << ": the first observation";
-      for (int k = 0; k < 200; ++k) {
-        const rl::StepResult r = env->step(chase(env->actionSpace(), obs));
-        ASSERT_TRUE(std::isfinite(r.reward) && finite(r.observation, finite)) << what << ": step " << k;
-        obs = r.done() ? env->reset().observation : r.observation;
-      }
-    }
-  }
+      });
   std::printf("rl options property test: %d numbers x 7 extremes: %d refused by name, %d stepped finite\n", fields,
               refused, stepped);
 }

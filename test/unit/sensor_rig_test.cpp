@@ -245,44 +245,39 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
   const std::regex number(R"(([a-z_]+): (\[)?(-?[0-9.]+))");
   int refused = 0, loaded = 0, fields = 0;
   for (const auto& sensor : sensors) {
-    for (auto it = std::sregex_iterator(sensor.begin(), sensor.end(), number); it != std::sregex_iterator(); ++it) {
-      const std::string key = (*it)[1];
-      ++fields;
-      for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
-        std::string text = sensor;
-        text.replace((*it).position(3), (*it).length(3), extreme);
-        const std::string what = text.substr(0, 40) + "... " + key + " = " + extreme;
-        std::vector<sensors::SensorSpec> specs;
-        try {
-          specs = sensors::parseSensorSetYaml("sensors:\n  - " + text + "\n", "set.yaml");
-          sensors::SensorRig probe(specs, {}, track.info().origin);  // the rig's own checks (rates it can keep)
-        } catch (const std::exception& e) {
-          EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
-          ++refused;
-          continue;
-        }
-        ++loaded;
-        sim::World world(track, {});
-        world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
-        sim::VehicleControl go;
-        go.throttle = 1.0;
-        go.steer = 0.2;
-        sensors::RayScene scene(track);
-        const int id = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
-        sensors::SensorRig rig(specs, {}, track.info().origin);
-        FiniteSink sink;
-        for (int tick = 0; tick < 20; ++tick) {
-          world.setControl("ego", go);
-          world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
-          const auto state = world.vehicleState("ego");
-          scene.setVehiclePose(id, sensors::poseOf(state));
-          scene.commit();
-          rig.sampleRays(world.time(), scene, sensors::poseOf(state), id, sink);
-        }
-        EXPECT_GT(sink.readings, 0) << what;
-        EXPECT_EQ(sink.bad, 0) << what << ": " << sink.bad << " of " << sink.readings << " readings not finite";
-      }
-    }
+    fields += test::forEachNumberAtExtremes(
+        sensor, number, [&](const std::string& key, const std::string& text, const std::string& extreme) {
+          const std::string what = text.substr(0, 40) + "... " + key + " = " + extreme;
+          std::vector<sensors::SensorSpec> specs;
+          try {
+            specs = sensors::parseSensorSetYaml("sensors:\n  - " + text + "\n", "set.yaml");
+            sensors::SensorRig probe(specs, {}, track.info().origin);  // the rig's own checks (rates it can keep)
+          } catch (const std::exception& e) {
+            EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << what << ": " << e.what();
+            ++refused;
+            return;
+          }
+          ++loaded;
+          sim::World world(track, {});
+          world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
+          sim::VehicleControl go;
+          go.throttle = 1.0;
+          go.steer = 0.2;
+          sensors::RayScene scene(track);
+          const int id = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
+          sensors::SensorRig rig(specs, {}, track.info().origin);
+          FiniteSink sink;
+          for (int tick = 0; tick < 20; ++tick) {
+            world.setControl("ego", go);
+            world.step([&](double t) { rig.sampleMotion(t, sensors::motionOf(world.vehicleState("ego")), sink); });
+            const auto state = world.vehicleState("ego");
+            scene.setVehiclePose(id, sensors::poseOf(state));
+            scene.commit();
+            rig.sampleRays(world.time(), scene, sensors::poseOf(state), id, sink);
+          }
+          EXPECT_GT(sink.readings, 0) << what;
+          EXPECT_EQ(sink.bad, 0) << what << ": " << sink.bad << " of " << sink.readings << " readings not finite";
+        });
   }
   std::printf("sensor property test: %d fields x 7 extremes: %d refused by name, %d read finite\n", fields, refused,
               loaded);

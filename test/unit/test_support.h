@@ -2,6 +2,7 @@
 // Shared by the unit tests: tracks made in code, the shipped data, and reading error messages.
 #include <cmath>
 #include <functional>
+#include <regex>
 #include <string>
 
 #include "roar/sim/vehicle_config.h"
@@ -19,6 +20,23 @@ inline std::string errorOf(const std::function<void()>& f) {
     return e.what();
   }
   return "";
+}
+
+// Property tests (issue 17): for every number `number` matches in `text` (its first group the key, its
+// last group the value), calls check(key, text with that value replaced, extreme) for each of 0, -1,
+// 1e-30, 1e30, 1e300, .nan and .inf. Returns how many numbers it found.
+template <typename Check>
+int forEachNumberAtExtremes(const std::string& text, const std::regex& number, const Check& check) {
+  int found = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), number); it != std::sregex_iterator(); ++it, ++found) {
+    const std::size_t value = it->size() - 1;
+    for (const char* extreme : {"0", "-1", "1e-30", "1e30", "1e300", ".nan", ".inf"}) {
+      std::string changed = text;
+      changed.replace(it->position(value), it->length(value), extreme);
+      check((*it)[1].str(), changed, std::string(extreme));
+    }
+  }
+  return found;
 }
 
 // A circle of `radius` around `centre`, driven counter-clockwise, sampled every `spacing` metres.
