@@ -320,7 +320,7 @@ int main(int argc, char** argv) {
   int max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   double scaling_seconds = 3.0;
   int seeds = 3, traffic_laps = 3;
-  std::string only_map;
+  std::string only_map, only_field;
   planning::OvertakeOptions overtake;
   std::vector<char*> rest;
   for (int i = 0; i < argc; ++i) {
@@ -347,6 +347,8 @@ int main(int argc, char** argv) {
       traffic_laps = std::max(1, std::atoi(argv[i] + 15));
     } else if (std::strncmp(argv[i], "--map=", 6) == 0) {
       only_map = argv[i] + 6;
+    } else if (std::strncmp(argv[i], "--field=", 8) == 0) {
+      only_field = argv[i] + 8;
     } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
       bench::setOvertakeOption(&overtake, argv[i] + 11);
     } else if (std::strcmp(argv[i], "--scaling") == 0) {
@@ -379,7 +381,7 @@ int main(int argc, char** argv) {
   }
   if (traffic) {
     bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,
-                             traffic_laps, overtake, only_map, verbose);
+                             traffic_laps, overtake, only_map, verbose, only_field);
   }
   return 0;
 }

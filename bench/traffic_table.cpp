@@ -101,7 +101,10 @@ void printRow(const std::string& circuit, const std::string& kind, const Totals&
 
 int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, const std::string& vehicle_config_dir,
                       int seeds, int laps, const planning::OvertakeOptions& overtake, const std::string& only_map,
-                      bool verbose) {
+                      bool verbose, const std::string& only_field) {
+  if (!only_field.empty() && only_field != "pace_car" && only_field != "reverse_grid" && only_field != "five_percent") {
+    throw std::invalid_argument("--field=" + only_field + ": expected pace_car, reverse_grid or five_percent");
+  }
   const auto vehicle = sim::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
   std::printf(
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
@@ -124,6 +127,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     solo.laps = 2;
     const auto alone = stack::runRace(track, vehicle, {{"alone", 0}}, solo).car("alone");
     for (auto make : {paceCarField, reverseGridField, twoCarField}) {
+      std::mt19937 probe(0);
+      if (!only_field.empty() && make(probe).kind != only_field) continue;
       Totals t;
       std::string kind;
       for (int seed = 0; seed < seeds; ++seed) {

@@ -72,8 +72,8 @@ double interpolateWrapped(const std::vector<double>& xs, const std::vector<doubl
 double OvertakePlanner::roomLeft(double s) const { return interpolateWrapped(room_s_, room_left_, line_.length, s); }
 double OvertakePlanner::roomRight(double s) const { return interpolateWrapped(room_s_, room_right_, line_.length, s); }
 
-Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to,
-                                    double back_s) const {
+Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
+                                    double drag_share) const {
   Trajectory out = window;
   // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
@@ -113,9 +113,11 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   profile_options.start_speed = -1.0;
   // Off the racing line the car is moving sideways as well: it is planned there with a share of the grip
   // (the whole grip back where the path is on the line again: a pass's window after it).
-  VehicleLimits offline = limits_;
+  VehicleLimits limits = limits_;
+  limits.drag_coefficient *= drag_share;
+  VehicleLimits offline = limits;
   offline.friction *= options_.offline_grip;
-  const SpeedProfile on_grip = computeSpeedProfile(step, curvature, limits_, false, profile_options);
+  const SpeedProfile on_grip = computeSpeedProfile(step, curvature, limits, false, profile_options);
   const SpeedProfile off_grip = computeSpeedProfile(step, curvature, offline, false, profile_options);
   for (std::size_t k = 0; k < n; ++k) {
     pts[k].curvature = curvature[k];
@@ -133,6 +135,22 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     if (mean > 1e-6) out.lap_time += step[k] / mean;
   }
   pts.back().acceleration = 0.0;
+  return out;
+}
+
+Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) const {
+  Trajectory out = window;
+  auto& pts = out.points;
+  const std::size_t n = pts.size();
+  if (n < 3 || drag_share >= 1.0) return out;
+  std::vector<double> step(n, 1.0), curvature(n, 0.0), speed(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k + 1 < n) step[k] = std::max(1e-3, pts[k + 1].s - pts[k].s);
+    curvature[k] = pts[k].curvature;
+    speed[k] = pts[k].speed;
+  }
+  const std::vector<double> faster = towedSpeeds(step, curvature, speed, limits_, drag_share);
+  for (std::size_t k = 0; k < n; ++k) pts[k].speed = faster[k];
   return out;
 }
 
@@ -294,6 +312,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   std::vector<Prediction> predicted;
   for (const auto& o : others) predicted.push_back(predict(o, s));
   const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
+  // In the leader's slipstream a pass is planned with the speed the tow gives (and carries out of it).
+  const double tow = leader ? sim::slipstreamReduction(leader_gap - options_.car_length, lateral - leader->lateral,
+                                                       leader->speed, options_.car_width, options_.slipstream)
+                            : 0.0;
+  const Trajectory towed_base = tow > 0.01 ? towed(base, 1.0 - tow) : Trajectory{};
   RaceDecision& memory = decisions_[car];
   Abort& abort = aborts_[car];
   if (abort.plans_left > 0) --abort.plans_left;
@@ -320,11 +343,15 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     return d;
   };
   auto consider = [&](const RaceDecision& d) {
-    Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
+    const bool slingshot = d.mode == RaceMode::kPass && tow > 0.01;
+    const Trajectory& from = slingshot ? towed_base : base;
+    const double drag_share = slingshot ? 1.0 - tow : 1.0;
+    Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, std::numeric_limits<double>::infinity(), drag_share), d,
+                true};
     if (d.mode == RaceMode::kPass && leader) {
       // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
       const double back_s = passCompleteAt(c.window, s, speed, leader_prediction);
-      if (std::isfinite(back_s)) c.window = shifted(base, d.ramp_s, d.ramp_from, d.offset, back_s);
+      if (std::isfinite(back_s)) c.window = shifted(from, d.ramp_s, d.ramp_from, d.offset, back_s, drag_share);
     }
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
     const bool under_way = memory.mode == d.mode && memory.side == d.side && memory.other == d.other;

@@ -91,4 +91,20 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   return profile;
 }
 
+std::vector<double> towedSpeeds(const std::vector<double>& step, const std::vector<double>& curvature,
+                                const std::vector<double>& speed, const VehicleLimits& limits, double drag_share) {
+  std::vector<double> out = speed;
+  if (!(drag_share < 1.0) || speed.size() < 2) return out;
+  VehicleLimits tow = limits;
+  tow.drag_coefficient *= std::max(0.0, drag_share);
+  SpeedProfileOptions start;
+  start.start_speed = speed.front();
+  const SpeedProfile free_air = computeSpeedProfile(step, curvature, limits, false, start);
+  const SpeedProfile in_tow = computeSpeedProfile(step, curvature, tow, false, start);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    if (free_air.speed[k] > 1.0) out[k] *= std::max(1.0, in_tow.speed[k] / free_air.speed[k]);
+  }
+  return out;
+}
+
 }  // namespace roar::planning

@@ -14,7 +14,13 @@ namespace {
 std::vector<VehicleSpawn> readVehicles(const ros::NodeHandle& nh, const std::string& default_model,
                                        const std::string& default_sensor_set, const std::string& rl_dir) {
   XmlRpc::XmlRpcValue list;
-  if (!nh.getParam("vehicles", list)) return {{"ego", default_model, 0, default_sensor_set}};
+  if (!nh.getParam("vehicles", list)) {
+    VehicleSpawn ego;
+    ego.name = "ego";
+    ego.model = default_model;
+    ego.sensor_set = default_sensor_set;
+    return {ego};
+  }
   const std::string where = nh.resolveName("vehicles");
   if (list.getType() != XmlRpc::XmlRpcValue::TypeArray) {
     throw ParamError("parameter " + where + " must be a list of {name, model, spawn_point}");
@@ -88,6 +94,11 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.world.control_dt = readDouble(nh, "control_dt", o.world.control_dt, 1e-4, 1.0);
   o.world.physics_dt = readDouble(nh, "physics_dt", o.world.physics_dt, 1e-4, 0.05);
   o.world.control_timeout = readDouble(nh, "control_timeout", o.world.control_timeout, 0.0, 1e6);
+  // The wake model (sim/slipstream.h): ~slipstream false for free air behind every car.
+  auto& wake = o.world.slipstream;
+  wake.enabled = readBool(nh, "slipstream", wake.enabled);
+  wake.max_reduction = readDouble(nh, "slipstream_max_reduction", wake.max_reduction, 0.0, 0.9);
+  wake.decay_length = readDouble(nh, "slipstream_decay_length", wake.decay_length, 0.1, 1000.0);
   const std::string mode = readChoice(nh, "mode", "async", {"async", "step", "lockstep"});
   o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
   o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);

@@ -195,7 +195,7 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   const btMatrix3x3& basis = body_->getCenterOfMassTransform().getBasis();
   const btVector3 v = body_->getLinearVelocity();
   const auto& aero = params_.aero;
-  body_->applyCentralForce(-0.5 * aero.air_density * aero.drag_area * v.length() * v);
+  body_->applyCentralForce(-0.5 * aero.air_density * aero.drag_area * drag_share_ * v.length() * v);
   const double forward = v.dot(basis.getColumn(0));
   const double downforce = 0.5 * aero.air_density * aero.downforce_area * forward * forward;
   const btVector3 down = -basis.getColumn(2);
@@ -385,6 +385,7 @@ VehicleState VehicleDynamics::state() const {
     s.on_track = s.on_track && wheels_[i].state.on_road;
   }
   s.applied_control = control_;
+  s.drag_share = drag_share_;
   return s;
 }
 

@@ -31,6 +31,7 @@ class VehicleDynamics {
   btRigidBody* body() { return body_.get(); }
 
   void setControl(const VehicleControl& control) { control_ = control; }
+  void setDragShare(double share) { drag_share_ = share; }
   // Suspension, tyre, drivetrain and aero forces for one substep, to be integrated by Bullet next.
   void applyForces(double dt, const SurfaceFriction& friction);
   void beginSubstep();  // remembers the velocity for the substep's acceleration
@@ -77,7 +78,8 @@ class VehicleDynamics {
   std::array<Wheel, 4> wheels_;
   std::array<double, 4> anti_roll_load_{0.0, 0.0, 0.0, 0.0};  // N added to each wheel's spring
   VehicleControl control_ = parkedControl();
-  double steering_ = 0.0;  // rad, commanded road-wheel angle after the rate limit
+  double drag_share_ = 1.0;  // of the free-air drag: below 1 in another car's slipstream
+  double steering_ = 0.0;    // rad, commanded road-wheel angle after the rate limit
   btVector3 substep_start_velocity_{0, 0, 0};
   btVector3 last_acceleration_{0, 0, 0};
 };

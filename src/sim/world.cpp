@@ -89,6 +89,20 @@ struct World::Impl {
     dynamics->addRigidBody(sb.body.get());
   }
 
+  // Each car's drag share for this tick, from where the cars are and go at its start.
+  void updateSlipstream() {
+    std::vector<WakeCar> cars;
+    cars.reserve(vehicles.size());
+    for (auto& [name, slot] : vehicles) {
+      const VehicleState s = slot.dynamics->state();
+      const auto& box = slot.dynamics->params().chassis.box_size;
+      cars.push_back({s.pose.position.head<2>(), s.linear_velocity.head<2>(), box.x(), box.y()});
+    }
+    const std::vector<double> shares = dragShares(cars, options.slipstream);
+    std::size_t k = 0;
+    for (auto& [name, slot] : vehicles) slot.dynamics->setDragShare(shares[k++]);
+  }
+
   std::string nameOf(const btCollisionObject* object) const {
     const int id = object->getUserIndex();
     if (id == kBarrier) return "barrier";
@@ -219,6 +233,7 @@ World::World(const track::Track& track, const WorldOptions& options, const World
   auto& w = *impl_;
   w.substeps = substepsOf(options.control_dt, options.physics_dt);
   if (options.control_timeout < 0) throw std::invalid_argument("control_timeout must not be negative");
+  validate(options.slipstream, "slipstream: ");
   if (!std::isfinite(start.time) || start.time < 0)
     throw std::invalid_argument("the start time must be finite and >= 0");
   w.tick = w.base_tick = start.tick;
@@ -322,6 +337,7 @@ void World::step(const std::function<void(double)>& after_substep) {
     }
     slot.tick_contacts.clear();
   }
+  w.updateSlipstream();
   for (int k = 0; k < w.substeps; ++k) {
     for (auto& [name, slot] : w.vehicles) {
       slot.dynamics->beginSubstep();

@@ -116,7 +116,9 @@ TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   // A fresh planner seeing the car already moving across passes it on the other side, if at all.
   planning::OvertakePlanner fresh(f.track, f.line, f.limits, {});
   fresh.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
-  if (fresh.decision("ego").mode == RaceMode::kPass) EXPECT_EQ(fresh.decision("ego").side, -pass.side);
+  if (fresh.decision("ego").mode == RaceMode::kPass) {
+    EXPECT_EQ(fresh.decision("ego").side, -pass.side);
+  }
 }
 
 TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {

@@ -99,6 +99,23 @@ TEST(SpeedProfile, BrakesForAHairpinAtTheEndOfAStraight) {
   EXPECT_GT(p.speed[240], corner + 10.0);
 }
 
+TEST(SpeedProfile, ATowRaisesTheSpeedsTheEngineSetsAndNoOther) {
+  // Out of a 20 m corner onto a 700 m straight into a 15 m hairpin.
+  std::vector<double> step(451, 2.0), kappa(451, 0.0);
+  for (std::size_t i = 0; i < 20; ++i) kappa[i] = 1.0 / 20.0;
+  for (std::size_t i = 420; i < kappa.size(); ++i) kappa[i] = 1.0 / 15.0;
+  const auto limits = sedanLimits();
+  const auto free_air = planning::computeSpeedProfile(step, kappa, limits, false);
+  const auto same = planning::towedSpeeds(step, kappa, free_air.speed, limits, 1.0);
+  EXPECT_EQ(same, free_air.speed) << "no tow, no change";
+  const auto towed = planning::towedSpeeds(step, kappa, free_air.speed, limits, 0.7);
+  for (std::size_t k = 0; k < towed.size(); ++k) EXPECT_GE(towed[k], free_air.speed[k]) << "point " << k;
+  EXPECT_EQ(towed[10], free_air.speed[10]) << "the corner's speed is the grip's";
+  EXPECT_EQ(towed.back(), free_air.speed.back()) << "so is the hairpin's";
+  // Half way down the straight the engine, pulling against less drag, has made more speed.
+  EXPECT_GT(towed[200], free_air.speed[200] + 0.5);
+}
+
 // The planner's model of the car and the simulated car agree: full throttle from rest on a straight.
 TEST(SpeedProfile, MatchesTheSimulatedCarAcceleratingOnAStraight) {
   const auto car = test::sedan();

@@ -208,3 +208,35 @@ TEST(World, BarrierAndCarContactsAreReportedWithTheOtherBody) {
   }
   EXPECT_TRUE(touched);
 }
+
+TEST(World, ACarInAnotherCarsSlipstreamMeetsLessDrag) {
+  // Two cars coasting north at 35 m/s, one 8 m behind the other, and the same pair without the wake model:
+  // the car behind keeps more of its speed in the tow; the one ahead loses as much as a car alone.
+  auto coast = [](bool slipstream) {
+    const auto track = test::openGround();
+    sim::WorldOptions o;
+    o.control_timeout = 0.0;
+    o.slipstream.enabled = slipstream;
+    World world(track, o);
+    world.spawnVehicle("ahead", test::sedan(), at(0, 8, M_PI / 2));
+    world.spawnVehicle("behind", test::sedan(), at(0, 0, M_PI / 2));
+    for (int i = 0; i < 20; ++i) world.step();
+    sim::VehicleControl neutral;
+    for (const char* car : {"ahead", "behind"}) {
+      world.setControl(car, neutral);
+      world.setVehicleVelocity(car, {0, 35, 0}, {0, 0, 0});
+    }
+    world.step();
+    const double share = world.vehicleState("behind").drag_share;
+    for (int i = 0; i < 80; ++i) world.step();
+    return std::array<double, 3>{world.vehicleState("ahead").forward_speed, world.vehicleState("behind").forward_speed,
+                                 share};
+  };
+  const auto towed = coast(true), free_air = coast(false);
+  EXPECT_LT(towed[2], 0.85) << "8 m centre to centre: a strong tow";
+  EXPECT_EQ(free_air[2], 1.0);
+  EXPECT_NEAR(towed[0], free_air[0], 1e-9) << "the car ahead feels nothing";
+  EXPECT_NEAR(free_air[1], free_air[0], 0.05) << "without the wake both slow alike";
+  // 4 s of coasting from 35 m/s loses about 3.6 m/s in free air, drag most of it.
+  EXPECT_GT(towed[1], towed[0] + 0.2) << "the towed car keeps more of its speed";
+}

@@ -16,6 +16,7 @@
 
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
+#include "roar/sim/slipstream.h"
 #include "roar/track/track.h"
 
 namespace roar::planning {
@@ -82,6 +83,9 @@ struct OvertakeOptions {
   double defend_time = 1.0;    // s at speed behind within which a car is defended against
   double defend_shift = 1.85;  // m at most the defensive move goes across (a car's width)
   double defend_hold = 4.0;    // s at most a defensive move is held before the car goes back to its line
+  // The wake model the simulator applies (sim/slipstream.h): a car close behind the car it would pass
+  // plans the pass with the speed the tow gives it on the straight, and pulls out with it (the slingshot).
+  sim::SlipstreamOptions slipstream;
 };
 
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield, kDefend };
@@ -126,8 +130,12 @@ class OvertakePlanner {
   // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
   // back_s: where (window s) the move is undone again, back onto the racing line (infinite: never).
+  // drag_share: of the free-air drag the speeds are planned with (below 1: in a car's slipstream).
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
-                     double back_s = std::numeric_limits<double>::infinity()) const;
+                     double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0) const;
+  // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them: higher where the
+  // engine, not the grip, sets them. Never lower (braking points are the free-air ones).
+  Trajectory towed(const Trajectory& window, double drag_share) const;
   // Another car's predicted motion over the horizon: metres ahead of the planning car's s every
   // kPredictionStep seconds. It keeps the share of the racing line's speed it has now (a slow car stays
   // slow, one braking for a corner speeds up out of it) and its lateral place.

@@ -30,4 +30,10 @@ double decelerationAt(const VehicleLimits& limits, double v, double kappa);
 SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,
                                  const VehicleLimits& limits, bool closed, const SpeedProfileOptions& options = {});
 
+// Speeds planned for free air along an open path (`speed`, from computeSpeedProfile or a window of one),
+// as a car meeting drag_share of its drag can drive them (in another car's slipstream): raised where the
+// engine, not the grip, sets them; never lowered (the braking points stay the free-air ones).
+std::vector<double> towedSpeeds(const std::vector<double>& step, const std::vector<double>& curvature,
+                                const std::vector<double>& speed, const VehicleLimits& limits, double drag_share);
+
 }  // namespace roar::planning

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "roar/sim/slipstream.h"
 #include "roar/sim/vehicle_control.h"
 #include "roar/sim/vehicle_params.h"
 #include "roar/track/track.h"
@@ -22,6 +23,7 @@ struct WorldOptions {
   double physics_dt = 0.005;     // s, Bullet substep; control_dt must be a whole multiple of it
   double gravity = 9.81;         // m/s^2
   double control_timeout = 0.5;  // s of simulated time without a new control before the car brakes (0: never)
+  SlipstreamOptions slipstream;  // less drag in another car's wake, from the cars' places at each tick's start
 };
 
 struct Pose {
@@ -54,7 +56,8 @@ struct VehicleState {
   double engine_rpm = 0.0;
   double steering_angle = 0.0;  // rad, mean of the front wheels
   std::array<WheelState, 4> wheels;
-  bool on_track = false;  // every wheel on the road surface
+  bool on_track = false;    // every wheel on the road surface
+  double drag_share = 1.0;  // of the free-air drag, this tick (below 1 in another car's slipstream)
   VehicleControl applied_control;
 };
 
