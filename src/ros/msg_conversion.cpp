@@ -110,6 +110,7 @@ roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time
   msg.steering_angle = state.steering_angle;
   for (int i = 0; i < 4; ++i) msg.wheel_speeds[i] = state.wheels[i].angular_velocity;
   msg.on_track = state.on_track;
+  msg.drag_share = state.drag_share;
   msg.applied_control = toMessage(state.applied_control);
   msg.applied_control.header.stamp = stamp;
   return msg;

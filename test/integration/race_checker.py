@@ -12,11 +12,12 @@ import rosnode
 import rospy
 import rostest
 import yaml
-from roar_ros.msg import RaceStatus
+from roar_ros.msg import RaceStatus, VehicleStatus
 from rosgraph_msgs.msg import Clock, Log
 
 STATUS = []
 LOGGED = []
+LEAST_DRAG = {}  # car: the smallest drag_share its vehicle_status reported
 
 
 def this_runs_results(path, run_id):
@@ -123,10 +124,20 @@ class RaceResults(unittest.TestCase):
         # Lines the nodes must have logged on the way (~logged: substrings of /rosout messages).
         for expected in rospy.get_param("~logged", []):
             self.assertTrue(any(expected in line for line in LOGGED), "nothing on /rosout says '%s'" % expected)
+        # Cars that must have driven in another's slipstream (~towed): roar_sim's drag_share below 0.9.
+        for car in rospy.get_param("~towed", []):
+            self.assertLess(LEAST_DRAG.get(car, 1.0), 0.9, "%s never drove in a slipstream" % car)
 
 
 if __name__ == "__main__":
     rospy.init_node("race_checker", anonymous=True)
     rospy.Subscriber("/race_status", RaceStatus, STATUS.append)
     rospy.Subscriber("/rosout", Log, lambda m: LOGGED.append(m.msg), queue_size=1000)
+    for towed in rospy.get_param("~towed", []):
+        rospy.Subscriber(
+            "/%s/vehicle_status" % towed,
+            VehicleStatus,
+            lambda m, car=towed: LEAST_DRAG.__setitem__(car, min(LEAST_DRAG.get(car, 1.0), m.drag_share)),
+            queue_size=100,
+        )
     rostest.rosrun("roar_ros", "race_results", RaceResults, sys.argv)

@@ -113,6 +113,32 @@ TEST(MsgConversion, OdometryGivesBackPoseAndVelocities) {
   EXPECT_EQ(back.forward_speed, 5.0);
 }
 
+TEST(MsgConversion, StatusCarriesTheDrivetrainAndTheSlipstream) {
+  sim::VehicleState state;
+  state.speed = 31.5;
+  state.forward_speed = 31.0;
+  state.gear = 4;
+  state.engine_rpm = 5200.0;
+  state.steering_angle = -0.1;
+  for (int i = 0; i < 4; ++i) state.wheels[i].angular_velocity = 90.0 + i;
+  state.on_track = true;
+  state.drag_share = 0.73;
+  state.applied_control.throttle = 0.6;
+  const auto msg = ros_bridge::toStatus(state, ros::Time(12, 500000000), "ego/base_link");
+  EXPECT_EQ(msg.header.frame_id, "ego/base_link");
+  EXPECT_EQ(msg.header.stamp, ros::Time(12, 500000000));
+  EXPECT_EQ(msg.speed, 31.5);
+  EXPECT_EQ(msg.forward_speed, 31.0);
+  EXPECT_EQ(msg.gear, 4);
+  EXPECT_EQ(msg.engine_rpm, 5200.0);
+  EXPECT_EQ(msg.steering_angle, -0.1);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(msg.wheel_speeds[i], 90.0 + i);
+  EXPECT_TRUE(msg.on_track);
+  EXPECT_EQ(msg.drag_share, 0.73) << "the tow the car is in";
+  EXPECT_NEAR(ros_bridge::fromMessage(msg.applied_control).throttle, 0.6, 1e-6);
+  EXPECT_EQ(msg.applied_control.header.stamp, msg.header.stamp);
+}
+
 TEST(MsgConversion, TimeIsExactForControlTicks) {
   // 0.05 s ticks: tick 7 and 7 * 0.05 agree to the nanosecond.
   EXPECT_EQ(ros_bridge::toRosTime(7 * 0.05).toNSec(), 350000000u);
