@@ -91,6 +91,10 @@ struct World::Impl {
 
   // Each car's drag share for this tick, from where the cars are and go at its start.
   void updateSlipstream() {
+    if (vehicles.size() < 2) {  // a car alone is in free air (the RL environment's every tick)
+      for (auto& [name, slot] : vehicles) slot.dynamics->setDragShare(1.0);
+      return;
+    }
     std::vector<WakeCar> cars;
     cars.reserve(vehicles.size());
     for (auto& [name, slot] : vehicles) {
