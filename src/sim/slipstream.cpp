@@ -9,21 +9,21 @@ namespace roar::sim {
 
 namespace {
 
-void inRange(double value, double low, double high, const std::string& prefix, const char* field) {
-  if (!(value >= low && value <= high)) {
+void inRange(double value, SlipstreamRange range, const std::string& prefix, const char* field) {
+  if (!(value >= range.low && value <= range.high)) {
     throw std::invalid_argument(prefix + field + " is " + std::to_string(value) + ": it must be in [" +
-                                std::to_string(low) + ", " + std::to_string(high) + "]");
+                                std::to_string(range.low) + ", " + std::to_string(range.high) + "]");
   }
 }
 
 }  // namespace
 
 void validate(const SlipstreamOptions& o, const std::string& prefix) {
-  inRange(o.max_reduction, 0.0, 0.9, prefix, "max_reduction");
-  inRange(o.decay_length, 0.1, 1000.0, prefix, "decay_length");
-  inRange(o.spread_growth, 0.0, 10.0, prefix, "spread_growth");
-  inRange(o.max_gap, 0.0, 1000.0, prefix, "max_gap");
-  inRange(o.min_speed, 0.0, 1000.0, prefix, "min_speed");
+  inRange(o.max_reduction, kMaxReductionRange, prefix, "max_reduction");
+  inRange(o.decay_length, kDecayLengthRange, prefix, "decay_length");
+  inRange(o.spread_growth, kSpreadGrowthRange, prefix, "spread_growth");
+  inRange(o.max_gap, kMaxGapRange, prefix, "max_gap");
+  inRange(o.min_speed, kMinSpeedRange, prefix, "min_speed");
 }
 
 double slipstreamReduction(double gap, double offset, double speed, double width, const SlipstreamOptions& o) {

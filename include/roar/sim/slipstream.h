@@ -23,6 +23,16 @@ struct SlipstreamOptions {
   double min_speed = 10.0;      // m/s the car ahead must do to leave a wake worth having
 };
 
+// The range of each field that validate() holds the options to (and roar_sim reads its parameters within).
+struct SlipstreamRange {
+  double low, high;
+};
+inline constexpr SlipstreamRange kMaxReductionRange{0.0, 0.9};
+inline constexpr SlipstreamRange kDecayLengthRange{0.1, 1000.0};
+inline constexpr SlipstreamRange kSpreadGrowthRange{0.0, 10.0};
+inline constexpr SlipstreamRange kMaxGapRange{0.0, 1000.0};
+inline constexpr SlipstreamRange kMinSpeedRange{0.0, 1000.0};
+
 // Throws std::invalid_argument naming the first field out of range (prefix: where the options came from).
 void validate(const SlipstreamOptions& options, const std::string& prefix);
 
