@@ -22,6 +22,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/wall_throttle.h"
 #include "roar/sim/vehicle_config.h"
@@ -92,7 +93,7 @@ class Driver {
         // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
         tracker_(stack::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)),
         pairing_(window_wait) {
-    control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", 10);
+    control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", ros_bridge::kPerTickQueue);
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,
                                    ros::TransportHints().tcpNoDelay());
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(

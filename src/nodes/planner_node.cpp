@@ -16,6 +16,7 @@
 #include "roar/ros/frames.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/sim/vehicle_config.h"
 
@@ -79,8 +80,8 @@ class PlannerNode {
     waypoints_sub_ = nh.subscribe("waypoints", 1, &PlannerNode::onWaypoints, this);
     for (const auto& name : options_.vehicles) {
       Car& car = cars_[name];
-      car.window_pub = nh.advertise<roar_ros::Trajectory>(name + "/local_trajectory", 10);
-      car.path_pub = nh.advertise<nav_msgs::Path>(name + "/local_path", 10);
+      car.window_pub = nh.advertise<roar_ros::Trajectory>(name + "/local_trajectory", ros_bridge::kPerTickQueue);
+      car.path_pub = nh.advertise<nav_msgs::Path>(name + "/local_path", ros_bridge::kPerTickQueue);
       car.odom_sub = nh.subscribe<nav_msgs::Odometry>(
           name + "/odom", 10, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, m); },
           ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());

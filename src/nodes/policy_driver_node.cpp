@@ -14,6 +14,7 @@
 #include "roar/rl/track_progress.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
@@ -57,7 +58,7 @@ class PolicyDriver {
   PolicyDriver(ros::NodeHandle& nh, const PolicyDriverOptions& options)
       // The topics first, before the policy and map load: lockstep waits for connected drivers only, and
       // odometry that arrives meanwhile waits in the queue (callbacks run only in ros::spin, after this).
-      : control_(nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", 10)),
+      : control_(nh.advertise<roar_ros::VehicleControl>(options.vehicle + "/control", ros_bridge::kPerTickQueue)),
         odom_(nh.subscribe<nav_msgs::Odometry>(
             options.vehicle + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m); },
             ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay())),
