@@ -198,9 +198,10 @@ std::optional<Incident> RaceControl::updateContact(const std::string& name, doub
   const CarRecord& o = them->second;
   ContactFaultOptions options;
   options.car_length = rules_.car_length;
-  const ContactFault fault =
-      attributeContact({name, car.position, car.yaw, car.velocity}, {other, o.position, o.yaw, o.velocity},
-                       track_.project(car.position).heading, options);
+  const ContactFault fault = attributeContact(
+      {name, car.position, car.yaw, car.velocity}, {other, o.position, o.yaw, o.velocity},
+      // Where the car is on its lap: under a bridge, its own road's heading.
+      track_.projectNear(car.position, car.timer.progress() + track_.info().start_finish_s, 100.0).heading, options);
   const bool mine = fault.at_fault == name;
   Incident incident = makeIncident(car, time, "car " + other, mine ? rules_.collision : IncidentRule::kPenalty,
                                    mine ? rules_.collision_penalty : 0.0);

@@ -9,7 +9,7 @@ VehicleControl safeStopControl(const track::Track& track, const VehicleState& st
                                const SafeStopOptions& options) {
   if (std::abs(state.forward_speed) < options.stopped_speed) return parkedControl();
   const Eigen::Vector2d position = state.pose.position.head<2>();
-  const track::Projection here = track.project(position);
+  const track::Projection here = track.projectAtHeight(state.pose.position);  // under a bridge, its own road
   const double lookahead = std::max(options.min_lookahead, options.lookahead_time * std::abs(state.forward_speed));
   const track::TrackPose ahead = track.poseAt(here.s + lookahead);
   // The car's lateral place, kept inside the edges (the middle of a road too narrow for the clearance).

@@ -1,11 +1,13 @@
 // track_tool: what ROAR_PY users do in notebooks, from the command line: import, export, resample,
 // spawn points, build, check and preview circuits.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "roar/track/bridges.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/track_preview.h"
@@ -27,6 +29,7 @@ int usage() {
          "  spawn MAP_FOLDER N OUT.npz                N spawn points evenly round the lap, as a ROAR_PY spawn file\n"
          "  build CONTROL_POINTS.csv MAP_FOLDER [--spacing M]\n"
          "      smooth closed circuit through control points (x_m,y_m,width_m)\n"
+         "      (import and build raise one branch onto a bridge where the course crosses itself)\n"
          "  check MAP_FOLDER                          validates; prints length, widths, the tightest corner\n"
          "  preview MAP_FOLDER OUT.png                top-down picture with start/finish and sector lines\n";
   return 2;
@@ -58,9 +61,13 @@ int check(const std::string& folder) {
     min_width = std::min(min_width, w);
     max_width = std::max(max_width, w);
   }
+  const auto deck = bridgeDeckPoints(track);
+  const auto bridge_points = std::count(deck.begin(), deck.end(), true);
   std::cout << track.info().name << ": " << track.size() << " points, length " << track.length() << " m, width "
             << min_width << ".." << max_width << " m, tightest corner radius " << min_radius
-            << " m at s = " << track.s(tightest) << " m; closes, no crossing edges\n";
+            << " m at s = " << track.s(tightest) << " m; closes, no crossing edges"
+            << (bridge_points ? " but over bridges (" + std::to_string(bridge_points) + " points on a deck)" : "")
+            << "\n";
   return 0;
 }
 
@@ -79,6 +86,24 @@ std::vector<CentreLinePoint> importPoints(const std::string& source, double widt
   const auto commas = std::count(line.begin(), line.end(), ',');
   if (commas >= 3) return readCentreLineCsv(source).points;
   return readPointList(source, width);
+}
+
+// A circuit that crosses itself goes over itself on a bridge: the branch raised, said what was done.
+std::vector<CentreLinePoint> withBridges(const std::vector<CentreLinePoint>& points, const std::string& source,
+                                         const TrackInfo& info) {
+  std::vector<RaisedBridge> raised;
+  std::vector<CentreLinePoint> out;
+  try {
+    out = raiseBridges(points, info.barrier_offset, &raised);
+  } catch (const std::invalid_argument& e) {
+    throw MapError(source + ": " + e.what());
+  }
+  for (const auto& b : raised) {
+    std::cout << source << ": the course crosses itself at (" << b.x << ", " << b.y
+              << "): raised the branch at s = " << b.s << " m by " << b.rise << " m onto a bridge (deck " << b.span
+              << " m, ramps " << b.ramp << " m each side)\n";
+  }
+  return out;
 }
 
 }  // namespace
@@ -119,6 +144,7 @@ int main(int argc, char** argv) {
       }
       const std::string spacing = option(argc, argv, "--spacing", "");
       if (!spacing.empty()) points = resampleClosed(points, std::stod(spacing));
+      points = withBridges(points, argv[2], info);
       writeMapFolder(folder, points, info);
       return check(folder);
     }
@@ -150,10 +176,12 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (cmd == "build" && argc >= 4) {
-      const auto points = buildCircuit(readControlPoints(argv[2]), std::stod(option(argc, argv, "--spacing", "2")));
       const std::string folder = argv[3];
       TrackInfo info;
+      info.name = fs::path(folder).filename().string();
       if (fs::exists(fs::path(folder) / "track.yaml")) info = readTrackYaml(folder + "/track.yaml");
+      const auto points = withBridges(
+          buildCircuit(readControlPoints(argv[2]), std::stod(option(argc, argv, "--spacing", "2"))), argv[2], info);
       writeMapFolder(folder, points, info);
       return check(folder);
     }

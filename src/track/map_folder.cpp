@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include "roar/track/bridges.h"
 #include "roar/track/segment_intersection.h"
 
 namespace roar::track {
@@ -170,11 +172,19 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
   } pairs[] = {{&left, &left, "the left edge crosses itself"},
                {&right, &right, "the right edge crosses itself"},
                {&left, &right, "the left edge crosses the right edge"}};
+  // Where the circuit crosses itself, one branch passes over the other on a bridge (bridges.h).
+  auto apart = [&](std::size_t i, std::size_t j) { return std::abs(track.point(i).z - track.point(j).z); };
+  auto bridged = [&](std::size_t i, std::size_t j) { return apart(i, j) >= kBridgeClearance; };
   for (const auto& pair : pairs) {
-    if (auto hit = findClosedPolylineCrossing(*pair.a, *pair.b)) {
+    if (auto hit = findClosedPolylineCrossing(*pair.a, *pair.b, bridged)) {
+      char heights[200];
+      std::snprintf(heights, sizeof heights,
+                    "; where a circuit crosses itself one branch must pass %.1f m over the other (track_tool import "
+                    "and build raise it), and these are %.2f m apart in height",
+                    kBridgeClearance, apart(hit->first, hit->second));
       throw MapError(path + ":" + (lines.empty() ? "" : std::to_string(lines[hit->first]) + ":") + " " + pair.what +
                      " between " + where(hit->first) + " and " + where(hit->second) +
-                     " (a corner too tight for the width, or the centre line crosses itself)");
+                     " (a corner too tight for the width, or the centre line crosses itself" + heights + ")");
     }
   }
 }

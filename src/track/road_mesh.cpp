@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "roar/track/bridges.h"
+
 namespace roar::track {
 
 TriangleMesh roadSurfaceMesh(const Track& track, double z) {
@@ -26,13 +28,15 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z) {
 namespace {
 
 // Adds a closed wall along a loop of base points, standing `height` above the road edge's height at each
-// point and reaching below it, so that it meets the ground on an elevated or banked track too.
+// point and reaching below it, so that it meets the ground on an elevated or banked track too; on a
+// bridge's deck it reaches only the deck's depth down, leaving the road below clear.
 void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, const std::vector<Eigen::Vector2d>& outer,
-             const std::vector<double>& edge_z, double height) {
+             const std::vector<double>& edge_z, const std::vector<bool>& deck, double height) {
   const int n = static_cast<int>(inner.size());
   const int base = static_cast<int>(mesh->vertices.size());
   for (int i = 0; i < n; ++i) {
-    const double bottom = std::min(0.0, edge_z[i]) - 0.5, top = edge_z[i] + height;
+    const double bottom = deck[i] ? edge_z[i] - kDeckDepth : std::min(0.0, edge_z[i]) - 0.5;
+    const double top = edge_z[i] + height;
     mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), bottom);
     mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), top);
     mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), top);
@@ -66,9 +70,11 @@ void unfold(const Track& track, std::vector<Eigen::Vector2d>* line) {
 TriangleMesh barrierMesh(const Track& track, double thickness) {
   TriangleMesh mesh;
   const std::size_t n = track.size();
-  const double offset = track.info().barrier_offset;
+  const std::vector<bool> deck = bridgeDeckPoints(track);
   std::vector<Eigen::Vector2d> left_in(n), left_out(n), right_in(n), right_out(n);
   for (std::size_t i = 0; i < n; ++i) {
+    // A bridge has no run-off: its parapet stands at the road's edge.
+    const double offset = deck[i] ? kParapetOffset : track.info().barrier_offset;
     left_in[i] = track.leftEdge(i, offset);
     left_out[i] = track.leftEdge(i, offset + thickness);
     right_in[i] = track.rightEdge(i, offset);
@@ -80,8 +86,8 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
     left_z[i] = track.surfaceHeight(i, track.point(i).width_left);
     right_z[i] = track.surfaceHeight(i, -track.point(i).width_right);
   }
-  addWall(&mesh, left_in, left_out, left_z, track.info().barrier_height);
-  addWall(&mesh, right_in, right_out, right_z, track.info().barrier_height);
+  addWall(&mesh, left_in, left_out, left_z, deck, track.info().barrier_height);
+  addWall(&mesh, right_in, right_out, right_z, deck, track.info().barrier_height);
   return mesh;
 }
 

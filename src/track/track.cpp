@@ -163,6 +163,22 @@ Projection Track::project(const Eigen::Vector2d& p) const {
   return best;
 }
 
+Projection Track::projectAtHeight(const Eigen::Vector3d& p) const {
+  Projection best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < size(); ++i) {
+    double d2;
+    Projection pr = projectOnSegment(p.head<2>(), i, &d2);
+    const double dz = p.z() - surfaceHeightAt(pr.s, pr.lateral);
+    d2 += dz * dz;
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = pr;
+    }
+  }
+  return best;
+}
+
 Projection Track::projectNear(const Eigen::Vector2d& p, double near_s, double window) const {
   if (window * 2 >= length_) return project(p);
   Projection best;

@@ -6,6 +6,8 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "roar/track/bridges.h"
+
 namespace roar::track {
 
 namespace {
@@ -52,6 +54,22 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   cv::polylines(image, barrier_r, true, cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
   cv::polylines(image, polygon([&](std::size_t i) { return track.position(i); }), true, cv::Scalar(200, 200, 200), 1,
                 cv::LINE_AA);
+  // A bridge's deck over the road below it, its parapets at the road's edge.
+  const std::vector<bool> deck = bridgeDeckPoints(track);
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    const std::size_t j = (i + 1) % track.size();
+    if (!deck[i] || !deck[j]) continue;
+    std::vector<cv::Point> quad = {px(track.leftEdge(i, kParapetOffset)), px(track.leftEdge(j, kParapetOffset)),
+                                   px(track.rightEdge(j, kParapetOffset)), px(track.rightEdge(i, kParapetOffset))};
+    cv::fillConvexPoly(image, quad, cv::Scalar(95, 95, 95), cv::LINE_AA);
+    for (double side : {+1.0, -1.0}) {
+      auto edge = [&](std::size_t k) {
+        return side > 0 ? track.leftEdge(k, kParapetOffset) : track.rightEdge(k, kParapetOffset);
+      };
+      cv::line(image, px(edge(i)), px(edge(j)), cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
+    }
+    cv::line(image, px(track.position(i)), px(track.position(j)), cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
+  }
   auto line_across = [&](double s, const cv::Scalar& colour, int thickness) {
     const TrackPose pose = track.poseAt(s);
     const Eigen::Vector2d normal(-std::sin(pose.heading), std::cos(pose.heading));

@@ -99,6 +99,8 @@ class Track {
   TrackPose poseAt(double s) const;
   double curvatureAt(double s) const;
   Projection project(const Eigen::Vector2d& p) const;
+  // The nearest in 3D, the road's surface height counted: under a bridge, the branch at the point's height.
+  Projection projectAtHeight(const Eigen::Vector3d& p) const;
   // Only segments within `window` metres of progress `near_s`: cheap for a car that was near there recently.
   Projection projectNear(const Eigen::Vector2d& p, double near_s, double window) const;
 
