@@ -323,8 +323,10 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // Whether the leader is near enough to pass, and not one a pass on was given up just now.
   const double engage = options_.car_length + options_.engage_time * std::max(speed, 5.0);
   const bool passing_leader = leader && memory.mode == RaceMode::kPass && memory.other == leader->name;
+  // A pass begins from behind the car (its tail ahead of this one's nose): beside a car that is going
+  // by, staying there is holding a place, not passing it (that "pass" was given up as the other completed).
   const bool can_pass = leader && leader_gap < (passing_leader ? 1.5 * engage : engage) &&
-                        (passing_leader || speed >= options_.min_pass_speed) &&
+                        (passing_leader || (speed >= options_.min_pass_speed && leader_gap >= options_.car_length)) &&
                         !(abort.plans_left > 0 && abort.other == leader->name);
   std::vector<Candidate> candidates;
   // A move the car is already making goes on from where it began; a new one starts here.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "roar/planning/field_planner.h"
 #include "roar/race/contact_fault.h"
@@ -150,6 +151,36 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
     EXPECT_EQ(c.track_limit_violations, 0) << c.name;
   }
   EXPECT_GT(r.car("ego").time_in_traffic, 0.0);
+}
+
+// Every pass begins from behind the car passed. A car being passed, the other beside it and going by, once
+// took staying beside it for a pass of its own, given up as the other completed: a third of the traffic
+// benchmark's aborted attempts (Monza, cars 5% of pace apart, at 14 s).
+TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
+  const auto monza = track::loadMapFolder(test::sourceDir() + "/maps/monza");
+  stack::RaceOptions options;
+  options.field.overtaking = true;
+  options.laps = 1;
+  options.time_limit = 30.0;
+  std::map<std::string, double> s_of;
+  std::map<std::string, RaceMode> mode_of;
+  int passes_begun = 0;
+  options.on_tick = [&](const stack::RaceTick& tick) {
+    const std::string& car = *tick.car;
+    s_of[car] = tick.on_line.s;
+    const auto& d = tick.decision;
+    if (d.mode == RaceMode::kPass && mode_of[car] != RaceMode::kPass) {
+      ++passes_begun;
+      double ahead = s_of.at(d.other) - tick.on_line.s;
+      ahead -= std::round(ahead / monza.length()) * monza.length();
+      EXPECT_GE(ahead, options.field.overtake.car_length)
+          << car << " began a pass on " << d.other << " from beside it at t = " << tick.time;
+    }
+    mode_of[car] = d.mode;
+  };
+  stack::runRace(monza, sprint().vehicle, {{"p0", 0, 0.75}, {"p1", 1, 0.80}, {"p2", 2, 0.85}, {"p3", 3, 0.90}},
+                 options);
+  EXPECT_GT(passes_begun, 0);
 }
 
 TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
