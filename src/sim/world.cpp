@@ -58,7 +58,7 @@ double yawOf(const Eigen::Quaterniond& q) {
 
 Pose poseOnTrack(const track::TrackPose& track_pose) {
   Pose pose;
-  pose.position = Eigen::Vector3d(track_pose.position.x(), track_pose.position.y(), 0.0);
+  pose.position = Eigen::Vector3d(track_pose.position.x(), track_pose.position.y(), track_pose.height);
   pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(track_pose.heading, Eigen::Vector3d::UnitZ()));
   return pose;
 }
@@ -161,13 +161,21 @@ struct World::Impl {
   }
   Slot& slot(const std::string& name) { return const_cast<Slot&>(std::as_const(*this).slot(name)); }
 
-  // Ground height under (x, y) from the static scene, or NaN when there is none.
-  double groundHeight(double x, double y) const {
-    const btVector3 from(x, y, 1000.0), to(x, y, -1000.0);
-    btCollisionWorld::ClosestRayResultCallback ray(from, to);
+  // Ground height under (x, y) from the static scene, or NaN when there is none: where roads run one over
+  // another (a bridge), the road nearest the height `near_z`; elsewhere the highest surface there.
+  double groundHeight(double x, double y, double near_z) const {
+    const btVector3 from(x, y, 1000.0 + std::max(0.0, near_z)), to(x, y, -1000.0 + std::min(0.0, near_z));
+    btCollisionWorld::AllHitsRayResultCallback ray(from, to);
     ray.m_collisionFilterMask = btBroadphaseProxy::StaticFilter;
     dynamics->rayTest(from, to, ray);
-    return ray.hasHit() ? ray.m_hitPointWorld.z() : std::nan("");
+    double top = std::nan(""), road = std::nan("");
+    for (int k = 0; k < ray.m_hitPointWorld.size(); ++k) {
+      const double z = ray.m_hitPointWorld[k].z();
+      if (!(z <= top)) top = z;
+      if (ray.m_collisionObjects[k]->getUserIndex() == kRoad && !(std::abs(z - near_z) >= std::abs(road - near_z)))
+        road = z;
+    }
+    return std::isfinite(road) ? road : top;
   }
 
   btTransform placement(const std::string& name, const VehicleParams& params, const Pose& pose) const {
@@ -184,7 +192,8 @@ struct World::Impl {
                          std::to_string(pose.position.y()) + "): it would overlap vehicle '" + other + "'");
       }
     }
-    const double z = groundHeight(pose.position.x(), pose.position.y());
+    const double asked_z = std::isfinite(pose.position.z()) ? pose.position.z() : 0.0;
+    const double z = groundHeight(pose.position.x(), pose.position.y(), asked_z);
     if (!std::isfinite(z)) {
       throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +
                        std::to_string(pose.position.y()) + "): no ground there");

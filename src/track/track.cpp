@@ -120,6 +120,7 @@ TrackPose Track::poseAt(double s) const {
   pose.heading = heading_[i] + t * wrapAngle(heading_[j] - heading_[i]);
   pose.width_right = (1 - t) * points_[i].width_right + t * points_[j].width_right;
   pose.width_left = (1 - t) * points_[i].width_left + t * points_[j].width_left;
+  pose.height = surfaceHeightAt(s, 0.0);
   return pose;
 }
 
@@ -221,6 +222,7 @@ std::vector<TrackPose> Track::gridSpawnPoints(int count, double first_gap, doubl
     TrackPose pose = poseAt(info_.start_finish_s - first_gap - spacing * k);
     const double side = (k % 2 == 0) ? 0.25 * pose.width_left : -0.25 * pose.width_right;
     pose.position += side * Eigen::Vector2d(-std::sin(pose.heading), std::cos(pose.heading));
+    pose.height = surfaceHeightAt(info_.start_finish_s - first_gap - spacing * k, side);
     grid.push_back(pose);
   }
   return grid;

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "roar/sim/safe_stop.h"
+#include "roar/sim/world.h"
 #include "roar/track/bridges.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
@@ -156,5 +157,49 @@ TEST(Bridges, ACarStoppedUnderTheBridgeKeepsToItsOwnRoad) {
     const auto control = sim::safeStopControl(track, state, test::sedan(), {});
     EXPECT_LT(std::abs(control.steer), 0.1) << "straight on along the diagonal it is on";
     EXPECT_GT(control.brake, 0.0);
+  }
+}
+
+// In the simulator: a car asked for at the crossing is put on the road at the height asked for (the grid
+// and race control's respawns give the road's own); driven along either road, it passes under the deck or
+// over it without touching a barrier.
+TEST(Bridges, ACarDrivesUnderTheBridgeAndOverIt) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  ASSERT_GT(std::count(track::bridgeDeckPoints(track).begin(), track::bridgeDeckPoints(track).end(), true), 0);
+  for (const double height : {0.0, track::kBridgeRise}) {
+    SCOPED_TRACE(height);
+    const auto road = track.projectAtHeight(Eigen::Vector3d(0.0, 0.0, height));
+    ASSERT_NEAR(track.surfaceHeightAt(road.s, 0.0), height, 0.1);
+    // 60 m before the crossing on that road, at the height the track gives there.
+    const auto start = track.poseAt(road.s - 60.0);
+    sim::World world(track, {});
+    world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
+    EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), start.height, 0.5);
+    sim::VehicleControl go;
+    go.throttle = 0.5;
+    int barrier = 0;
+    double lowest = 1e9, highest = -1e9;
+    for (int i = 0; i < 200; ++i) {  // 10 s: through the crossing and on
+      world.setControl("ego", go);
+      world.step();
+      for (const auto& c : world.contacts("ego")) barrier += c.other == "barrier";
+      const auto p = world.vehicleState("ego").pose.position;
+      if (p.head<2>().norm() < 5.0) lowest = std::min(lowest, p.z()), highest = std::max(highest, p.z());
+    }
+    EXPECT_EQ(barrier, 0);
+    ASSERT_LT(lowest, 1e9) << "the car went through the crossing";
+    EXPECT_NEAR(lowest, height, 0.5) << "on its own road there";
+    EXPECT_NEAR(highest, height, 0.5);
+  }
+}
+
+TEST(Bridges, ASpawnAtTheCrossingGoesOnTheRoadAtTheHeightAskedFor) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  for (const double height : {0.0, track::kBridgeRise}) {
+    sim::World world(track, {});
+    sim::Pose pose;
+    pose.position = Eigen::Vector3d(0.0, 0.0, height);
+    world.spawnVehicle("ego", test::sedan(), pose);
+    EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), height, 0.5);
   }
 }

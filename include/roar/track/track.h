@@ -50,6 +50,7 @@ struct TrackInfo {
 // A pose on the track at some progress, interpolated between centre-line points.
 struct TrackPose {
   Eigen::Vector2d position;
+  double height = 0.0;   // m, the road surface's there (which road, where one runs over another)
   double heading = 0.0;  // radians, direction of travel
   double width_right = 0.0;
   double width_left = 0.0;
