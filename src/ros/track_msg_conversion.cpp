@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "roar/ros/msg_conversion.h"
+#include "roar/track/bridges.h"
 #include "roar/track/road_mesh.h"
 
 namespace roar::ros_bridge {
@@ -113,23 +114,32 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
     }
   }
   if (!kerbs.points.empty()) out.markers.push_back(kerbs);
-  const double offset = track.info().barrier_offset;
+  // The lines lie on the road (its height, banking and bridges), 2 cm up; on a bridge's deck the barriers
+  // are its parapets at the road's edge.
+  const std::vector<bool> deck = track::bridgeDeckPoints(track);
   auto strip = [&](const std::string& ns, double width, float r, float g, float b, auto&& at) {
     Marker m = marker(frame, ns, Marker::LINE_STRIP, width, r, g, b);
     for (std::size_t i = 0; i <= track.size(); ++i) {
-      const Eigen::Vector2d p = at(i % track.size());
-      m.points.push_back(point(p.x(), p.y(), 0.02));
+      const Eigen::Vector3d p = at(i % track.size());
+      m.points.push_back(point(p.x(), p.y(), p.z() + 0.02));
     }
     out.markers.push_back(m);
   };
-  strip("edges", 0.3, 1, 1, 1, [&](std::size_t i) { return track.leftEdge(i); });
+  auto onRoad = [&](std::size_t i, const Eigen::Vector2d& p, double lateral) {
+    return Eigen::Vector3d(p.x(), p.y(), track.surfaceHeight(i, lateral));
+  };
+  auto barrier = [&](std::size_t i) { return deck[i] ? track::kParapetOffset : track.info().barrier_offset; };
+  const auto& pts = track.points();
+  strip("edges", 0.3, 1, 1, 1, [&](std::size_t i) { return onRoad(i, track.leftEdge(i), pts[i].width_left); });
   out.markers.back().id = 0;
-  strip("edges", 0.3, 1, 1, 1, [&](std::size_t i) { return track.rightEdge(i); });
+  strip("edges", 0.3, 1, 1, 1, [&](std::size_t i) { return onRoad(i, track.rightEdge(i), -pts[i].width_right); });
   out.markers.back().id = 1;
-  strip("centre_line", 0.1, 1, 0.85f, 0.2f, [&](std::size_t i) { return track.position(i); });
-  strip("barriers", 0.5, 0.2f, 0.35f, 0.9f, [&](std::size_t i) { return track.leftEdge(i, offset); });
+  strip("centre_line", 0.1, 1, 0.85f, 0.2f, [&](std::size_t i) { return onRoad(i, track.position(i), 0.0); });
+  strip("barriers", 0.5, 0.2f, 0.35f, 0.9f,
+        [&](std::size_t i) { return onRoad(i, track.leftEdge(i, barrier(i)), pts[i].width_left); });
   out.markers.back().id = 0;
-  strip("barriers", 0.5, 0.2f, 0.35f, 0.9f, [&](std::size_t i) { return track.rightEdge(i, offset); });
+  strip("barriers", 0.5, 0.2f, 0.35f, 0.9f,
+        [&](std::size_t i) { return onRoad(i, track.rightEdge(i, barrier(i)), -pts[i].width_right); });
   out.markers.back().id = 1;
   auto across = [&](const std::string& ns, double s, float r, float g, float b, int id) {
     Marker m = marker(frame, ns, Marker::LINE_LIST, 0.8, r, g, b);
@@ -137,7 +147,8 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
     const track::TrackPose p = track.poseAt(s);
     const Eigen::Vector2d n(-std::sin(p.heading), std::cos(p.heading));
     const Eigen::Vector2d a = p.position + n * p.width_left, c = p.position - n * p.width_right;
-    m.points = {point(a.x(), a.y(), 0.05), point(c.x(), c.y(), 0.05)};
+    m.points = {point(a.x(), a.y(), track.surfaceHeightAt(s, p.width_left) + 0.05),
+                point(c.x(), c.y(), track.surfaceHeightAt(s, -p.width_right) + 0.05)};
     out.markers.push_back(m);
   };
   across("start_finish", track.info().start_finish_s, 1, 0.1f, 0.1f, 0);

@@ -9,6 +9,9 @@
 #include "roar/control/trajectory_tracker.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/planning_msg_conversion.h"
+#include "roar/ros/track_msg_conversion.h"
+#include "roar/track/bridges.h"
+#include "roar/track/map_folder.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -213,6 +216,38 @@ TEST(MsgConversion, WaypointArraysThatAreNoCircuitAreRefused) {
 }
 
 // cfg/Controller.cfg repeats the tracker's defaults for dynamic_reconfigure: they must agree.
+// rviz's track markers lie on the road: up a bridge's ramps and over its deck, parapets at the deck's edge.
+TEST(TrackMarkers, FollowTheRoadOverABridge) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  const auto markers = ros_bridge::trackMarkers(track, "map");
+  std::map<std::string, std::pair<double, double>> heights;  // lowest and highest point of each kind
+  for (const auto& m : markers.markers) {
+    auto& [lo, hi] = heights.try_emplace(m.ns, 1e9, -1e9).first->second;
+    for (const auto& p : m.points) lo = std::min(lo, p.z), hi = std::max(hi, p.z);
+  }
+  for (const std::string ns : {"road", "edges", "centre_line", "barriers"}) {
+    SCOPED_TRACE(ns);
+    ASSERT_TRUE(heights.count(ns));
+    EXPECT_LT(heights[ns].first, 0.1) << "on the ground away from the bridge";
+    EXPECT_GT(heights[ns].second, track::kBridgeRise - 0.1) << "over the deck";
+  }
+  // Over the deck, the barrier lines run at the parapet, half a metre out from the road's edge.
+  const auto deck = track::bridgeDeckPoints(track);
+  int on_deck = 0;
+  for (const auto& m : markers.markers) {
+    if (m.ns != "barriers") continue;
+    for (std::size_t i = 0; i < track.size(); ++i) {
+      if (!deck[i]) continue;
+      ++on_deck;
+      const auto& p = m.points[i];
+      const auto pr = track.projectAtHeight(Eigen::Vector3d(p.x, p.y, p.z));
+      EXPECT_NEAR(pr.beyondEdge(), track::kParapetOffset, 0.05) << "point " << i;
+      EXPECT_NEAR(p.z, track.point(i).z + 0.02, 0.05);
+    }
+  }
+  EXPECT_GT(on_deck, 0);
+}
+
 TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
   const auto config = roar_ros::ControllerConfig::__getDefault__();
   const control::TrackerOptions t;
