@@ -132,6 +132,12 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
   if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) {
     throw std::invalid_argument("pose must be finite");
   }
+  // Its height picks the road where one runs over another; no road is further up or down than this.
+  if (std::abs(p.position.z()) > track::kMaxElevation) {
+    throw std::invalid_argument("pose z = " + std::to_string(p.position.z()) + " m is outside [" +
+                                std::to_string(-track::kMaxElevation) + ", " + std::to_string(track::kMaxElevation) +
+                                "]");
+  }
   const std::string problem = track::offTrackProblem(*track_, p.position.head<2>(), "pose");
   if (!problem.empty()) throw std::invalid_argument(problem);
   return p;

@@ -192,7 +192,9 @@ struct World::Impl {
                          std::to_string(pose.position.y()) + "): it would overlap vehicle '" + other + "'");
       }
     }
-    const double asked_z = std::isfinite(pose.position.z()) ? pose.position.z() : 0.0;
+    const double asked_z = std::isfinite(pose.position.z())
+                               ? std::clamp(pose.position.z(), -track::kMaxElevation, track::kMaxElevation)
+                               : 0.0;
     const double z = groundHeight(pose.position.x(), pose.position.y(), asked_z);
     if (!std::isfinite(z)) {
       throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +

@@ -165,7 +165,8 @@ TEST(Bridges, ACarStoppedUnderTheBridgeKeepsToItsOwnRoad) {
 // over it without touching a barrier.
 TEST(Bridges, ACarDrivesUnderTheBridgeAndOverIt) {
   const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
-  ASSERT_GT(std::count(track::bridgeDeckPoints(track).begin(), track::bridgeDeckPoints(track).end(), true), 0);
+  const auto deck = track::bridgeDeckPoints(track);
+  ASSERT_GT(std::count(deck.begin(), deck.end(), true), 0);
   for (const double height : {0.0, track::kBridgeRise}) {
     SCOPED_TRACE(height);
     const auto road = track.projectAtHeight(Eigen::Vector3d(0.0, 0.0, height));
