@@ -75,6 +75,34 @@ TEST(Overtaking, NobodyInTheWayKeepsTheRacingLine) {
   EXPECT_EQ(planner.decision("ego").mode, RaceMode::kRacingLine);
 }
 
+// A move back onto the racing line ends on it: at the apexes too, where the line runs nearer the edge than
+// a moved path may (it was pushed off there, and its speeds planned through the kink 10 m/s slower than the
+// line's), with the line's own curvature (not one differenced from the moved points).
+TEST(Overtaking, AMoveBackOntoTheLineEndsExactlyOnItEvenAtTheApexes) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  int apexes = 0, checked = 0;
+  for (double s = 0.0; s < f.line.length; s += 50.0) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+    const double v = planning::sampleAt(f.line, s).speed;
+    // A car far ahead, so that the plan is made among candidates rather than the line handed back.
+    const planning::TrafficCar far{"far", std::fmod(s + 240.0, f.line.length), 0.0, v};
+    const auto plan = planner.plan("ego", s, 0.6, v, {far}, 10.0, 250.0);
+    ASSERT_EQ(planner.decision("ego").mode, RaceMode::kRacingLine) << "at s = " << s;
+    for (const auto& p : plan.points) {
+      if (p.s < s + 160.0) continue;  // past the move (2.5 s at the line's top speed on Roar Sprint)
+      const auto on_line = planning::sampleAt(f.line, p.s);
+      const bool apex = std::min(planner.roomLeft(p.s), planner.roomRight(p.s)) < 0.5 * o.car_width + o.edge_margin;
+      apexes += apex;
+      ++checked;
+      ASSERT_NEAR(p.offset, on_line.offset, 1e-6) << "s = " << p.s << (apex ? " (an apex)" : "");
+      ASSERT_NEAR(p.curvature, on_line.curvature, 1e-6) << "s = " << p.s;
+    }
+  }
+  EXPECT_GT(apexes, 0) << "no point of the line nearer an edge than a moved path may go: nothing tested";
+  EXPECT_GT(checked, 500);
+}
+
 TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
   auto& f = fixture();
   planning::OvertakePlanner planner(f.track, f.line, f.limits, {});

@@ -131,8 +131,11 @@ class OvertakePlanner {
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
   // back_s: where (window s) the move is undone again, back onto the racing line (infinite: never).
   // drag_share: of the free-air drag the speeds are planned with (below 1: in a car's slipstream).
+  // for_pass: planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the
+  // moved points differenced); otherwise exactly, and a path moved by nothing is the racing line.
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
-                     double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0) const;
+                     double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0,
+                     bool for_pass = false) const;
   // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them: higher where the
   // engine, not the grip, sets them. Never lower (braking points are the free-air ones).
   Trajectory towed(const Trajectory& window, double drag_share) const;
