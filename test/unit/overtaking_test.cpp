@@ -321,9 +321,6 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
   auto& f = fixture();
   planning::OvertakeOptions o;
   o.defend = true;
-  // A pass begun from 2 s back, so that the defender has a move it can make in time: from 3 s back (the
-  // default) the fast car closes so quickly that no move across is ever safe, and it is by unopposed.
-  o.engage_time = 2.0;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
   const double L = f.line.length;
   struct Car {

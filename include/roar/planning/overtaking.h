@@ -52,7 +52,7 @@ struct OvertakeOptions {
   // A pass is considered only for a car ahead within this many seconds at the car's speed (plus a car's
   // length), and given up when the car passed gets half as far again away: a car far ahead is caught on
   // the racing line, not on a line beside it.
-  double engage_time = 3.0;     // s
+  double engage_time = 2.0;     // s
   double min_pass_speed = 8.0;  // m/s the car must be doing to start a pass (not from the grid)
   int abort_plans = 3;          // plans in a row a committed pass must look blocked or not worth it to be given up
   double stall_time = 3.0;      // s a committed pass may go without gaining a metre on the car before it is given up
