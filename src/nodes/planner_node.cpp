@@ -130,7 +130,8 @@ class PlannerNode {
     car.last_odom = odom_msg;
     if (!field_) return;
     const nav_msgs::Odometry& odom = *odom_msg;
-    field_->locate(name, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y),
+    field_->locate(name,
+                   Eigen::Vector3d(odom.pose.pose.position.x, odom.pose.pose.position.y, odom.pose.pose.position.z),
                    odom.twist.twist.linear.x, odom.header.stamp.toSec());
     const planning::RaceDecision before = field_->decision(name);
     const planning::Trajectory local = field_->window(name);

@@ -79,12 +79,12 @@ class PolicyDriver {
  private:
   void onOdometry(const nav_msgs::Odometry& odom) {
     const sim::VehicleState state = ros_bridge::fromOdometry(odom);
-    const Eigen::Vector2d at = state.pose.position.head<2>();
+    const Eigen::Vector3d& at = state.pose.position;
     if (!started_) {
       progress_.reset(at);
       started_ = true;
     } else {
-      progress_.update(at);
+      progress_.update(at.head<2>());
     }
     const rl::Value action = policy_.act(action_space_, observer_.observe(state, progress_.projection(), nullptr, -1));
     roar_ros::VehicleControl msg = ros_bridge::toMessage(rl::toControl(action_space_, action));

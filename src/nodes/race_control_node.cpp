@@ -222,7 +222,8 @@ class RaceControlNode {
     std::optional<race::Incident> incident;
     const std::size_t passes = race_->overtakes().size();
     const auto lap = race_->updatePosition(
-        name, t, Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y), &incident);
+        name, t, Eigen::Vector3d(odom.pose.pose.position.x, odom.pose.pose.position.y, odom.pose.pose.position.z),
+        &incident);
     if (incident) report(name, *incident);
     for (std::size_t k = passes; k < race_->overtakes().size(); ++k) {
       const race::Overtake& o = race_->overtakes()[k];
@@ -249,8 +250,8 @@ class RaceControlNode {
     double near = track.info().start_finish_s;
     for (std::size_t i = 0; i < line.points.size(); ++i) {
       const auto& p = line.points[i];
-      const Eigen::Vector2d position(p.position.x, p.position.y);
-      const auto pr = i == 0 ? track.project(position) : track.projectNear(position, near, 100.0);
+      const Eigen::Vector3d position(p.position.x, p.position.y, p.position.z);
+      const auto pr = i == 0 ? track.projectAtHeight(position) : track.projectNear(position.head<2>(), near, 100.0);
       near = pr.s;
       profile_.push_back({track.forwardDistance(track.info().start_finish_s, pr.s), p.speed});
     }

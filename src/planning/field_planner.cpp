@@ -13,12 +13,12 @@ FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const Veh
   if (options_.overtaking) overtaker_ = std::make_unique<OvertakePlanner>(track, line_, limits_, options_.overtake);
 }
 
-void FieldPlanner::locate(const std::string& car, const Eigen::Vector2d& position, double speed, double time) {
+void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time) {
   Place& place = cars_[car];
   const double lateral_before = place.on_line.lateral;
   const bool first = place.hint < 0;
   const double s_before = place.on_line.s;
-  place.on_line = project(line_, position, place.hint);
+  place.on_line = first ? projectAtHeight(line_, position) : project(line_, position.head<2>(), place.hint);
   // Distance round the laps, so that a car a lap up is told from one just behind (blue flags).
   if (!progress_origin_) progress_origin_ = place.on_line.s;
   place.progress = first ? aheadOnLap(place.on_line.s, *progress_origin_, line_.length)

@@ -1,6 +1,7 @@
 #include "roar/planning/trajectory.h"
 
 #include "roar/planning/minimum_time.h"
+#include "roar/track/track.h"
 
 #include <algorithm>
 #include <cmath>
@@ -130,6 +131,31 @@ TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& positio
       best.s = t.points[a].s + f * stepAfter(t, a);
       const double cross = d.x() * r.y() - d.y() * r.x();
       best.lateral = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
+    }
+  }
+  return best;
+}
+
+TrajectoryProjection projectAtHeight(const Trajectory& t, const Eigen::Vector3d& position) {
+  const std::size_t n = t.points.size();
+  const std::size_t segments = t.closed ? n : n - 1;
+  const Eigen::Vector2d xy = position.head<2>();
+  TrajectoryProjection best;
+  double best_d2 = INFINITY;
+  for (std::size_t a = 0; a < segments; ++a) {
+    const std::size_t b = (a + 1) % n;
+    const Eigen::Vector2d pa = t.points[a].position, d = t.points[b].position - pa;
+    const double len2 = d.squaredNorm();
+    const double f = len2 > 0 ? std::clamp((xy - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector2d r = xy - (pa + f * d);
+    const double dz = track::kProjectionHeightWeight * (position.z() - ((1 - f) * t.points[a].z + f * t.points[b].z));
+    const double d2 = r.squaredNorm() + dz * dz;
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best.segment = a;
+      best.s = t.points[a].s + f * stepAfter(t, a);
+      const double cross = d.x() * r.y() - d.y() * r.x();
+      best.lateral = (cross >= 0 ? 1.0 : -1.0) * r.norm();
     }
   }
   return best;

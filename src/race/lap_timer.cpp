@@ -6,10 +6,10 @@ namespace roar::race {
 
 LapTimer::LapTimer(const track::Track& track, LapTimerOptions options) : track_(track), options_(options) {}
 
-std::optional<LapRecord> LapTimer::update(double time, const Eigen::Vector2d& position) {
+std::optional<LapRecord> LapTimer::update(double time, const Eigen::Vector3d& position) {
   const double length = track_.length();
   const track::Projection pr =
-      have_previous_ ? track_.projectNear(position, track_s_, 100.0) : track_.project(position);
+      have_previous_ ? track_.projectNear(position.head<2>(), track_s_, 100.0) : track_.projectAtHeight(position);
   track_s_ = pr.s;
   const double progress = track_.forwardDistance(track_.info().start_finish_s, pr.s);
   if (!have_previous_) {

@@ -56,7 +56,7 @@ Incident RaceControl::makeIncident(CarRecord& car, double time, const std::strin
 }
 
 std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, double time,
-                                                     const Eigen::Vector2d& position,
+                                                     const Eigen::Vector3d& position,
                                                      std::optional<Incident>* incident) {
   CarRecord& car = record(name);
   car.last_time = std::max(car.last_time, time);
@@ -92,7 +92,8 @@ std::optional<LapRecord> RaceControl::updatePosition(const std::string& name, do
   }
   detectOvertakes(name, time);
 
-  const track::Projection pr = track_.projectNear(position, car.timer.progress() + track_.info().start_finish_s, 100.0);
+  const track::Projection pr =
+      track_.projectNear(position.head<2>(), car.timer.progress() + track_.info().start_finish_s, 100.0);
   const bool off = pr.beyondEdge() > rules_.track_limits_margin;
   if (off && !car.off_track && rules_.track_limits != IncidentRule::kIgnore) {
     ++car.track_limit_violations;

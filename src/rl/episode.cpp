@@ -39,7 +39,7 @@ Episode::Episode(const track::Track& track, const RewardOptions& reward, const T
 }
 
 StepInfo Episode::begin(const sim::VehicleState& state, double time) {
-  const Eigen::Vector2d at = state.pose.position.head<2>();
+  const Eigen::Vector3d& at = state.pose.position;
   progress_.reset(at);
   lap_timer_.emplace(*track_);
   lap_timer_->update(time, at);
@@ -55,8 +55,8 @@ StepInfo Episode::begin(const sim::VehicleState& state, double time) {
 }
 
 StepOutcome Episode::step(const sim::VehicleState& state, const std::vector<sim::Contact>& contacts, double time) {
-  const Eigen::Vector2d at = state.pose.position.head<2>();
-  const double advanced = progress_.update(at);
+  const Eigen::Vector3d& at = state.pose.position;
+  const double advanced = progress_.update(at.head<2>());
   const track::Projection& p = where();
   StepOutcome out;
   StepInfo& info = info_;

@@ -7,7 +7,7 @@ namespace {
 constexpr double kSearchWindow = 30.0;
 }  // namespace
 
-void TrackProgress::reset(const Eigen::Vector2d& position) { projection_ = track_->project(position); }
+void TrackProgress::reset(const Eigen::Vector3d& position) { projection_ = track_->projectAtHeight(position); }
 
 double TrackProgress::update(const Eigen::Vector2d& position) {
   const double before = projection_.s;

@@ -124,7 +124,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     std::map<std::string, sim::VehicleState> states;
     for (auto& e : entrants) {
       const sim::VehicleState state = world.vehicleState(e.spec.name);
-      field.locate(e.spec.name, state.pose.position.head<2>(), state.forward_speed, world.time());
+      field.locate(e.spec.name, state.pose.position, state.forward_speed, world.time());
       states[e.spec.name] = state;
     }
     const double now = world.time();
@@ -178,7 +178,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     const double time = world.time();
     for (auto& e : entrants) {
       const sim::VehicleState state = world.vehicleState(e.spec.name);
-      control.updatePosition(e.spec.name, time, state.pose.position.head<2>());
+      control.updatePosition(e.spec.name, time, state.pose.position);
       control.updateMotion(e.spec.name, state.pose.position.head<2>(), sim::yawOf(state.pose.orientation),
                            state.linear_velocity.head<2>());
     }

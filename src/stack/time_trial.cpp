@@ -56,7 +56,7 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
       ++samples;
     }
     const Eigen::Vector3d position = world.vehicleState("ego").pose.position;
-    timer.update(world.time(), position.head<2>());
+    timer.update(world.time(), position);
     const auto pr = track.projectNear(position.head<2>(), timer.progress() + track.info().start_finish_s, 80.0);
     result.worst_offroad =
         std::max(result.worst_offroad, pr.lateral > 0 ? pr.lateral - pr.width_left : -pr.lateral - pr.width_right);

@@ -170,9 +170,7 @@ Projection Track::projectAtHeight(const Eigen::Vector3d& p) const {
   for (std::size_t i = 0; i < size(); ++i) {
     double d2;
     Projection pr = projectOnSegment(p.head<2>(), i, &d2);
-    // Height counts three times over: a road one bridge's clearance above or below is never the one a point
-    // is on, though its centre line may be nearer sideways than the point's own road's edge.
-    const double dz = 3.0 * (p.z() - surfaceHeightAt(pr.s, pr.lateral));
+    const double dz = kProjectionHeightWeight * (p.z() - surfaceHeightAt(pr.s, pr.lateral));
     d2 += dz * dz;
     if (d2 < best_d2) {
       best_d2 = d2;

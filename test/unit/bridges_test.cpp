@@ -6,6 +6,9 @@
 #include <cmath>
 #include <filesystem>
 
+#include "roar/planning/field_planner.h"
+#include "roar/race/lap_timer.h"
+#include "roar/rl/track_progress.h"
 #include "roar/sim/safe_stop.h"
 #include "roar/sim/world.h"
 #include "roar/track/bridges.h"
@@ -202,5 +205,32 @@ TEST(Bridges, ASpawnAtTheCrossingGoesOnTheRoadAtTheHeightAskedFor) {
     pose.position = Eigen::Vector3d(0.0, 0.0, height);
     world.spawnVehicle("ego", test::sedan(), pose);
     EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), height, 0.5);
+  }
+}
+
+// The first sight of a car decides which road it is followed on from then on (each later projection
+// searches only near the last): a car first seen at the crossing is put on the road at its height by the
+// lap timer (race control), the planner and the RL environment's progress, not on whichever branch is
+// nearer sideways.
+TEST(Bridges, ACarFirstSeenAtTheCrossingIsFollowedOnTheRoadAtItsHeight) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  const planning::VehicleLimits limits = planning::vehicleLimits(test::sedan(), track.info().friction, 0.85);
+  const planning::Trajectory line = planning::planRacingTrajectory(track, limits, {});
+  for (const double height : {0.0, track::kBridgeRise}) {
+    SCOPED_TRACE(height);
+    const Eigen::Vector3d base_link(0.0, 0.0, height + 0.3);
+
+    race::LapTimer timer(track);
+    timer.update(0.0, base_link);
+    const double timed_s = track.wrap(track.info().start_finish_s + timer.progress());
+    EXPECT_NEAR(track.surfaceHeightAt(timed_s, 0.0), height, 0.1) << "lap timer";
+
+    planning::FieldPlanner field(track, line, limits, {});
+    field.locate("ego", base_link, 0.0, 0.0);
+    EXPECT_NEAR(planning::sampleAt(line, field.onLine("ego").s).z, height, 0.1) << "planner";
+
+    rl::TrackProgress progress(track);
+    progress.reset(base_link);
+    EXPECT_NEAR(track.surfaceHeightAt(progress.projection().s, 0.0), height, 0.1) << "RL progress";
   }
 }

@@ -6,9 +6,9 @@
 using namespace roar;
 
 namespace {
-// Position on the circle track at arc length s (counter-clockwise from angle 0).
-Eigen::Vector2d onCircle(double s, double radius = 100.0) {
-  return {radius * std::cos(s / radius), radius * std::sin(s / radius)};
+// Position on the (flat) circle track at arc length s (counter-clockwise from angle 0).
+Eigen::Vector3d onCircle(double s, double radius = 100.0) {
+  return {radius * std::cos(s / radius), radius * std::sin(s / radius), 0.0};
 }
 }  // namespace
 

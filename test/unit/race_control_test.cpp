@@ -23,6 +23,12 @@ Eigen::Vector2d onCircle(double s, double lateral = 0.0) {
   return {r * std::cos(s / 100.0), r * std::sin(s / 100.0)};
 }
 
+// The same on the (flat) road's surface, as odometry gives it.
+Eigen::Vector3d atCircle(double s, double lateral = 0.0) {
+  const Eigen::Vector2d p = onCircle(s, lateral);
+  return {p.x(), p.y(), 0.0};
+}
+
 int lines(const std::string& path) {
   std::ifstream in(path);
   int n = 0;
@@ -35,7 +41,7 @@ int lines(const std::string& path) {
 TEST(RaceControl, ContactsArePenalisedOncePerIncident) {
   const auto track = test::circleTrack(100.0);
   race::RaceControl race(track, {}, {"ego"});
-  race.updatePosition("ego", 0.0, onCircle(-20));
+  race.updatePosition("ego", 0.0, atCircle(-20));
   auto first = race.updateContact("ego", 1.0, "barrier");
   ASSERT_TRUE(first);
   EXPECT_EQ(first->kind, "barrier");
@@ -87,12 +93,12 @@ TEST(RaceControl, ARetiredCarIsNotWaitedForAndClassifiedLast) {
   race::RaceControl race(track, rules, {"runner", "dead"});
   double t = 0.0;
   for (; t < 10.0; t += 0.05) {
-    race.updatePosition("runner", t, onCircle(-5 + 20.0 * t));
-    race.updatePosition("dead", t, onCircle(-10 + 30.0 * t));  // ahead when its driver dies
+    race.updatePosition("runner", t, atCircle(-5 + 20.0 * t));
+    race.updatePosition("dead", t, atCircle(-10 + 30.0 * t));  // ahead when its driver dies
   }
   race.retire("dead", t, "driver lost");
   EXPECT_FALSE(race.finished()) << "the runner is still racing";
-  for (; !race.finished() && t < 60.0; t += 0.05) race.updatePosition("runner", t, onCircle(-5 + 20.0 * t));
+  for (; !race.finished() && t < 60.0; t += 0.05) race.updatePosition("runner", t, atCircle(-5 + 20.0 * t));
   ASSERT_TRUE(race.finished()) << "every car finished or retired";
   EXPECT_EQ(race.standings().front().name, "runner");
   EXPECT_EQ(race.car("dead").retired, "driver lost");
@@ -121,8 +127,8 @@ TEST(RaceControl, TimeInTrafficAndTheLapTimeItCost) {
     held += behind ? dt : 0.0;
     runner += (behind ? 15.0 : 20.0) * dt;
     blocker += 15.0 * dt;
-    race.updatePosition("runner", t, onCircle(runner));
-    race.updatePosition("blocker", t, onCircle(blocker));
+    race.updatePosition("runner", t, atCircle(runner));
+    race.updatePosition("blocker", t, atCircle(blocker));
   }
   ASSERT_TRUE(race.finished());
   const auto& r = race.car("runner");
@@ -162,7 +168,7 @@ TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
   for (double s = 0; s < 400; s += 1.0, t += 0.05) {
     const bool off = (s >= 100 && s < 140) || (s >= 300 && s < 310);
     std::optional<race::Incident> incident;
-    race.updatePosition("ego", t, onCircle(s, off ? 8.0 : 0.0), &incident);
+    race.updatePosition("ego", t, atCircle(s, off ? 8.0 : 0.0), &incident);
     if (incident) {
       ++violations;
       EXPECT_EQ(incident->kind, "track limits");
@@ -173,7 +179,7 @@ TEST(RaceControl, LeavingTheTrackIsOneViolationPerExcursion) {
   EXPECT_EQ(race.car("ego").penalties, 6.0);
   // Running wide with two wheels over the edge is not leaving the track.
   race::RaceControl lenient(track, rules, {"ego"});
-  for (double s = 0; s < 200; s += 1.0) lenient.updatePosition("ego", s * 0.05, onCircle(s, 6.5));
+  for (double s = 0; s < 200; s += 1.0) lenient.updatePosition("ego", s * 0.05, atCircle(s, 6.5));
   EXPECT_EQ(lenient.car("ego").track_limit_violations, 0);
 }
 
@@ -182,7 +188,7 @@ TEST(RaceControl, RespawnRulePutsTheCarBackAtTheLastWaypoint) {
   race::RaceRules rules;
   rules.collision = race::IncidentRule::kRespawn;
   race::RaceControl race(track, rules, {"ego"});
-  for (double s = -20; s <= 150; s += 1.0) race.updatePosition("ego", (s + 20) * 0.05, onCircle(s, 3.0));
+  for (double s = -20; s <= 150; s += 1.0) race.updatePosition("ego", (s + 20) * 0.05, atCircle(s, 3.0));
   const auto incident = race.updateContact("ego", 10.0, "barrier");
   ASSERT_TRUE(incident);
   EXPECT_TRUE(incident->respawn);
@@ -201,8 +207,8 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
   const double length = track.length();
   // Both at 20 m/s; slow starts 2 s (40 m) behind fast.
   for (double t = 0; t < (2 * length + 100) / 20.0; t += 0.05) {
-    race.updatePosition("fast", t, onCircle(-20 + 20 * t));
-    race.updatePosition("slow", t, onCircle(-60 + 20 * t));
+    race.updatePosition("fast", t, atCircle(-20 + 20 * t));
+    race.updatePosition("slow", t, atCircle(-60 + 20 * t));
     if (t > 5 && t < 60) {
       const auto standings = race.standings();
       ASSERT_EQ(standings[0].name, "fast");
@@ -217,8 +223,8 @@ TEST(RaceControl, StandingsGapsFinishAndResults) {
   race::RaceControl penalised(track, rules, {"fast", "slow"});
   for (double t = 0; t < (2 * length + 100) / 20.0; t += 0.05) {
     if (t > 3 && t < 3.1) penalised.updateContact("fast", t, "barrier");
-    penalised.updatePosition("fast", t, onCircle(-20 + 20 * t));
-    penalised.updatePosition("slow", t, onCircle(-60 + 20 * t));
+    penalised.updatePosition("fast", t, atCircle(-20 + 20 * t));
+    penalised.updatePosition("slow", t, atCircle(-60 + 20 * t));
   }
   standings = penalised.standings();
   EXPECT_EQ(standings[0].name, "slow");
@@ -259,9 +265,9 @@ TEST(RaceControl, OvertakesAreRecordedOnceWithWhoWhereAndWhen) {
   race::RaceControl race(track, rules, {"fast", "slow", "twin"});
   // 200 s: fast is a lap ahead of slow (628 m) from t = 131 s on, which is lapping, not another pass.
   for (double t = 0.0; t < 200.0; t += 0.05) {
-    race.updatePosition("slow", t, onCircle(-5 + 15.0 * t));                           // 15 m/s, starts ahead
-    race.updatePosition("fast", t, onCircle(-30 + 20.0 * t));                          // 20 m/s
-    race.updatePosition("twin", t, onCircle(-5 + 15.0 * t + 1.5 * std::sin(t), 3.0));  // beside slow, wobbling
+    race.updatePosition("slow", t, atCircle(-5 + 15.0 * t));                           // 15 m/s, starts ahead
+    race.updatePosition("fast", t, atCircle(-30 + 20.0 * t));                          // 20 m/s
+    race.updatePosition("twin", t, atCircle(-5 + 15.0 * t + 1.5 * std::sin(t), 3.0));  // beside slow, wobbling
   }
   ASSERT_EQ(race.overtakes().size(), 2u) << "fast passes slow and twin once each; twin and slow swap nothing";
   for (const auto& o : race.overtakes()) {
@@ -288,7 +294,7 @@ TEST(RaceControl, OvertakesAreJudgedAtTheSameMomentWhateverOrderPositionsArriveI
       for (double t = t0; t < t0 + 1.0 - 1e-9; t += dt) {
         const std::string name = car;
         const double s = name == "a" ? -5 + 30.0 * t : name == "b" ? -6 + 30.0 * t : -40 + 35.0 * t;
-        race.updatePosition(name, t, onCircle(s, name == "b" ? 3.0 : 0.0));
+        race.updatePosition(name, t, atCircle(s, name == "b" ? 3.0 : 0.0));
       }
     }
   }
@@ -303,8 +309,8 @@ TEST(RaceReport, EachCarHasItsOwnColourAndTheLegendCoversNoPath) {
   race::RaceControl race(track, rules, {"a", "b"});
   report::Telemetry telemetry;
   for (double t = 0.0; t < 40.0; t += 0.05) {
-    race.updatePosition("a", t, onCircle(-5 + 20.0 * t, 2.0));
-    race.updatePosition("b", t, onCircle(-15 + 20.0 * t, -2.0));
+    race.updatePosition("a", t, atCircle(-5 + 20.0 * t, 2.0));
+    race.updatePosition("b", t, atCircle(-15 + 20.0 * t, -2.0));
     telemetry["a"].push_back({t, onCircle(-5 + 20.0 * t, 2.0), 20.0});
     telemetry["b"].push_back({t, onCircle(-15 + 20.0 * t, -2.0), 20.0});
   }

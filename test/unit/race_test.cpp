@@ -32,9 +32,10 @@ Sprint& sprint() {
   return s;
 }
 
-Eigen::Vector2d onLineAt(double s, double lateral = 0.0) {
+Eigen::Vector3d onLineAt(double s, double lateral = 0.0) {
   const auto p = planning::sampleAt(sprint().line, s);
-  return p.position + lateral * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
+  const Eigen::Vector2d xy = p.position + lateral * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
+  return {xy.x(), xy.y(), p.z};
 }
 
 }  // namespace

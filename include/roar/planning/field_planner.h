@@ -32,9 +32,10 @@ class FieldPlanner {
   // line: the closed racing trajectory of `track`, planned with `limits`.
   FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits, FieldOptions options);
 
-  // Where `car` is at `time` (s): base_link's position and its forward speed (m/s). A car first seen is
-  // searched for on the whole line, then near its last place.
-  void locate(const std::string& car, const Eigen::Vector2d& position, double speed, double time);
+  // Where `car` is at `time` (s): base_link's position (map frame, z the height) and its forward speed
+  // (m/s). A car first seen is searched for on the whole line at its height (under a bridge, the branch
+  // below), then near its last place.
+  void locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time);
   bool located(const std::string& car) const { return cars_.count(car) > 0; }
   void forget(const std::string& car) { cars_.erase(car); }
   // The share of the line's speeds the car is planned at (0 < pace <= 1; 1: the line's own).

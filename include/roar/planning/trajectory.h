@@ -63,6 +63,11 @@ struct TrajectoryProjection {
 TrajectoryProjection project(const Trajectory& trajectory, const Eigen::Vector2d& position, long hint = -1,
                              long window = 40);
 
+// The nearest point of the whole trajectory in 3D, its points' road height counted (track::kProjectionHeightWeight):
+// where the course crosses itself on a bridge, the branch at the position's height. For a car's first
+// projection; after it, `project` near the last one keeps the car on its branch.
+TrajectoryProjection projectAtHeight(const Trajectory& trajectory, const Eigen::Vector3d& position);
+
 // The open stretch from `behind` metres before s to `ahead` metres after it, s unwrapped past the lap.
 Trajectory windowAround(const Trajectory& closed, double s, double behind, double ahead);
 

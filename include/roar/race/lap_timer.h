@@ -27,8 +27,9 @@ class LapTimer {
  public:
   LapTimer(const track::Track& track, LapTimerOptions options = {});
 
-  // Positions in time order. Returns the lap completed by this update, if any.
-  std::optional<LapRecord> update(double time, const Eigen::Vector2d& position);
+  // Positions (map frame, z the height) in time order. The first is found on the whole track at its height
+  // (under a bridge, the road below), later ones near the last. Returns the lap completed by this update, if any.
+  std::optional<LapRecord> update(double time, const Eigen::Vector3d& position);
 
   bool started() const { return started_; }
   int lapsCompleted() const { return static_cast<int>(laps_.size()); }

@@ -94,9 +94,9 @@ class RaceControl {
   // Throws std::invalid_argument for no cars, a repeated name or non-positive laps.
   RaceControl(const track::Track& track, RaceRules rules, const std::vector<std::string>& cars);
 
-  // The car's position at a simulated time; returns the lap it completed, if any. An incident (track
-  // limits) is appended to `incident` when given.
-  std::optional<LapRecord> updatePosition(const std::string& car, double time, const Eigen::Vector2d& position,
+  // The car's position (map frame, z the height: LapTimer::update) at a simulated time; returns the lap it
+  // completed, if any. An incident (track limits) is appended to `incident` when given.
+  std::optional<LapRecord> updatePosition(const std::string& car, double time, const Eigen::Vector3d& position,
                                           std::optional<Incident>* incident = nullptr);
   // The car's heading (rad) and velocity (m/s, map frame) with its position: what a contact between cars
   // is judged by (race/contact_fault.h).

@@ -12,8 +12,9 @@ class TrackProgress {
  public:
   explicit TrackProgress(const track::Track& track) : track_(&track) {}
 
-  // Starts following a car at `position` (a search of the whole track).
-  void reset(const Eigen::Vector2d& position);
+  // Starts following a car at `position` (map frame, z the height: a search of the whole track at its
+  // height, so under a bridge the road below).
+  void reset(const Eigen::Vector3d& position);
   // Follows the car to `position`; returns the metres it advanced along the centre line since the last
   // update (negative when it went backwards).
   double update(const Eigen::Vector2d& position);

@@ -8,6 +8,11 @@
 
 namespace roar::track {
 
+// How much a metre of height counts against a metre sideways when a point is projected at its height: a
+// road one bridge's clearance above or below is never the one a point is on, though its centre line may be
+// nearer sideways than the point's own road's edge.
+inline constexpr double kProjectionHeightWeight = 3.0;
+
 // The start grid's slots a race places its cars on (scenarios, roar_sim, waypoint_server's spawn points).
 inline constexpr int kGridSlots = 20;
 
