@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <sstream>
 
@@ -271,49 +272,61 @@ const Value& Value::at(const std::string& key) const {
   return entries[keyIndex(keys, key)];
 }
 
-void check(const Space& space, const Value& value, const std::string& name) {
+namespace {
+
+// check() on the hot path (every action of every step): where a value is in its space is named only when
+// it is not, so a valid value costs no string.
+using PathOf = std::function<std::string()>;
+
+void checkAt(const Space& space, const Value& value, const PathOf& name) {
   if (space.kind == Space::Kind::kDict) {
     for (const auto& key : value.keys) {
-      if (!space.has(key)) throw SpaceError(name + ": unknown key '" + key + "'");
+      if (!space.has(key)) throw SpaceError(name() + ": unknown key '" + key + "'");
     }
     for (std::size_t i = 0; i < space.keys.size(); ++i) {
-      const std::string path = name + "['" + space.keys[i] + "']";
-      if (!value.has(space.keys[i])) throw SpaceError(path + " is missing");
-      check(space.entries[i], value.at(space.keys[i]), path);
+      const PathOf path = [&] { return name() + "['" + space.keys[i] + "']"; };
+      if (!value.has(space.keys[i])) throw SpaceError(path() + " is missing");
+      checkAt(space.entries[i], value.at(space.keys[i]), path);
     }
     return;
   }
-  if (!value.keys.empty()) throw SpaceError(name + " is a Dict, but its space is not");
+  if (!value.keys.empty()) throw SpaceError(name() + " is a Dict, but its space is not");
   if (value.numbers.size() != space.elements()) {
-    throw SpaceError(name + " has " + std::to_string(value.numbers.size()) + " numbers; its space " +
+    throw SpaceError(name() + " has " + std::to_string(value.numbers.size()) + " numbers; its space " +
                      (space.kind == Space::Kind::kBox ? "(shape " + shapeText(space.shape) + ") " : "") + "has " +
                      std::to_string(space.elements()));
   }
   for (std::size_t i = 0; i < value.numbers.size(); ++i) {
     const double v = value.numbers[i];
-    const std::string at = space.kind == Space::Kind::kDiscrete ? name : name + "[" + std::to_string(i) + "]";
-    if (std::isnan(v)) throw SpaceError(at + " is NaN");
+    auto at = [&] { return space.kind == Space::Kind::kDiscrete ? name() : name() + "[" + std::to_string(i) + "]"; };
+    if (std::isnan(v)) throw SpaceError(at() + " is NaN");
     switch (space.kind) {
       case Space::Kind::kBox:
         if (v < space.low[i] || v > space.high[i]) {
-          throw SpaceError(at + " = " + number(v) + " is outside [" + number(space.low[i]) + ", " +
+          throw SpaceError(at() + " = " + number(v) + " is outside [" + number(space.low[i]) + ", " +
                            number(space.high[i]) + "]");
         }
         break;
       case Space::Kind::kDiscrete:
         if (v != std::floor(v) || v < static_cast<double>(space.start) ||
             v > static_cast<double>(space.start + space.n - 1)) {
-          throw SpaceError(at + " = " + number(v) + " is not one of " + std::to_string(space.start) + " .. " +
+          throw SpaceError(at() + " = " + number(v) + " is not one of " + std::to_string(space.start) + " .. " +
                            std::to_string(space.start + space.n - 1));
         }
         break;
       case Space::Kind::kMultiBinary:
-        if (v != 0.0 && v != 1.0) throw SpaceError(at + " = " + number(v) + " is not 0 or 1");
+        if (v != 0.0 && v != 1.0) throw SpaceError(at() + " = " + number(v) + " is not 0 or 1");
         break;
       case Space::Kind::kDict:
         break;
     }
   }
+}
+
+}  // namespace
+
+void check(const Space& space, const Value& value, const std::string& name) {
+  checkAt(space, value, [&] { return name; });
 }
 
 bool contains(const Space& space, const Value& value) {
