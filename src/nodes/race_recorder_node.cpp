@@ -9,8 +9,10 @@
 // ~bag: the bag (its folder is created; written as <bag>.active and renamed when closed, as rosbag does);
 // ~topics: the topics to record, a regular expression the whole name must match. Topics are subscribed to
 // as they appear (the master is asked every ~poll_period wall seconds), with unbounded queues.
-// ~until_finished (false): the bag ends with the race: nothing more is written once /race_status says the
-// race is finished (progress is still reported, so that roar_sim does not wait for a recorder that is done).
+// ~until_finished (false): the bag ends with the race: once /race_status says the race is finished, only
+// what is stamped at or before the finish is still written (a car's odometry of the finishing tick may
+// arrive after the status, on its own connection); progress is still reported, so that roar_sim does not
+// wait for a recorder that is done.
 #include <roar_ros/RaceStatus.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -19,10 +21,13 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <regex>
 #include <set>
+#include <vector>
 
 #include "roar/ros/param_reading.h"
 
@@ -53,6 +58,49 @@ RecorderOptions readParameters(const ros::NodeHandle& pnh) {
   o.poll_period = readDouble(pnh, "poll_period", o.poll_period, 0.01, 10.0);
   o.until_finished = readBool(pnh, "until_finished", o.until_finished);
   return o;
+}
+
+// The first field of a message definition (its own, before the types it uses): comments and blank lines
+// skipped, spaces trimmed.
+std::string firstField(const std::string& definition) {
+  std::size_t from = 0;
+  while (from < definition.size()) {
+    std::size_t to = definition.find('\n', from);
+    if (to == std::string::npos) to = definition.size();
+    std::string line = definition.substr(from, to - from);
+    line = line.substr(0, line.find('#'));
+    const auto first = line.find_first_not_of(" \t\r"), last = line.find_last_not_of(" \t\r");
+    if (first != std::string::npos) return line.substr(first, last - first + 1);
+    from = to + 1;
+  }
+  return "";
+}
+
+// The simulated time a message is of, read from its serialized bytes where its type puts it: a Header
+// first (odometry, joint states, statuses, controls, trajectories: after its seq), a /tf message's first
+// transform's header (after the array's length and the seq), a /clock's own time. None for anything else.
+std::optional<ros::Time> stampOf(const topic_tools::ShapeShifter& message) {
+  const std::string& type = message.getDataType();
+  const std::string& definition = message.getMessageDefinition();
+  std::size_t at;
+  if (type == "rosgraph_msgs/Clock") {
+    at = 0;
+  } else if (type == "tf2_msgs/TFMessage") {
+    at = 8;
+  } else if (const std::string field = firstField(definition);
+             field == "Header header" || field == "std_msgs/Header header") {
+    at = 4;
+  } else {
+    return std::nullopt;
+  }
+  std::vector<std::uint8_t> bytes(message.size());
+  if (bytes.size() < at + 8) return std::nullopt;
+  ros::serialization::OStream out(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  message.write(out);
+  std::uint32_t sec = 0, nsec = 0;
+  std::memcpy(&sec, bytes.data() + at, 4);
+  std::memcpy(&nsec, bytes.data() + at + 4, 4);
+  return ros::Time(sec, nsec);
 }
 
 class RaceRecorder {
@@ -102,7 +150,7 @@ class RaceRecorder {
     // Stamped with wall time, as rosbag record does: the recorded /clock carries the simulated time.
     const ros::WallTime wall = ros::WallTime::now();
     const auto& message = event.getConstMessage();
-    if (!finished_) {
+    if (!finished_ || stampedBy(*message, finish_)) {
       bag_.write(topic, ros::Time(wall.sec, wall.nsec), *message, event.getConnectionHeaderPtr());
       ++counts_[topic];
     }
@@ -111,6 +159,7 @@ class RaceRecorder {
     if (options_.until_finished && !finished_ && topic == "/race_status" &&
         message->getDataType() == "roar_ros/RaceStatus" && message->instantiate<roar_ros::RaceStatus>()->finished) {
       finished_ = true;
+      finish_ = message->instantiate<roar_ros::RaceStatus>()->header.stamp;
       ROS_INFO("race_recorder: the race is finished: %s ends here", options_.bag.c_str());
     }
   }
@@ -125,6 +174,12 @@ class RaceRecorder {
   std::map<std::string, ros::Subscriber> subscribers_;
   std::map<std::string, std::size_t> counts_;
   bool finished_ = false;
+  ros::Time finish_;  // the stamp of the /race_status that said so
+
+  static bool stampedBy(const topic_tools::ShapeShifter& message, const ros::Time& finish) {
+    const auto stamp = stampOf(message);
+    return stamp && *stamp <= finish;
+  }
 };
 
 }  // namespace
