@@ -157,9 +157,11 @@ class RaceRecorder {
     if (topic == "/clock" && message->getDataType() == "rosgraph_msgs/Clock")
       recorded_pub_.publish(message->instantiate<rosgraph_msgs::Clock>());
     if (options_.until_finished && !finished_ && topic == "/race_status" &&
-        message->getDataType() == "roar_ros/RaceStatus" && message->instantiate<roar_ros::RaceStatus>()->finished) {
+        message->getDataType() == "roar_ros/RaceStatus") {
+      const auto status = message->instantiate<roar_ros::RaceStatus>();
+      if (!status->finished) return;
       finished_ = true;
-      finish_ = message->instantiate<roar_ros::RaceStatus>()->header.stamp;
+      finish_ = status->header.stamp;
       ROS_INFO("race_recorder: the race is finished: %s ends here", options_.bag.c_str());
     }
   }

@@ -102,6 +102,28 @@ TrajectoryPoint sampleAt(const Trajectory& t, double s) {
   return out;
 }
 
+namespace {
+
+// The foot of `position` on segment a (from point a to the next): where it is (into *on) and how far along
+// (the share *along); returns the squared distance to it.
+double footOnSegment(const Trajectory& t, std::size_t a, const Eigen::Vector2d& position, TrajectoryProjection* on,
+                     double* along) {
+  const std::size_t b = (a + 1) % t.points.size();
+  const Eigen::Vector2d pa = t.points[a].position, d = t.points[b].position - pa;
+  const double len2 = d.squaredNorm();
+  const double f = len2 > 0 ? std::clamp((position - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
+  const Eigen::Vector2d r = position - (pa + f * d);
+  const double d2 = r.squaredNorm();
+  on->segment = a;
+  on->s = t.points[a].s + f * stepAfter(t, a);
+  const double cross = d.x() * r.y() - d.y() * r.x();
+  on->lateral = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
+  *along = f;
+  return d2;
+}
+
+}  // namespace
+
 TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& position, long hint, long window) {
   const long n = static_cast<long>(t.points.size());
   const long segments = t.closed ? n : n - 1;
@@ -110,8 +132,8 @@ TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& positio
     first = hint - window;
     count = 2 * window + 1;
   }
-  TrajectoryProjection best;
-  double best_d2 = INFINITY;
+  TrajectoryProjection best, on;
+  double best_d2 = INFINITY, along;
   for (long k = 0; k < count; ++k) {
     long i = first + k;
     if (t.closed) {
@@ -119,18 +141,10 @@ TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& positio
     } else if (i < 0 || i >= segments) {
       continue;
     }
-    const std::size_t a = static_cast<std::size_t>(i), b = (a + 1) % t.points.size();
-    const Eigen::Vector2d pa = t.points[a].position, d = t.points[b].position - pa;
-    const double len2 = d.squaredNorm();
-    const double f = len2 > 0 ? std::clamp((position - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
-    const Eigen::Vector2d r = position - (pa + f * d);
-    const double d2 = r.squaredNorm();
+    const double d2 = footOnSegment(t, static_cast<std::size_t>(i), position, &on, &along);
     if (d2 < best_d2) {
       best_d2 = d2;
-      best.segment = a;
-      best.s = t.points[a].s + f * stepAfter(t, a);
-      const double cross = d.x() * r.y() - d.y() * r.x();
-      best.lateral = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
+      best = on;
     }
   }
   return best;
@@ -139,23 +153,15 @@ TrajectoryProjection project(const Trajectory& t, const Eigen::Vector2d& positio
 TrajectoryProjection projectAtHeight(const Trajectory& t, const Eigen::Vector3d& position) {
   const std::size_t n = t.points.size();
   const std::size_t segments = t.closed ? n : n - 1;
-  const Eigen::Vector2d xy = position.head<2>();
-  TrajectoryProjection best;
-  double best_d2 = INFINITY;
+  TrajectoryProjection best, on;
+  double best_d2 = INFINITY, f;
   for (std::size_t a = 0; a < segments; ++a) {
-    const std::size_t b = (a + 1) % n;
-    const Eigen::Vector2d pa = t.points[a].position, d = t.points[b].position - pa;
-    const double len2 = d.squaredNorm();
-    const double f = len2 > 0 ? std::clamp((xy - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
-    const Eigen::Vector2d r = xy - (pa + f * d);
-    const double dz = track::kProjectionHeightWeight * (position.z() - ((1 - f) * t.points[a].z + f * t.points[b].z));
-    const double d2 = r.squaredNorm() + dz * dz;
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best.segment = a;
-      best.s = t.points[a].s + f * stepAfter(t, a);
-      const double cross = d.x() * r.y() - d.y() * r.x();
-      best.lateral = (cross >= 0 ? 1.0 : -1.0) * r.norm();
+    const double flat = footOnSegment(t, a, position.head<2>(), &on, &f);
+    const double road = (1 - f) * t.points[a].z + f * t.points[(a + 1) % n].z;
+    const double dz = track::kProjectionHeightWeight * (position.z() - road);
+    if (flat + dz * dz < best_d2) {
+      best_d2 = flat + dz * dz;
+      best = on;
     }
   }
   return best;
