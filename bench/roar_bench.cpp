@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include <algorithm>
@@ -350,7 +351,12 @@ int main(int argc, char** argv) {
     } else if (std::strncmp(argv[i], "--field=", 8) == 0) {
       only_field = argv[i] + 8;
     } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
-      bench::setOvertakeOption(&overtake, argv[i] + 11);
+      try {
+        bench::setOvertakeOption(&overtake, argv[i] + 11);
+      } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "roar_bench: %s\n", e.what());
+        return 2;
+      }
     } else if (std::strcmp(argv[i], "--scaling") == 0) {
       scaling = true;
       race = benchmarks = false;

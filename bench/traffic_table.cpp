@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "roar/config/yaml_section.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
@@ -214,38 +215,70 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
 void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos) throw std::invalid_argument("--overtake " + assignment + ": expected name=value");
-  const std::string name = assignment.substr(0, eq);
-  const double value = std::stod(assignment.substr(eq + 1));
-  const std::map<std::string, double*> fields = {{"lateral_margin", &o->lateral_margin},
-                                                 {"longitudinal_margin", &o->longitudinal_margin},
-                                                 {"edge_margin", &o->edge_margin},
-                                                 {"horizon", &o->horizon},
-                                                 {"shift_time", &o->shift_time},
-                                                 {"min_shift_length", &o->min_shift_length},
-                                                 {"min_gain", &o->min_gain},
-                                                 {"engage_time", &o->engage_time},
-                                                 {"guard_lateral", &o->guard_lateral},
-                                                 {"guard_time", &o->guard_time},
-                                                 {"rejoin_time", &o->rejoin_time},
-                                                 {"min_pass_speed", &o->min_pass_speed},
-                                                 {"offline_grip", &o->offline_grip},
-                                                 {"max_pass_offset", &o->max_pass_offset},
-                                                 {"defend_time", &o->defend_time},
-                                                 {"defend_shift", &o->defend_shift},
-                                                 {"defend_hold", &o->defend_hold}};
-  const auto it = fields.find(name);
-  if (it != fields.end()) {
-    *it->second = value;
-  } else if (name == "retry_plans") {
-    o->retry_plans = static_cast<int>(value);
-  } else if (name == "abort_plans") {
-    o->abort_plans = static_cast<int>(value);
-  } else if (name == "blue_flags") {
-    o->blue_flags = value != 0.0;
-  } else if (name == "defend") {
-    o->defend = value != 0.0;
+  const std::string name = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  // Every OvertakeOptions field (the slipstream's as slipstream.<field>); integers and flags as numbers.
+  const std::map<std::string, double*> numbers = {{"car_length", &o->car_length},
+                                                  {"car_width", &o->car_width},
+                                                  {"lateral_margin", &o->lateral_margin},
+                                                  {"longitudinal_margin", &o->longitudinal_margin},
+                                                  {"edge_margin", &o->edge_margin},
+                                                  {"horizon", &o->horizon},
+                                                  {"shift_time", &o->shift_time},
+                                                  {"min_shift_length", &o->min_shift_length},
+                                                  {"min_gain", &o->min_gain},
+                                                  {"follow_gap", &o->follow_gap},
+                                                  {"sample_step", &o->sample_step},
+                                                  {"engage_time", &o->engage_time},
+                                                  {"min_pass_speed", &o->min_pass_speed},
+                                                  {"stall_time", &o->stall_time},
+                                                  {"plan_period", &o->plan_period},
+                                                  {"guard_lateral", &o->guard_lateral},
+                                                  {"guard_time", &o->guard_time},
+                                                  {"max_pass_offset", &o->max_pass_offset},
+                                                  {"offline_grip", &o->offline_grip},
+                                                  {"lateral_lookahead", &o->lateral_lookahead},
+                                                  {"plan_trust", &o->plan_trust},
+                                                  {"rejoin_time", &o->rejoin_time},
+                                                  {"blue_flag_time", &o->blue_flag_time},
+                                                  {"defend_time", &o->defend_time},
+                                                  {"defend_shift", &o->defend_shift},
+                                                  {"defend_hold", &o->defend_hold},
+                                                  {"slipstream.max_reduction", &o->slipstream.max_reduction},
+                                                  {"slipstream.decay_length", &o->slipstream.decay_length},
+                                                  {"slipstream.spread_growth", &o->slipstream.spread_growth},
+                                                  {"slipstream.max_gap", &o->slipstream.max_gap},
+                                                  {"slipstream.min_speed", &o->slipstream.min_speed}};
+  const std::map<std::string, int*> counts = {{"abort_plans", &o->abort_plans}, {"retry_plans", &o->retry_plans}};
+  const std::map<std::string, bool*> flags = {
+      {"blue_flags", &o->blue_flags}, {"defend", &o->defend}, {"slipstream.enabled", &o->slipstream.enabled}};
+  std::vector<std::string> known;
+  for (const auto& [key, field] : numbers) known.push_back(key);
+  for (const auto& [key, field] : counts) known.push_back(key);
+  for (const auto& [key, field] : flags) known.push_back(key);
+  if (!numbers.count(name) && !counts.count(name) && !flags.count(name)) {
+    const std::string near = config::nearestKey(name, known);
+    std::string list;
+    for (const auto& key : known) list += (list.empty() ? "" : ", ") + key;
+    throw std::invalid_argument("--overtake: no option '" + name + "'" +
+                                (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; options: " + list);
+  }
+  std::size_t used = 0;
+  double value = std::nan("");
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || !std::isfinite(value))
+    throw std::invalid_argument("--overtake " + name + ": '" + text + "' is not a finite number");
+  if (numbers.count(name)) {
+    *numbers.at(name) = value;
+  } else if (counts.count(name)) {
+    if (value != std::floor(value))
+      throw std::invalid_argument("--overtake " + name + ": '" + text + "' is not a whole number");
+    *counts.at(name) = static_cast<int>(value);
   } else {
-    throw std::invalid_argument("--overtake: no option '" + name + "'");
+    *flags.at(name) = value != 0.0;
   }
 }
 
