@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "roar/config/number.h"
 #include "roar/config/yaml_section.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/stack/race.h"
@@ -262,14 +263,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     throw std::invalid_argument("--overtake: no option '" + name + "'" +
                                 (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; options: " + list);
   }
-  std::size_t used = 0;
-  double value = std::nan("");
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || !std::isfinite(value))
+  double value = 0.0;
+  if (!config::parseNumber(text, &value) || !std::isfinite(value))
     throw std::invalid_argument("--overtake " + name + ": '" + text + "' is not a finite number");
   if (numbers.count(name)) {
     *numbers.at(name) = value;

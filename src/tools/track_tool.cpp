@@ -6,7 +6,9 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
+#include "roar/config/number.h"
 #include "roar/track/bridges.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
@@ -41,6 +43,15 @@ std::string option(int argc, char** argv, const std::string& flag, const std::st
     if (argv[i] == flag) return argv[i + 1];
   }
   return fallback;
+}
+
+// A numeric option: the whole value one finite number ("--spacing 2x" is refused, not read as 2).
+double numberOption(int argc, char** argv, const std::string& name, const std::string& fallback) {
+  const std::string text = option(argc, argv, name, fallback);
+  double value = 0.0;
+  if (!roar::config::parseNumber(text, &value) || !std::isfinite(value))
+    throw std::invalid_argument(name + " '" + text + "' is not a number");
+  return value;
 }
 
 bool flag(int argc, char** argv, const std::string& name) {
@@ -116,7 +127,7 @@ int main(int argc, char** argv) {
       const std::string folder = argv[3];
       TrackInfo info;
       info.name = option(argc, argv, "--name", fs::path(folder).filename().string());
-      auto points = importPoints(argv[2], std::stod(option(argc, argv, "--width", "12")));
+      auto points = importPoints(argv[2], numberOption(argc, argv, "--width", "12"));
       // A recorded lap that drives on over its start: the retraced tail is cut.
       std::size_t cut = 0;
       points = trimRetracedTail(points, &cut);
@@ -142,8 +153,8 @@ int main(int argc, char** argv) {
         std::cout << argv[2] << ": bridged the " << gap.gap
                   << " m from the last point back to the first with a straight stretch\n";
       }
-      const std::string spacing = option(argc, argv, "--spacing", "");
-      if (!spacing.empty()) points = resampleClosed(points, std::stod(spacing));
+      if (!option(argc, argv, "--spacing", "").empty())
+        points = resampleClosed(points, numberOption(argc, argv, "--spacing", ""));
       points = withBridges(points, argv[2], info);
       writeMapFolder(folder, points, info);
       return check(folder);
@@ -156,14 +167,16 @@ int main(int argc, char** argv) {
     }
     if (cmd == "resample" && argc == 5) {
       const Track track = loadMapFolder(argv[2]);
-      const auto points = resampleClosed(track.points(), std::stod(option(argc, argv, "--spacing", "2")));
+      const auto points = resampleClosed(track.points(), numberOption(argc, argv, "--spacing", "2"));
       writeMapFolder(argv[2], points, track.info());
       return check(argv[2]);
     }
     if (cmd == "spawn" && argc == 5) {
       const Track track = loadMapFolder(argv[2]);
-      const int count = std::stoi(argv[3]);
-      if (count < 1) throw MapError("spawn: N must be at least 1");
+      double n = 0.0;
+      if (!roar::config::parseNumber(argv[3], &n) || n != std::floor(n) || n < 1 || n > 1e6)
+        throw MapError(std::string("spawn: N must be a whole number of at least 1, got '") + argv[3] + "'");
+      const int count = static_cast<int>(n);
       std::vector<Waypoint> spawns;
       for (const auto& pose : track.evenSpawnPoints(count)) {
         Waypoint w;
@@ -181,7 +194,7 @@ int main(int argc, char** argv) {
       info.name = fs::path(folder).filename().string();
       if (fs::exists(fs::path(folder) / "track.yaml")) info = readTrackYaml(folder + "/track.yaml");
       const auto points = withBridges(
-          buildCircuit(readControlPoints(argv[2]), std::stod(option(argc, argv, "--spacing", "2"))), argv[2], info);
+          buildCircuit(readControlPoints(argv[2]), numberOption(argc, argv, "--spacing", "2")), argv[2], info);
       writeMapFolder(folder, points, info);
       return check(folder);
     }

@@ -1,5 +1,6 @@
 #include "roar/track/map_folder.h"
 
+#include "roar/config/number.h"
 #include "roar/config/yaml_section.h"
 #include "roar/track/circuit_builder.h"
 
@@ -36,13 +37,6 @@ std::vector<std::string> splitFields(const std::string& line) {
   return out;
 }
 
-bool parseDouble(const std::string& text, double* value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  *value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
-}
-
 }  // namespace
 
 CentreLineFile readCentreLineCsv(const std::string& path) {
@@ -59,8 +53,8 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     const auto fields = splitFields(text);
     double v[4];
     bool numeric = fields.size() >= 4;
-    for (int k = 0; numeric && k < 4; ++k) numeric = parseDouble(fields[k], &v[k]);
-    if (!numeric && file.points.empty() && !fields.empty() && !parseDouble(fields[0], &v[0])) {
+    for (int k = 0; numeric && k < 4; ++k) numeric = config::parseNumber(fields[k], &v[k]);
+    if (!numeric && file.points.empty() && !fields.empty() && !config::parseNumber(fields[0], &v[0])) {
       continue;  // a header line without '#'
     }
     if (fields.size() < 4) {
@@ -68,7 +62,7 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
                      ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m, found " + std::to_string(fields.size()));
     }
     for (int k = 0; k < 4; ++k) {
-      if (!parseDouble(fields[k], &v[k])) {
+      if (!config::parseNumber(fields[k], &v[k])) {
         throw MapError(path + ":" + std::to_string(line_no) + ": column " + kColumns[k] + " is not a number: '" +
                        fields[k] + "'");
       }
@@ -97,7 +91,7 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     for (std::size_t k = 4; k < std::min<std::size_t>(fields.size(), 6); ++k) {
       double extra;
       const char* name = k == 4 ? "z_m" : "banking_rad";
-      if (!parseDouble(fields[k], &extra) || !std::isfinite(extra)) {
+      if (!config::parseNumber(fields[k], &extra) || !std::isfinite(extra)) {
         throw MapError(path + ":" + std::to_string(line_no) + ": column " + name + " is not a finite number");
       }
       (k == 4 ? point.z : point.banking) = extra;
