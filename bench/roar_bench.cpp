@@ -31,6 +31,7 @@
 #include <random>
 #include <thread>
 
+#include "roar/config/number.h"
 #include "roar/planning/minimum_time.h"
 #include "roar/rl/vector_env.h"
 #include "roar/sensors/camera.h"
@@ -324,51 +325,52 @@ int main(int argc, char** argv) {
   std::string only_map, only_field;
   planning::OvertakeOptions overtake;
   std::vector<char*> rest;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strncmp(argv[i], "--laps=", 7) == 0) {
-      laps = std::max(1, std::atoi(argv[i] + 7));
-    } else if (std::strncmp(argv[i], "--grip-use=", 11) == 0) {
-      grip_use = std::atof(argv[i] + 11);
-    } else if (std::strcmp(argv[i], "--no-yardstick") == 0) {
-      yardstick = false;
-    } else if (std::strcmp(argv[i], "--minimum-time") == 0) {
-      minimum_time = true;
-    } else if (std::strcmp(argv[i], "--stanley") == 0) {
-      lateral = control::LateralMethod::kStanley;
-    } else if (std::strcmp(argv[i], "--race-only") == 0) {
-      benchmarks = false;
-    } else if (std::strcmp(argv[i], "--no-race") == 0) {
-      race = false;
-    } else if (std::strcmp(argv[i], "--traffic") == 0) {
-      traffic = true;
-      race = benchmarks = false;
-    } else if (std::strncmp(argv[i], "--seeds=", 8) == 0) {
-      seeds = std::max(1, std::atoi(argv[i] + 8));
-    } else if (std::strncmp(argv[i], "--traffic-laps=", 15) == 0) {
-      traffic_laps = std::max(1, std::atoi(argv[i] + 15));
-    } else if (std::strncmp(argv[i], "--map=", 6) == 0) {
-      only_map = argv[i] + 6;
-    } else if (std::strncmp(argv[i], "--field=", 8) == 0) {
-      only_field = argv[i] + 8;
-    } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
-      try {
+  // A bad value is refused before anything runs, naming the option.
+  try {
+    for (int i = 0; i < argc; ++i) {
+      if (std::strncmp(argv[i], "--laps=", 7) == 0) {
+        laps = static_cast<int>(config::wholeNumberArgument("--laps", argv[i] + 7, 1));
+      } else if (std::strncmp(argv[i], "--grip-use=", 11) == 0) {
+        grip_use = config::numberArgument("--grip-use", argv[i] + 11);
+      } else if (std::strcmp(argv[i], "--no-yardstick") == 0) {
+        yardstick = false;
+      } else if (std::strcmp(argv[i], "--minimum-time") == 0) {
+        minimum_time = true;
+      } else if (std::strcmp(argv[i], "--stanley") == 0) {
+        lateral = control::LateralMethod::kStanley;
+      } else if (std::strcmp(argv[i], "--race-only") == 0) {
+        benchmarks = false;
+      } else if (std::strcmp(argv[i], "--no-race") == 0) {
+        race = false;
+      } else if (std::strcmp(argv[i], "--traffic") == 0) {
+        traffic = true;
+        race = benchmarks = false;
+      } else if (std::strncmp(argv[i], "--seeds=", 8) == 0) {
+        seeds = static_cast<int>(config::wholeNumberArgument("--seeds", argv[i] + 8, 1));
+      } else if (std::strncmp(argv[i], "--traffic-laps=", 15) == 0) {
+        traffic_laps = static_cast<int>(config::wholeNumberArgument("--traffic-laps", argv[i] + 15, 1));
+      } else if (std::strncmp(argv[i], "--map=", 6) == 0) {
+        only_map = argv[i] + 6;
+      } else if (std::strncmp(argv[i], "--field=", 8) == 0) {
+        only_field = argv[i] + 8;
+      } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
         bench::setOvertakeOption(&overtake, argv[i] + 11);
-      } catch (const std::invalid_argument& e) {
-        std::fprintf(stderr, "roar_bench: %s\n", e.what());
-        return 2;
+      } else if (std::strcmp(argv[i], "--scaling") == 0) {
+        scaling = true;
+        race = benchmarks = false;
+      } else if (std::strncmp(argv[i], "--max-threads=", 14) == 0) {
+        max_threads = static_cast<int>(config::wholeNumberArgument("--max-threads", argv[i] + 14, 1));
+      } else if (std::strncmp(argv[i], "--seconds=", 10) == 0) {
+        scaling_seconds = std::max(0.5, config::numberArgument("--seconds", argv[i] + 10));
+      } else if (std::strcmp(argv[i], "--verbose") == 0) {
+        verbose = true;
+      } else {
+        rest.push_back(argv[i]);
       }
-    } else if (std::strcmp(argv[i], "--scaling") == 0) {
-      scaling = true;
-      race = benchmarks = false;
-    } else if (std::strncmp(argv[i], "--max-threads=", 14) == 0) {
-      max_threads = std::max(1, std::atoi(argv[i] + 14));
-    } else if (std::strncmp(argv[i], "--seconds=", 10) == 0) {
-      scaling_seconds = std::max(0.5, std::atof(argv[i] + 10));
-    } else if (std::strcmp(argv[i], "--verbose") == 0) {
-      verbose = true;
-    } else {
-      rest.push_back(argv[i]);
     }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "roar_bench: %s\n", e.what());
+    return 2;
   }
   int rest_count = static_cast<int>(rest.size());
   if (benchmarks) {

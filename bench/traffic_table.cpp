@@ -263,17 +263,13 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     throw std::invalid_argument("--overtake: no option '" + name + "'" +
                                 (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; options: " + list);
   }
-  double value = 0.0;
-  if (!config::parseNumber(text, &value) || !std::isfinite(value))
-    throw std::invalid_argument("--overtake " + name + ": '" + text + "' is not a finite number");
+  const std::string option = "--overtake " + name;
   if (numbers.count(name)) {
-    *numbers.at(name) = value;
+    *numbers.at(name) = config::numberArgument(option, text);
   } else if (counts.count(name)) {
-    if (value != std::floor(value))
-      throw std::invalid_argument("--overtake " + name + ": '" + text + "' is not a whole number");
-    *counts.at(name) = static_cast<int>(value);
+    *counts.at(name) = static_cast<int>(config::wholeNumberArgument(option, text, 0));
   } else {
-    *flags.at(name) = value != 0.0;
+    *flags.at(name) = config::numberArgument(option, text) != 0.0;
   }
 }
 

@@ -15,8 +15,10 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
+#include "roar/config/number.h"
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
 #include "roar/rl/evolution.h"
@@ -57,7 +59,7 @@ std::vector<int> parseHidden(const std::string& text) {
   std::size_t at = 0;
   while (at < text.size()) {
     const std::size_t comma = text.find(',', at);
-    sizes.push_back(std::stoi(text.substr(at, comma - at)));
+    sizes.push_back(static_cast<int>(roar::config::wholeNumberArgument("--hidden", text.substr(at, comma - at), 1)));
     at = comma == std::string::npos ? text.size() : comma + 1;
   }
   return sizes;
@@ -83,27 +85,27 @@ std::optional<Args> parse(int argc, char** argv) {
     else if (flag == "--out")
       a.out = v;
     else if (flag == "--minutes")
-      a.minutes = std::stod(v);
+      a.minutes = roar::config::numberArgument(flag, v);
     else if (flag == "--generations")
-      a.generations = std::stoi(v);
+      a.generations = static_cast<int>(roar::config::wholeNumberArgument(flag, v, 0));
     else if (flag == "--threads")
-      a.es.threads = std::stoi(v);
+      a.es.threads = static_cast<int>(roar::config::wholeNumberArgument(flag, v, 1));
     else if (flag == "--seed")
-      a.es.seed = std::stoull(v);
+      a.es.seed = static_cast<std::uint64_t>(roar::config::wholeNumberArgument(flag, v, 0, 1LL << 53));
     else if (flag == "--directions")
-      a.es.directions = std::stoi(v);
+      a.es.directions = static_cast<int>(roar::config::wholeNumberArgument(flag, v, 1));
     else if (flag == "--sigma")
-      a.es.sigma = std::stod(v);
+      a.es.sigma = roar::config::numberArgument(flag, v);
     else if (flag == "--learning-rate")
-      a.es.learning_rate = std::stod(v);
+      a.es.learning_rate = roar::config::numberArgument(flag, v);
     else if (flag == "--hidden")
       a.es.hidden = parseHidden(v);
     else if (flag == "--episodes")
-      a.es.episodes = std::stoi(v);
+      a.es.episodes = static_cast<int>(roar::config::wholeNumberArgument(flag, v, 1));
     else if (flag == "--episode-seconds")
-      a.episode_seconds = std::stod(v);
+      a.episode_seconds = roar::config::numberArgument(flag, v);
     else if (flag == "--eval-every")
-      a.eval_every = std::stoi(v);
+      a.eval_every = static_cast<int>(roar::config::wholeNumberArgument(flag, v, 1));
     else
       return std::nullopt;
   }
@@ -148,7 +150,13 @@ LapTest driveLaps(rl::RacingEnv& env, const rl::MlpPolicy& policy) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const auto parsed = parse(argc, argv);
+  std::optional<Args> parsed;
+  try {
+    parsed = parse(argc, argv);
+  } catch (const std::invalid_argument& e) {  // a value that is not a number: named, before anything runs
+    std::fprintf(stderr, "rl_train: %s\n", e.what());
+    return 2;
+  }
   if (!parsed) return usage();
   const Args& args = *parsed;
   try {

@@ -47,11 +47,7 @@ std::string option(int argc, char** argv, const std::string& flag, const std::st
 
 // A numeric option: the whole value one finite number ("--spacing 2x" is refused, not read as 2).
 double numberOption(int argc, char** argv, const std::string& name, const std::string& fallback) {
-  const std::string text = option(argc, argv, name, fallback);
-  double value = 0.0;
-  if (!roar::config::parseNumber(text, &value) || !std::isfinite(value))
-    throw std::invalid_argument(name + " '" + text + "' is not a number");
-  return value;
+  return roar::config::numberArgument(name, option(argc, argv, name, fallback));
 }
 
 bool flag(int argc, char** argv, const std::string& name) {
@@ -173,10 +169,7 @@ int main(int argc, char** argv) {
     }
     if (cmd == "spawn" && argc == 5) {
       const Track track = loadMapFolder(argv[2]);
-      double n = 0.0;
-      if (!roar::config::parseNumber(argv[3], &n) || n != std::floor(n) || n < 1 || n > 1e6)
-        throw MapError(std::string("spawn: N must be a whole number of at least 1, got '") + argv[3] + "'");
-      const int count = static_cast<int>(n);
+      const int count = static_cast<int>(roar::config::wholeNumberArgument("spawn: N", argv[3], 1, 100000));
       std::vector<Waypoint> spawns;
       for (const auto& pose : track.evenSpawnPoints(count)) {
         Waypoint w;

@@ -1,6 +1,7 @@
 """Options typed on a command line: roar_bench --overtake=name=value sets every OvertakeOptions field (the
 README says any) and refuses a misspelt name or a bad value with the option named, before any race runs;
-track_tool refuses a number with trailing junk ("--spacing 2x" was read as 2) naming the option."""
+roar_bench's, track_tool's and rl_train's numbers are refused with trailing junk ("--spacing 2x" was read
+as 2), naming the option."""
 import os
 import shutil
 import subprocess
@@ -23,9 +24,15 @@ def test_a_misspelt_option_is_refused_with_the_nearest_name():
 
 def test_a_value_that_is_not_a_number_is_refused():
     done = run("--overtake=guard_time=0.2s")
-    assert done.returncode == 2 and "guard_time: '0.2s' is not a finite number" in done.stderr, done.stderr
+    assert done.returncode == 2 and "--overtake guard_time '0.2s' is not a number" in done.stderr, done.stderr
     done = run("--overtake=retry_plans=2.5")
-    assert done.returncode == 2 and "retry_plans: '2.5' is not a whole number" in done.stderr, done.stderr
+    assert done.returncode == 2 and "--overtake retry_plans '2.5' is not a whole number" in done.stderr, done.stderr
+    # roar_bench's own options likewise (--seeds=0 used to become 1, --seeds=3x 3)
+    for bad, said in (("--seeds=3x", "--seeds '3x' is not a whole number of at least 1"),
+                      ("--seeds=0", "--seeds '0' is not a whole number of at least 1"),
+                      ("--seconds=2s", "--seconds '2s' is not a number")):
+        done = run(bad)
+        assert done.returncode == 2 and said in done.stderr, (bad, done.stderr)
 
 
 def test_fields_beyond_the_first_ones_and_the_slipstreams_are_settable():
@@ -54,5 +61,16 @@ def test_track_tool_refuses_a_spacing_that_is_not_a_number(tmp_path):
 def test_track_tool_refuses_a_spawn_count_that_is_not_a_whole_number(tmp_path):
     done = subprocess.run([TRACK_TOOL, "spawn", os.path.join(REPO, "maps", "roar_ring"), "3x",
                            str(tmp_path / "spawns.npz")], capture_output=True, text=True, timeout=60)
-    assert done.returncode != 0 and "N must be a whole number of at least 1, got '3x'" in done.stderr, done.stderr
+    assert done.returncode != 0 and "spawn: N '3x' is not a whole number from 1 to 100000" in done.stderr, done.stderr
     assert not (tmp_path / "spawns.npz").exists()
+
+
+def test_rl_train_refuses_a_value_that_is_not_a_number(tmp_path):
+    rl_train = os.path.join(REPO, "devel", "lib", "roar_ros", "rl_train")
+    for args, said in ((["--minutes", "1m"], "--minutes '1m' is not a number"),
+                       (["--threads", "2x"], "--threads '2x' is not a whole number of at least 1"),
+                       (["--hidden", "32,x"], "--hidden 'x' is not a whole number of at least 1")):
+        done = subprocess.run([rl_train, *args, "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                              timeout=60)
+        assert done.returncode == 2 and said in done.stderr, (args, done.stderr)
+    assert not (tmp_path / "out").exists()  # nothing ran
