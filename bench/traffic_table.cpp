@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <random>
 #include <stdexcept>
@@ -218,59 +219,62 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
   if (eq == std::string::npos) throw std::invalid_argument("--overtake " + assignment + ": expected name=value");
   const std::string name = assignment.substr(0, eq), text = assignment.substr(eq + 1);
   // Every OvertakeOptions field (the slipstream's as slipstream.<field>); integers and flags as numbers.
-  const std::map<std::string, double*> numbers = {{"car_length", &o->car_length},
-                                                  {"car_width", &o->car_width},
-                                                  {"lateral_margin", &o->lateral_margin},
-                                                  {"longitudinal_margin", &o->longitudinal_margin},
-                                                  {"edge_margin", &o->edge_margin},
-                                                  {"horizon", &o->horizon},
-                                                  {"shift_time", &o->shift_time},
-                                                  {"min_shift_length", &o->min_shift_length},
-                                                  {"min_gain", &o->min_gain},
-                                                  {"follow_gap", &o->follow_gap},
-                                                  {"sample_step", &o->sample_step},
-                                                  {"engage_time", &o->engage_time},
-                                                  {"min_pass_speed", &o->min_pass_speed},
-                                                  {"stall_time", &o->stall_time},
-                                                  {"plan_period", &o->plan_period},
-                                                  {"guard_lateral", &o->guard_lateral},
-                                                  {"guard_time", &o->guard_time},
-                                                  {"max_pass_offset", &o->max_pass_offset},
-                                                  {"offline_grip", &o->offline_grip},
-                                                  {"lateral_lookahead", &o->lateral_lookahead},
-                                                  {"plan_trust", &o->plan_trust},
-                                                  {"rejoin_time", &o->rejoin_time},
-                                                  {"blue_flag_time", &o->blue_flag_time},
-                                                  {"defend_time", &o->defend_time},
-                                                  {"defend_shift", &o->defend_shift},
-                                                  {"defend_hold", &o->defend_hold},
-                                                  {"slipstream.max_reduction", &o->slipstream.max_reduction},
-                                                  {"slipstream.decay_length", &o->slipstream.decay_length},
-                                                  {"slipstream.spread_growth", &o->slipstream.spread_growth},
-                                                  {"slipstream.max_gap", &o->slipstream.max_gap},
-                                                  {"slipstream.min_speed", &o->slipstream.min_speed}};
-  const std::map<std::string, int*> counts = {{"abort_plans", &o->abort_plans}, {"retry_plans", &o->retry_plans}};
-  const std::map<std::string, bool*> flags = {
-      {"blue_flags", &o->blue_flags}, {"defend", &o->defend}, {"slipstream.enabled", &o->slipstream.enabled}};
-  std::vector<std::string> known;
-  for (const auto& [key, field] : numbers) known.push_back(key);
-  for (const auto& [key, field] : counts) known.push_back(key);
-  for (const auto& [key, field] : flags) known.push_back(key);
-  if (!numbers.count(name) && !counts.count(name) && !flags.count(name)) {
-    const std::string near = config::nearestKey(name, known);
+  const std::string option = "--overtake " + name;
+  using Setter = std::function<void()>;
+  auto number = [&](double* field) -> Setter { return [=] { *field = config::numberArgument(option, text); }; };
+  auto count = [&](int* field) -> Setter {
+    return [=] { *field = static_cast<int>(config::wholeNumberArgument(option, text, 0)); };
+  };
+  auto flag = [&](bool* field) -> Setter { return [=] { *field = config::numberArgument(option, text) != 0.0; }; };
+  const std::map<std::string, Setter> setters = {{"car_length", number(&o->car_length)},
+                                                 {"car_width", number(&o->car_width)},
+                                                 {"lateral_margin", number(&o->lateral_margin)},
+                                                 {"longitudinal_margin", number(&o->longitudinal_margin)},
+                                                 {"edge_margin", number(&o->edge_margin)},
+                                                 {"horizon", number(&o->horizon)},
+                                                 {"shift_time", number(&o->shift_time)},
+                                                 {"min_shift_length", number(&o->min_shift_length)},
+                                                 {"min_gain", number(&o->min_gain)},
+                                                 {"follow_gap", number(&o->follow_gap)},
+                                                 {"sample_step", number(&o->sample_step)},
+                                                 {"engage_time", number(&o->engage_time)},
+                                                 {"min_pass_speed", number(&o->min_pass_speed)},
+                                                 {"stall_time", number(&o->stall_time)},
+                                                 {"plan_period", number(&o->plan_period)},
+                                                 {"guard_lateral", number(&o->guard_lateral)},
+                                                 {"guard_time", number(&o->guard_time)},
+                                                 {"max_pass_offset", number(&o->max_pass_offset)},
+                                                 {"offline_grip", number(&o->offline_grip)},
+                                                 {"lateral_lookahead", number(&o->lateral_lookahead)},
+                                                 {"plan_trust", number(&o->plan_trust)},
+                                                 {"rejoin_time", number(&o->rejoin_time)},
+                                                 {"blue_flag_time", number(&o->blue_flag_time)},
+                                                 {"defend_time", number(&o->defend_time)},
+                                                 {"defend_shift", number(&o->defend_shift)},
+                                                 {"defend_hold", number(&o->defend_hold)},
+                                                 {"slipstream.max_reduction", number(&o->slipstream.max_reduction)},
+                                                 {"slipstream.decay_length", number(&o->slipstream.decay_length)},
+                                                 {"slipstream.spread_growth", number(&o->slipstream.spread_growth)},
+                                                 {"slipstream.max_gap", number(&o->slipstream.max_gap)},
+                                                 {"slipstream.min_speed", number(&o->slipstream.min_speed)},
+                                                 {"abort_plans", count(&o->abort_plans)},
+                                                 {"retry_plans", count(&o->retry_plans)},
+                                                 {"blue_flags", flag(&o->blue_flags)},
+                                                 {"defend", flag(&o->defend)},
+                                                 {"slipstream.enabled", flag(&o->slipstream.enabled)}};
+  const auto it = setters.find(name);
+  if (it == setters.end()) {
+    std::vector<std::string> known;
     std::string list;
-    for (const auto& key : known) list += (list.empty() ? "" : ", ") + key;
+    for (const auto& [key, setter] : setters) {
+      known.push_back(key);
+      list += (list.empty() ? "" : ", ") + key;
+    }
+    const std::string near = config::nearestKey(name, known);
     throw std::invalid_argument("--overtake: no option '" + name + "'" +
                                 (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; options: " + list);
   }
-  const std::string option = "--overtake " + name;
-  if (numbers.count(name)) {
-    *numbers.at(name) = config::numberArgument(option, text);
-  } else if (counts.count(name)) {
-    *counts.at(name) = static_cast<int>(config::wholeNumberArgument(option, text, 0));
-  } else {
-    *flags.at(name) = config::numberArgument(option, text) != 0.0;
-  }
+  it->second();
 }
 
 }  // namespace roar::bench

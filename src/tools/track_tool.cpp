@@ -149,8 +149,8 @@ int main(int argc, char** argv) {
         std::cout << argv[2] << ": bridged the " << gap.gap
                   << " m from the last point back to the first with a straight stretch\n";
       }
-      if (!option(argc, argv, "--spacing", "").empty())
-        points = resampleClosed(points, numberOption(argc, argv, "--spacing", ""));
+      const std::string spacing = option(argc, argv, "--spacing", "");
+      if (!spacing.empty()) points = resampleClosed(points, roar::config::numberArgument("--spacing", spacing));
       points = withBridges(points, argv[2], info);
       writeMapFolder(folder, points, info);
       return check(folder);

@@ -15,7 +15,7 @@ bool parseNumber(const std::string& text, double* value);
 double numberArgument(const std::string& name, const std::string& text);
 // The same as a whole number in [low, high]; otherwise throws std::invalid_argument naming the option and
 // the range.
-long long wholeNumberArgument(const std::string& name, const std::string& text, long long low = LLONG_MIN,
+long long wholeNumberArgument(const std::string& name, const std::string& text, long long low,
                               long long high = INT_MAX);
 
 }  // namespace roar::config
