@@ -298,15 +298,15 @@ void printRacingTable(int laps, double grip_use, control::LateralMethod lateral,
     // The yardstick: a minimum-time line searched from the planner's, with the same car model.
     const auto limits = planning::vehicleLimits(car, track.info().friction, options.grip_use);
     planning::MinimumTimeResult fastest;
-    if (yardstick) {
+    if (yardstick && track.closed()) {  // the search refines circuits' lines
       fastest = planning::minimumTimeLine(track, planning::minimumCurvatureLine(track, options.planner.line), limits,
                                           options.planner.line);
     }
     std::fflush(stdout);
     std::printf("%-16s %6.2f %9.2f %9.2f %9.2f %7.3f %9.2f %8.3f %10.2f %10.2f %9d%s\n", map.c_str(),
-                track.length() / 1000.0, r.best_lap(), mean, r.promised_lap, mean / r.promised_lap, fastest.lap_time,
-                r.promised_lap / fastest.lap_time, r.max_lateral_error, r.rms_lateral_error, r.barrier_contacts,
-                r.finished ? "" : "  (did not finish)");
+                track.raceDistance() / 1000.0, r.best_lap(), mean, r.promised_lap, mean / r.promised_lap,
+                fastest.lap_time, fastest.lap_time > 0 ? r.promised_lap / fastest.lap_time : 0.0, r.max_lateral_error,
+                r.rms_lateral_error, r.barrier_contacts, r.finished ? "" : "  (did not finish)");
     std::fflush(stdout);
   }
 }

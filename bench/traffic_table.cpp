@@ -121,6 +121,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
   for (const auto& map : track::listMaps(maps_dir)) {
     if (!only_map.empty() && map != only_map) continue;
     const auto track = track::loadMapFolder(maps_dir + "/" + map);
+    if (!track.closed()) continue;  // laps of circuits: a point-to-point course has no laps to catch a car on
     stack::RaceOptions options;
     options.laps = laps;
     options.field.overtaking = true;

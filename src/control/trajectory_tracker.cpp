@@ -8,6 +8,9 @@ namespace roar::control {
 
 namespace {
 
+// m of trajectory over which the road's slope ahead is taken.
+constexpr double kGradeBase = 5.0;
+
 void check(const TrackerOptions& o) {
   for (double v : {o.wheelbase, o.max_steer_angle, o.lookahead_min, o.speed_gain}) {
     if (!(v > 0) || !std::isfinite(v))
@@ -76,8 +79,12 @@ sim::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
       planning::sampleAt(trajectory_, projection.s + speed * options_.speed_preview);
   target_speed_ = options_.max_speed > 0 ? std::min(ahead.speed, options_.max_speed) : ahead.speed;
   const double acceleration = options_.max_speed > 0 && target_speed_ < ahead.speed ? 0.0 : ahead.acceleration;
-  // Feed-forward: the force the profile's acceleration needs, as a share of what engine or brakes give.
-  const double force = limits_.mass * acceleration + limits_.resistance(speed);
+  // Feed-forward: the force the profile's acceleration needs, gravity along the road's slope counted, as a
+  // share of what engine or brakes give.
+  const planning::TrajectoryPoint beyond = planning::sampleAt(trajectory_, ahead.s + kGradeBase);
+  const double rise = beyond.s > ahead.s ? beyond.z - ahead.z : 0.0;
+  const double slope = rise / std::hypot(std::max(beyond.s - ahead.s, 1e-9), rise);
+  const double force = limits_.mass * (acceleration + limits_.gravity * slope) + limits_.resistance(speed);
   const double feed_forward =
       force >= 0 ? force / std::max(1.0, limits_.driveForce(speed)) : force / std::max(1.0, limits_.max_brake_force);
   const double effort = feed_forward + options_.speed_gain * (target_speed_ - speed);

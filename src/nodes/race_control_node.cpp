@@ -253,7 +253,7 @@ class RaceControlNode {
       const Eigen::Vector3d position(p.position.x, p.position.y, p.position.z);
       const auto pr = i == 0 ? track.projectAtHeight(position) : track.projectNear(position.head<2>(), near, 100.0);
       near = pr.s;
-      profile_.push_back({track.forwardDistance(track.info().start_finish_s, pr.s), p.speed});
+      profile_.push_back({track.raceProgress(pr.s), p.speed});
     }
     std::sort(profile_.begin(), profile_.end(),
               [](const report::ProfilePoint& a, const report::ProfilePoint& b) { return a.progress < b.progress; });
@@ -355,8 +355,17 @@ int main(int argc, char** argv) {
     RaceControlNode node(nh, track::loadMapFolder(options.map_folder), options);
     // Read now: at the end the master may be gone with the launch.
     const std::string run_id = ros::param::param<std::string>("/run_id", "");
-    std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
-                node.race().track().info().name.c_str(), node.race().track().length(), options.vehicles.size());
+    const track::Track& track = node.race().track();
+    if (track.closed()) {
+      std::printf("race_control: %d lap(s) of %s (%.0f m) for %zu car(s)\n", options.rules.laps,
+                  track.info().name.c_str(), track.length(), options.vehicles.size());
+    } else {
+      // A point-to-point course is raced once, whatever ~laps says.
+      std::printf(
+          "race_control: one run of %s, a point-to-point course (%.0f m from its start line to its finish "
+          "line), for %zu car(s)\n",
+          track.info().name.c_str(), track.raceDistance(), options.vehicles.size());
+    }
     if (!options.output_dir.empty())
       std::printf("race_control: results will be written to %s\n", options.output_dir.c_str());
     std::fflush(stdout);
@@ -399,7 +408,7 @@ int main(int argc, char** argv) {
       std::printf(
           "  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
           "car contacts %d, track limits %d, in traffic %.1f s (%s)\n",
-          standing.position, standing.name.c_str(), car.timer.lapsCompleted(), options.rules.laps,
+          standing.position, standing.name.c_str(), car.timer.lapsCompleted(), node.race().rules().laps,
           car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
           best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
           car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);

@@ -8,6 +8,7 @@
 #include <roar_ros/MapInfo.h>
 #include <roar_ros/ProjectPoint.h>
 #include <ros/ros.h>
+#include <cstdio>
 
 #include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
@@ -141,6 +142,14 @@ class WaypointServer {
     }
     const double from = track_->project(Eigen::Vector2d(req.start.position.x, req.start.position.y)).s;
     const double to = track_->project(Eigen::Vector2d(req.goal.position.x, req.goal.position.y)).s;
+    if (!track_->closed() && to < from) {
+      char why[160];
+      std::snprintf(why, sizeof why,
+                    "the goal (%.1f m along the course) is behind the start (%.1f m): a point-to-point course is "
+                    "driven one way",
+                    to, from);
+      return ros_bridge::refuse(res, "get_route", why);
+    }
     res.distance = track_->forwardDistance(from, to);
     res.waypoints = ros_bridge::waypointMessages(*track_, track_->indicesAhead(from, res.distance));
     res.success = true;

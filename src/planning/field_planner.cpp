@@ -21,8 +21,8 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   place.on_line = first ? projectAtHeight(line_, position) : project(line_, position.head<2>(), place.hint);
   // Distance round the laps, so that a car a lap up is told from one just behind (blue flags).
   if (!progress_origin_) progress_origin_ = place.on_line.s;
-  place.progress = first ? aheadOnLap(place.on_line.s, *progress_origin_, line_.length)
-                         : place.progress + aheadOnLap(place.on_line.s, s_before, line_.length);
+  place.progress = first ? aheadOnLap(place.on_line.s, *progress_origin_, lapLength(line_))
+                         : place.progress + aheadOnLap(place.on_line.s, s_before, lapLength(line_));
   // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in).
   const double dt = time - place.time;
   if (dt > 1e-6 && dt < 1.0) {
@@ -62,7 +62,7 @@ Trajectory FieldPlanner::window(const std::string& car) {
     std::vector<TrafficCar> traffic;
     for (const auto& [name, other] : cars_)
       traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share,
-                         other.lateral_speed, other.progress - place.progress > 0.5 * line_.length});
+                         other.lateral_speed, line_.closed && other.progress - place.progress > 0.5 * line_.length});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

@@ -39,6 +39,7 @@ struct LapTimeOfOffsets {
 
 MinimumTimeResult minimumTimeLine(const track::Track& track, const RacingLine& start, const VehicleLimits& limits,
                                   const RacingLineOptions& margins, const MinimumTimeOptions& options) {
+  if (!start.closed) throw RacingLineError("minimum_time: refines a circuit's line; this is a point-to-point course");
   const std::size_t n = start.points.size();
   const double keep = 0.5 * margins.vehicle_width + margins.safety_margin;
   std::vector<Eigen::Vector2d> normal(n);

@@ -54,8 +54,10 @@ OvertakePlanner::OvertakePlanner(const track::Track& track, Trajectory line, con
 
 namespace {
 
+// `length` 0: an open line's values, clamped at its ends.
 double interpolateWrapped(const std::vector<double>& xs, const std::vector<double>& ys, double length, double x) {
-  x -= std::floor(x / length) * length;
+  if (length <= 0) x = std::clamp(x, xs.front(), xs.back() - 1e-9);
+  if (length > 0) x -= std::floor(x / length) * length;
   auto it = std::upper_bound(xs.begin(), xs.end(), x);
   const std::size_t b = static_cast<std::size_t>(it - xs.begin()) % xs.size();
   const std::size_t a = (b + xs.size() - 1) % xs.size();
@@ -69,8 +71,12 @@ double interpolateWrapped(const std::vector<double>& xs, const std::vector<doubl
 
 }  // namespace
 
-double OvertakePlanner::roomLeft(double s) const { return interpolateWrapped(room_s_, room_left_, line_.length, s); }
-double OvertakePlanner::roomRight(double s) const { return interpolateWrapped(room_s_, room_right_, line_.length, s); }
+double OvertakePlanner::roomLeft(double s) const {
+  return interpolateWrapped(room_s_, room_left_, lapLength(line_), s);
+}
+double OvertakePlanner::roomRight(double s) const {
+  return interpolateWrapped(room_s_, room_right_, lapLength(line_), s);
+}
 
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
                                     double drag_share, bool for_pass) const {
@@ -87,7 +93,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   std::vector<double> d(n, 0.0);  // m each point is moved left off the racing line
   for (std::size_t k = 0; k < n; ++k) {
     auto& p = pts[k];
-    double shift = from + (to - from) * smoothStep(aheadOnLap(p.s, ramp_s, line_.length) / shift_length);
+    double shift = from + (to - from) * smoothStep(aheadOnLap(p.s, ramp_s, lapLength(line_)) / shift_length);
     if (std::isfinite(back_s) && p.s > back_s) shift -= to * smoothStep((p.s - back_s) / shift_length);
     // Inside the road by the margin. Any move but a pass comes no nearer the edge than the racing line
     // itself does (at an apex it runs nearer): a path moved by nothing is the racing line. A pass keeps
@@ -197,7 +203,7 @@ double OvertakePlanner::plannedLateral(const Trajectory* plan, double now, doubl
   if (!plan || plan->points.size() < 2) return now;
   // The window's s runs on from where the car was when it was planned: bring s onto the same lap.
   const double mid = 0.5 * (plan->points.front().s + plan->points.back().s);
-  s += std::floor((mid - s) / line_.length + 0.5) * line_.length;
+  if (line_.closed) s += std::floor((mid - s) / line_.length + 0.5) * line_.length;
   if (s < plan->points.front().s || s > plan->points.back().s) return now;
   return sampleAt(*plan, s).offset - sampleAt(line_, s).offset;
 }
@@ -228,7 +234,7 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   p.plan = trustedPlan(other);
   const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
   const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
-  double along = aheadOnLap(other.s, s0, line_.length);
+  double along = aheadOnLap(other.s, s0, lapLength(line_));
   const int steps = static_cast<int>(std::ceil(options_.horizon / kPredictionStep)) + 1;
   p.ahead.reserve(static_cast<std::size_t>(steps) + 1);
   p.ahead.push_back(along);
@@ -321,7 +327,7 @@ bool OvertakePlanner::drawsAlongside(const Trajectory& plan, double s0, double v
 
 Trajectory OvertakePlanner::plan(const std::string& car, double s, double lateral, double speed,
                                  const std::vector<TrafficCar>& traffic, double behind, double ahead_m, double pace) {
-  const double L = line_.length;
+  const double L = lapLength(line_);
   Trajectory base = windowAround(line_, s, behind, ahead_m);
   scaleSpeeds(&base, pace);
   // Cars that matter: alongside or ahead, within the window.
@@ -619,7 +625,7 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
                                                    const std::vector<TrafficCar>& traffic, const Trajectory& base,
                                                    const std::vector<Prediction>& predicted,
                                                    const RaceDecision& memory) {
-  const double L = line_.length;
+  const double L = lapLength(line_);
   const double reach = options_.car_length + options_.defend_time * std::max(speed, 5.0);
   const double beside = options_.car_length + options_.longitudinal_margin;
   Defence& defence = defences_[car];
@@ -685,7 +691,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
   const TrafficCar* nearest = nullptr;
   double nearest_rel = 0.0;
   for (const auto& o : others) {
-    const double rel = aheadOnLap(o.s, s, line_.length);
+    const double rel = aheadOnLap(o.s, s, lapLength(line_));
     if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
     // In the path now, or moving into it over the next two seconds by its own plan.
     bool in_path = false;

@@ -9,20 +9,24 @@ namespace roar::planning {
 
 namespace {
 
-// Even resampling of a closed polyline.
-std::vector<Eigen::Vector2d> resampleClosed(const std::vector<Eigen::Vector2d>& pts, double step) {
-  const std::size_t n = pts.size();
-  std::vector<double> cumulative(n + 1, 0.0);
-  for (std::size_t i = 0; i < n; ++i) cumulative[i + 1] = cumulative[i] + (pts[(i + 1) % n] - pts[i]).norm();
-  const double length = cumulative[n];
+// Even resampling of a polyline; an open one keeps both its ends.
+std::vector<Eigen::Vector2d> resample(const std::vector<Eigen::Vector2d>& pts, double step, bool closed) {
+  const std::size_t n = pts.size(), segments = closed ? n : n - 1;
+  std::vector<double> cumulative(segments + 1, 0.0);
+  for (std::size_t i = 0; i < segments; ++i) cumulative[i + 1] = cumulative[i] + (pts[(i + 1) % n] - pts[i]).norm();
+  const double length = cumulative[segments];
   const std::size_t count = std::max<std::size_t>(8, static_cast<std::size_t>(std::round(length / step)));
   const double ds = length / static_cast<double>(count);
   std::vector<Eigen::Vector2d> out;
-  out.reserve(count);
+  out.reserve(count + 1);
   std::size_t seg = 0;
-  for (std::size_t k = 0; k < count; ++k) {
+  for (std::size_t k = 0; k < count + (closed ? 0 : 1); ++k) {
+    if (k == count) {
+      out.push_back(pts.back());
+      break;
+    }
     const double s = k * ds;
-    while (seg + 1 < n && cumulative[seg + 1] <= s) ++seg;
+    while (seg + 1 < segments && cumulative[seg + 1] <= s) ++seg;
     const double len = cumulative[seg + 1] - cumulative[seg];
     const double t = len > 0 ? (s - cumulative[seg]) / len : 0.0;
     out.push_back((1 - t) * pts[seg] + t * pts[(seg + 1) % n]);
@@ -100,7 +104,7 @@ double curvatureChange(const RacingLine& a, const RacingLine& b) {
     const std::size_t j = std::min(
         a.points.size() - 1, static_cast<std::size_t>(std::upper_bound(a.s.begin(), a.s.end(), f) - a.s.begin()) - 1);
     const std::size_t k = (j + 1) % a.points.size();
-    const double t = std::clamp((f - a.s[j]) / a.step[j], 0.0, 1.0);
+    const double t = a.step[j] > 0 ? std::clamp((f - a.s[j]) / a.step[j], 0.0, 1.0) : 0.0;
     const double d = b.curvature[i] - ((1 - t) * a.curvature[j] + t * a.curvature[k]);
     change += d * d;
   }
@@ -110,11 +114,26 @@ double curvatureChange(const RacingLine& a, const RacingLine& b) {
 }  // namespace
 
 void computeShape(const std::vector<Eigen::Vector2d>& p, std::vector<double>* step, std::vector<double>* heading,
-                  std::vector<double>* curvature) {
+                  std::vector<double>* curvature, bool closed) {
   const std::size_t n = p.size();
   step->assign(n, 0.0);
   heading->assign(n, 0.0);
   curvature->assign(n, 0.0);
+  if (!closed) {
+    // An open line's ends: heading along their one step, curvature the nearest point's that has two
+    // neighbours each side.
+    for (std::size_t i = 0; i + 1 < n; ++i) (*step)[i] = (p[i + 1] - p[i]).norm();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d chord = p[std::min(i + 1, n - 1)] - p[i == 0 ? 0 : i - 1];
+      (*heading)[i] = std::atan2(chord.y(), chord.x());
+      if (n < 5) continue;
+      const std::size_t m = std::clamp<std::size_t>(i, 2, n - 3);
+      const Eigen::Vector2d &a = p[m - 2], &b = p[m], &c = p[m + 2];
+      const double cross = (b - a).x() * (c - b).y() - (b - a).y() * (c - b).x();
+      (*curvature)[i] = 2.0 * cross / ((b - a).norm() * (c - b).norm() * (c - a).norm());
+    }
+    return;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     (*step)[i] = (p[(i + 1) % n] - p[i]).norm();
     // Heading from the neighbours; curvature of the circle through the points two either side, which
@@ -132,12 +151,12 @@ void computeShape(const std::vector<Eigen::Vector2d>& p, std::vector<double>* st
 void computeGeometry(const track::Track& track, RacingLine* line) {
   const auto& p = line->points;
   const std::size_t n = p.size();
-  computeShape(p, &line->step, &line->heading, &line->curvature);
+  computeShape(p, &line->step, &line->heading, &line->curvature, line->closed);
   line->s.assign(n, 0.0);
   line->track_s.assign(n, 0.0);
   line->offset.assign(n, 0.0);
   for (std::size_t i = 1; i < n; ++i) line->s[i] = line->s[i - 1] + line->step[i - 1];
-  line->length = line->s.back() + line->step.back();
+  line->length = line->s.back() + (line->closed ? line->step.back() : 0.0);
   double near = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     const track::Projection pr = i == 0 ? track.project(p[i]) : track.projectNear(p[i], near, 80.0);
@@ -152,7 +171,8 @@ RacingLine centreLine(const track::Track& track, double step) {
   pts.reserve(track.size());
   for (std::size_t i = 0; i < track.size(); ++i) pts.push_back(track.position(i));
   RacingLine line;
-  line.points = resampleClosed(pts, step);
+  line.closed = track.closed();
+  line.points = resample(pts, step, line.closed);
   computeGeometry(track, &line);
   return line;
 }
@@ -163,6 +183,7 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
   }
   const double keep = 0.5 * options.vehicle_width + options.safety_margin;
   RacingLine line = centreLine(track, options.step);
+  double step_share = 1.0;  // of each solve's move taken
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
     const std::size_t n = line.points.size();
     std::vector<Eigen::Vector2d> normal(n);
@@ -185,6 +206,11 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
     entries.reserve(6 * n);
     Eigen::VectorXd d(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
+      if (!line.closed && (i == 0 || i + 1 == n)) {
+        // An open line's ends have one neighbour: no curvature of their own to minimise.
+        for (int axis = 0; axis < 2; ++axis) d[static_cast<int>(2 * i + axis)] = 0.0;
+        continue;
+      }
       const std::size_t a = (i + n - 1) % n, c = (i + 1) % n;
       const Eigen::Vector2d second = line.points[a] - 2.0 * line.points[i] + line.points[c];
       for (int axis = 0; axis < 2; ++axis) {
@@ -202,9 +228,12 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
     const Eigen::VectorXd alpha = solveBoxQp(H, g, lo, hi);
 
     std::vector<Eigen::Vector2d> moved(n);
-    for (std::size_t i = 0; i < n; ++i) moved[i] = line.points[i] + alpha[static_cast<Eigen::Index>(i)] * normal[i];
+    for (std::size_t i = 0; i < n; ++i) {
+      moved[i] = line.points[i] + step_share * alpha[static_cast<Eigen::Index>(i)] * normal[i];
+    }
     RacingLine next;
-    next.points = resampleClosed(moved, options.step);
+    next.closed = line.closed;
+    next.points = resample(moved, options.step, next.closed);
     computeGeometry(track, &next);
     // Resampling may cut a corner by a few millimetres: keep every point inside the margins.
     bool clamped = false;
@@ -219,6 +248,9 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
     if (clamped) computeGeometry(track, &next);
     next.iterations = iteration;
     next.last_curvature_change = curvatureChange(line, next);
+    // A line that changes no less than it did the time before is swinging between two shapes (a corner's
+    // constraint on and off the edge in turn): the moves are halved from then on, until it settles.
+    if (iteration > 1 && next.last_curvature_change >= line.last_curvature_change) step_share *= 0.5;
     line = std::move(next);
     if (line.last_curvature_change < options.curvature_tolerance) break;
   }

@@ -37,6 +37,15 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
       throw std::invalid_argument("speed profile: step " + std::to_string(i) + " is not a positive distance");
     }
   }
+  if (!options.grade.empty() && options.grade.size() != n) {
+    throw std::invalid_argument("speed profile: " + std::to_string(options.grade.size()) + " grades for " +
+                                std::to_string(n) + " points");
+  }
+  for (std::size_t i = 0; i < options.grade.size(); ++i) {
+    if (!(std::abs(options.grade[i]) <= 1.0))
+      throw std::invalid_argument("speed profile: grade " + std::to_string(i) + " is not the sine of a slope");
+  }
+  auto along = [&](std::size_t i) { return options.grade.empty() ? 0.0 : limits.gravity * options.grade[i]; };
   const double top = options.max_speed > 0 ? std::min(options.max_speed, limits.max_speed) : limits.max_speed;
 
   std::vector<double> v(n);
@@ -55,7 +64,7 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   int gear = limits.gearAt(v[start]);
   for (std::size_t k = 0; k < segments; ++k) {
     const std::size_t i = (start + k) % n, j = (i + 1) % n;
-    const double a = accelerationAt(limits, v[i], curvature[i], coast > 0);
+    const double a = accelerationAt(limits, v[i], curvature[i], coast > 0) - along(i);
     coast = std::max(0.0, coast - step[i]);
     const double reachable = std::sqrt(std::max(0.0, v[i] * v[i] + 2.0 * a * step[i]));
     if (reachable < v[j]) {
@@ -71,7 +80,7 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   const std::size_t end = closed ? start : n - 1;
   for (std::size_t k = 0; k < segments; ++k) {
     const std::size_t j = (end + n - k) % n, i = (j + n - 1) % n;
-    const double d = decelerationAt(limits, v[j], curvature[j]);
+    const double d = std::max(0.0, decelerationAt(limits, v[j], curvature[j]) + along(i));
     v[i] = std::min(v[i], std::sqrt(v[j] * v[j] + 2.0 * d * step[i]));
   }
 

@@ -17,6 +17,32 @@ double stepAfter(const Trajectory& t, std::size_t i) {
   return t.closed ? t.length - t.points[i].s + t.points.front().s : 0.0;
 }
 
+// The time from the start line to the finish line of a course a profile promises, given the track progress
+// of its points (rising along an open line) and their times.
+double raceTime(const track::Track& track, const std::vector<double>& track_s, const std::vector<double>& time) {
+  auto timeAt = [&](double line_s) {
+    const auto it = std::lower_bound(track_s.begin(), track_s.end(), line_s);
+    const std::size_t j =
+        std::clamp<std::size_t>(static_cast<std::size_t>(it - track_s.begin()), 1, track_s.size() - 1);
+    const double span = track_s[j] - track_s[j - 1];
+    const double f = span > 0 ? std::clamp((line_s - track_s[j - 1]) / span, 0.0, 1.0) : 0.0;
+    return (1 - f) * time[j - 1] + f * time[j];
+  };
+  return timeAt(track.finishLine()) - timeAt(track.info().start_finish_s);
+}
+
+// Per point of the line, the sine of the road's slope to the next point (the last of an open line: 0).
+std::vector<double> roadGrade(const track::Track& track, const RacingLine& line) {
+  const std::size_t n = line.points.size();
+  std::vector<double> z(n), grade(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) z[i] = track.surfaceHeightAt(line.track_s[i], line.offset[i]);
+  for (std::size_t i = 0; i < (line.closed ? n : n - 1); ++i) {
+    const double rise = z[(i + 1) % n] - z[i];
+    grade[i] = rise / std::hypot(line.step[i], rise);
+  }
+  return grade;
+}
+
 }  // namespace
 
 void validate(const Trajectory& t) {
@@ -49,7 +75,7 @@ void validate(const Trajectory& t) {
 
 Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const SpeedProfile& profile) {
   Trajectory t;
-  t.closed = true;
+  t.closed = line.closed;
   t.length = line.length;
   t.lap_time = profile.total_time;
   t.points.resize(line.points.size());
@@ -71,7 +97,36 @@ Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const
 Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options) {
   RacingLine line = minimumCurvatureLine(track, options.line);
   if (options.minimum_time) line = minimumTimeLine(track, line, limits, options.line).line;
-  return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, options.profile));
+  SpeedProfileOptions profile = options.profile;
+  profile.grade = roadGrade(track, line);
+  if (line.closed)
+    return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, profile));
+  // A course's road runs on past its finish line for the cars to stop: stopped kCourseStopMargin before its
+  // end (a car's length and more from the wall across it), standing still beyond.
+  std::size_t stop = line.points.size() - 1;
+  while (stop > 1 && line.s[stop] > line.length - kCourseStopMargin) --stop;
+  auto upTo = [&](const std::vector<double>& v) { return std::vector<double>(v.begin(), v.begin() + stop + 1); };
+  profile.end_speed = 0.0;
+  const std::vector<double> grade = profile.grade;
+  profile.grade = upTo(grade);
+  SpeedProfile run = computeSpeedProfile(upTo(line.step), upTo(line.curvature), limits, false, profile);
+  run.speed.resize(line.points.size(), 0.0);
+  run.acceleration.resize(line.points.size(), 0.0);
+  run.time.resize(line.points.size(), run.time.back());
+  Trajectory t = trajectoryOf(track, line, run);
+  // The run's promise: from a standing start on pole (the trajectory itself is driven from every slot of
+  // the grid, so it does not stop there).
+  std::size_t pole = 0;
+  while (pole + 1 < stop && line.track_s[pole + 1] <= track.info().start_finish_s - track::kGridFirstGap) ++pole;
+  auto from = [&](const std::vector<double>& v) {
+    return std::vector<double>(v.begin() + static_cast<long>(pole), v.begin() + static_cast<long>(stop) + 1);
+  };
+  SpeedProfileOptions standing = profile;
+  standing.start_speed = 0.0;
+  standing.grade = from(grade);
+  const SpeedProfile from_pole = computeSpeedProfile(from(line.step), from(line.curvature), limits, false, standing);
+  t.lap_time = raceTime(track, from(line.track_s), from_pole.time);
+  return t;
 }
 
 TrajectoryPoint sampleAt(const Trajectory& t, double s) {
@@ -172,8 +227,9 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
   w.closed = false;
   const std::size_t n = closed.points.size();
   const TrajectoryPoint start = sampleAt(closed, s - behind);
-  // Unwrapped: the window's s runs on from the sampled start even past the end of the lap.
-  double s_now = s - behind;
+  // Unwrapped: the window's s runs on from the sampled start even past the end of the lap. An open
+  // trajectory's window ends where it does.
+  double s_now = closed.closed ? s - behind : start.s;
   w.points.push_back(start);
   w.points.back().s = s_now;
   auto it = std::upper_bound(closed.points.begin(), closed.points.end(), start.s,
@@ -181,7 +237,7 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
   std::size_t next = static_cast<std::size_t>(it - closed.points.begin()) % n;
   double previous_s = start.s;
   const double end = s + ahead;
-  while (true) {
+  while (closed.closed || next != 0) {
     const TrajectoryPoint& p = closed.points[next];
     double gap = p.s - previous_s;
     if (gap <= 0) gap += closed.length;
@@ -191,6 +247,10 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
     w.points.back().s = s_now;
     previous_s = p.s;
     next = (next + 1) % n;
+  }
+  // A window at an open trajectory's end: its last point (a window needs two).
+  if (w.points.size() < 2) {
+    w.points.insert(w.points.begin(), sampleAt(closed, closed.points.back().s - 1.0));
   }
   w.length = w.points.back().s - w.points.front().s;
   for (std::size_t i = 0; i + 1 < w.points.size(); ++i) {
@@ -228,6 +288,7 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
 
 double aheadOnLap(double a, double b, double length) {
   const double d = a - b;
+  if (length <= 0) return d;
   return d - std::floor(d / length + 0.5) * length;
 }
 

@@ -21,6 +21,7 @@ RaceControl::RaceControl(const track::Track& track, RaceRules rules, const std::
     : track_(track), rules_(rules) {
   if (cars.empty()) throw std::invalid_argument("race control: no cars");
   if (rules.laps < 1) throw std::invalid_argument("race control: laps must be at least 1");
+  if (!track.closed()) rules_.laps = 1;  // a point-to-point course is raced once, start to finish
   for (const auto& name : cars) {
     if (cars_.count(name)) throw std::invalid_argument("race control: car '" + name + "' is listed twice");
     cars_.emplace(name, CarRecord(name, LapTimer(track)));

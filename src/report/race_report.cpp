@@ -128,7 +128,7 @@ std::vector<std::string> writeRaceReport(const std::string& dir, const race::Rac
       if (sample.time < best.finish_time - best.lap_time || sample.time > best.finish_time) continue;
       const auto pr = track.projectNear(sample.position, near, 100.0);
       near = pr.s;
-      const double progress = track.forwardDistance(track.info().start_finish_s, pr.s);
+      const double progress = track.raceProgress(pr.s);
       // Just after the line the progress of the lap's first samples can read as a whole lap.
       if (!driven.x.empty() && progress < driven.x.back() - 0.5 * track.length()) break;
       driven.x.push_back(progress);

@@ -96,7 +96,9 @@ StepOutcome Episode::step(const sim::VehicleState& state, const std::vector<sim:
   out.reward -= r.step_penalty;
   if (info.off_track) out.reward -= r.off_track_penalty;
 
-  out.terminated = info.collided || info.off_track || info.wrong_way;
+  // A point-to-point course ends at its finish line: the run is done there.
+  const bool course_done = !track_->closed() && info.laps >= 1;
+  out.terminated = info.collided || info.off_track || info.wrong_way || course_done;
   out.truncated =
       !out.terminated &&
       ((termination_.time_limit > 0.0 && info.episode_time >= termination_.time_limit - 1e-9) || info.stalled);

@@ -38,7 +38,9 @@ const sim::World& RacingEnv::world() const { return *world_; }
 
 sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng) {
   if (options.spawn == SpawnMode::kGrid) return sim::poseOnTrack(track.gridSpawnPoints(1).front());
-  track::TrackPose at = track.poseAt(std::uniform_real_distribution<double>(0.0, track.length())(rng));
+  // A course's road past its finish line is where cars stop, not where they race.
+  const double spawn_to = track.closed() ? track.length() : track.finishLine();
+  track::TrackPose at = track.poseAt(std::uniform_real_distribution<double>(0.0, spawn_to)(rng));
   if (options.spawn_lateral > 0.0) {
     // Keep the car's half width and a little more on the road.
     const double room_left = std::max(0.0, at.width_left - 1.5), room_right = std::max(0.0, at.width_right - 1.5);

@@ -13,6 +13,7 @@ double TrackProgress::update(const Eigen::Vector2d& position) {
   const double before = projection_.s;
   projection_ = track_->projectNear(position, before, kSearchWindow);
   double advanced = projection_.s - before;
+  if (!track_->closed()) return advanced;
   // Across the start of the centre line the progress wraps.
   if (advanced > 0.5 * track_->length()) advanced -= track_->length();
   if (advanced < -0.5 * track_->length()) advanced += track_->length();

@@ -75,7 +75,6 @@ nav_msgs::Path toPath(const planning::Trajectory& t, const std::string& frame) {
 
 track::Track trackFromMessage(const roar_ros::WaypointArray& msg) {
   if (msg.waypoints.empty()) throw std::invalid_argument("the waypoint list is empty");
-  if (!msg.closed) throw std::invalid_argument("the waypoint list is not a closed circuit (closed: false)");
   if (!(msg.friction > 0) || !std::isfinite(msg.friction)) {
     throw std::invalid_argument("friction " + std::to_string(msg.friction) + " is not a positive number");
   }
@@ -92,6 +91,9 @@ track::Track trackFromMessage(const roar_ros::WaypointArray& msg) {
   track::TrackInfo info;
   info.name = msg.map_name;
   info.friction = msg.friction;
+  info.closed = msg.closed;
+  info.start_finish_s = msg.start_s;
+  info.finish_s = msg.finish_s;
   return track::trackFromWaypoints(waypoints, info);
 }
 

@@ -65,7 +65,9 @@ roar_ros::WaypointArray toWaypointArray(const track::Track& track, const std::st
   msg.header.frame_id = frame;
   msg.map_name = track.info().name;
   msg.track_length = track.length();
-  msg.closed = true;
+  msg.closed = track.closed();
+  msg.start_s = track.info().start_finish_s;
+  msg.finish_s = track.finishLine();
   msg.friction = track.info().friction;
   msg.waypoints = waypointMessages(track);
   return msg;
@@ -74,7 +76,7 @@ roar_ros::WaypointArray toWaypointArray(const track::Track& track, const std::st
 nav_msgs::Path toPath(const track::Track& track, const std::string& frame) {
   nav_msgs::Path path;
   path.header.frame_id = frame;
-  for (std::size_t i = 0; i <= track.size(); ++i) {  // closed: back to the first point
+  for (std::size_t i = 0; i < track.size() + (track.closed() ? 1 : 0); ++i) {  // a circuit: back to the first point
     const std::size_t k = i % track.size();
     geometry_msgs::PoseStamped pose;
     pose.header.frame_id = frame;
@@ -119,7 +121,7 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
   const std::vector<bool> deck = track::bridgeDeckPoints(track);
   auto strip = [&](const std::string& ns, double width, float r, float g, float b, auto&& at) {
     Marker m = marker(frame, ns, Marker::LINE_STRIP, width, r, g, b);
-    for (std::size_t i = 0; i <= track.size(); ++i) {
+    for (std::size_t i = 0; i < track.size() + (track.closed() ? 1 : 0); ++i) {
       const Eigen::Vector3d p = at(i % track.size());
       m.points.push_back(point(p.x(), p.y(), p.z() + 0.02));
     }
@@ -152,8 +154,9 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
     out.markers.push_back(m);
   };
   across("start_finish", track.info().start_finish_s, 1, 0.1f, 0.1f, 0);
+  if (!track.closed()) across("start_finish", track.finishLine(), 1, 0.1f, 0.1f, 1);  // a course's finish line
   for (int k = 1; k < track.info().sectors; ++k) {
-    across("sectors", track.info().start_finish_s + k * track.length() / track.info().sectors, 1, 0.8f, 0, k);
+    across("sectors", track.info().start_finish_s + k * track.raceDistance() / track.info().sectors, 1, 0.8f, 0, k);
   }
   return out;
 }

@@ -159,8 +159,12 @@ struct RayScene::Impl {
       const auto& pt = track.point(i);
       const bool edge_line = (lateral > pt.width_left - 0.5 && lateral < pt.width_left - 0.25) ||
                              (-lateral > pt.width_right - 0.5 && -lateral < pt.width_right - 0.25);
-      const double from_line = track.wrap(s - track.info().start_finish_s);
-      const bool start_line = from_line < 0.6 || from_line > track.length() - 0.01;
+      // The start/finish line, and a point-to-point course's finish line, painted 0.6 m deep.
+      auto painted = [&](double line_s) {
+        const double from_line = track.closed() ? track.wrap(s - line_s) : s - line_s;
+        return (from_line >= 0 && from_line < 0.6) || (track.closed() && from_line > track.length() - 0.01);
+      };
+      const bool start_line = painted(track.info().start_finish_s) || (!track.closed() && painted(track.finishLine()));
       if (edge_line || start_line) {
         out->albedo = Eigen::Vector3f::Constant(0.85f);
         out->reflectivity = 0.8f;

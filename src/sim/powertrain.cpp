@@ -11,6 +11,10 @@ constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
 constexpr double kKickdownThrottle = 0.9;
 // A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
 constexpr double kKickdownHeadroomRpm = 300.0;
+// After shifting up at full throttle, this long before kicking down again: on a climb the car loses speed in
+// each shift's torque gap and the lower gear, stronger at that speed, would take it straight back, shift
+// up again at its limit, and so on, never pulling the higher gear up the hill.
+constexpr double kKickdownHoldTime = 1.0;
 }  // namespace
 
 Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
@@ -18,6 +22,7 @@ Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), ge
 void Powertrain::reset() {
   gear_ = 1;
   shift_timer_ = 0.0;
+  since_upshift_ = kKickdownHoldTime;
   rpm_ = engine_.idle_rpm;
 }
 
@@ -80,11 +85,12 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
     int next = gear_;
     if (rpm > gearbox_.shift_up_rpm && gear_ < top) {
       next = gear_ + 1;
+      since_upshift_ = 0.0;
     } else {
       // Kickdown: floored, the gearbox drops straight to the gear that pulls hardest instead of lugging the
       // one it came into the corner with. Not when lifting as well: measured, shifting down off the throttle
       // mid-corner (engine braking jumps) unsettles the car: Stanley hit the barrier 76 times on Sprint.
-      if (gearbox_.kickdown && throttle >= kKickdownThrottle) {
+      if (gearbox_.kickdown && throttle >= kKickdownThrottle && since_upshift_ >= kKickdownHoldTime) {
         const int strongest = strongestGear(wheel_rpm, kKickdownHeadroomRpm);
         if (strongest > 0 && strongest < gear_) next = strongest;
       }
@@ -96,6 +102,7 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
     }
   }
   shift_timer_ = std::max(0.0, shift_timer_ - dt);
+  since_upshift_ += dt;
 
   const double r = ratio(gear_);
   if (r == 0.0) {

@@ -110,7 +110,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
   // attempt that follows.
   const double car_length = vehicle.chassis.box_size.x();
   auto gapAhead = [&](const std::string& a, const std::string& b) {  // a ahead of b (m, along the line)
-    return planning::aheadOnLap(field.onLine(a).s, field.onLine(b).s, line.length);
+    return planning::aheadOnLap(field.onLine(a).s, field.onLine(b).s, planning::lapLength(line));
   };
   auto closePass = [&](Entrant& e, double time) {
     PassAttempt& pass = result.passes[static_cast<std::size_t>(e.open_pass)];

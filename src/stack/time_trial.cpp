@@ -46,11 +46,17 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
   double squared_error = 0.0;
   long samples = 0;
   bool touching = false;
-  // One untimed out-lap from the grid, then the timed flying laps.
-  while (world.time() < time_limit && timer.lapsCompleted() < options.laps + 1) {
+  // One untimed out-lap from the grid, then the timed flying laps. A point-to-point course: its one timed
+  // run from the start line, then the stop in the run-off past the finish.
+  const int runs = track.closed() ? options.laps + 1 : 1;
+  auto done = [&] {
+    return timer.lapsCompleted() >= runs && (track.closed() || world.vehicleState("ego").speed < 0.1);
+  };
+  while (world.time() < time_limit && !done()) {
     world.setControl("ego", tracker.update(trackerInputOf(world.vehicleState("ego"))));
     world.step();
-    if (timer.lapsCompleted() >= 1) {  // tracking error over the flying laps
+    const bool timed = track.closed() ? timer.lapsCompleted() >= 1 : timer.started() && timer.lapsCompleted() < 1;
+    if (timed) {  // tracking error over the flying laps (a course: over its run)
       result.max_lateral_error = std::max(result.max_lateral_error, std::abs(tracker.lateralError()));
       squared_error += tracker.lateralError() * tracker.lateralError();
       ++samples;
@@ -67,7 +73,7 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
     touching = barrier;
   }
   for (const auto& lap : timer.laps()) {
-    if (lap.lap == 1) {
+    if (lap.lap == 1 && track.closed()) {
       result.out_lap = lap.lap_time;
     } else {
       result.lap_times.push_back(lap.lap_time);
@@ -75,7 +81,7 @@ TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams
   }
   result.rms_lateral_error = samples ? std::sqrt(squared_error / samples) : 0.0;
   result.sim_time = world.time();
-  result.finished = timer.lapsCompleted() >= options.laps + 1;
+  result.finished = timer.lapsCompleted() >= runs;
   return result;
 }
 

@@ -24,8 +24,11 @@ int usage() {
   std::cerr
       << "usage: track_tool COMMAND ...\n"
          "  import SOURCE MAP_FOLDER [--name NAME] [--spacing M] [--width M] [--close-gap]\n"
+         "         [--point-to-point [--start M] [--finish M]]\n"
          "      SOURCE: a TUMFTM centre-line CSV (x_m,y_m,w_tr_right_m,w_tr_left_m), a ROAR_PY waypoint file (.npz),\n"
-         "      or a list of x,y points (--width, default 12 m); resampled when --spacing is given\n"
+         "      or a list of x,y points (--width, default 12 m); resampled when --spacing is given;\n"
+         "      --point-to-point: an open course from its first point to its last (start line --start metres along\n"
+         "      it, default the grid's length; finish line --finish, default 200 m before its end)\n"
          "  export MAP_FOLDER OUT.npz                 ROAR_PY waypoints (locations, rotations, lane_widths)\n"
          "  resample MAP_FOLDER --spacing M           rewrites the centre line at an even spacing\n"
          "  spawn MAP_FOLDER N OUT.npz                N spawn points evenly round the lap, as a ROAR_PY spawn file\n"
@@ -72,7 +75,12 @@ int check(const std::string& folder) {
   const auto bridge_points = std::count(deck.begin(), deck.end(), true);
   std::cout << track.info().name << ": " << track.size() << " points, length " << track.length() << " m, width "
             << min_width << ".." << max_width << " m, tightest corner radius " << min_radius
-            << " m at s = " << track.s(tightest) << " m; closes, no crossing edges"
+            << " m at s = " << track.s(tightest) << " m; "
+            << (track.closed() ? "closes"
+                               : "a point-to-point course, " +
+                                     std::to_string(static_cast<int>(std::lround(track.raceDistance()))) +
+                                     " m from its start line to its finish line")
+            << ", no crossing edges"
             << (bridge_points ? " but over bridges (" + std::to_string(bridge_points) + " points on a deck)" : "")
             << "\n";
   return 0;
@@ -113,12 +121,44 @@ std::vector<CentreLinePoint> withBridges(const std::vector<CentreLinePoint>& poi
   return out;
 }
 
+// Road past a course's finish line where the cars stop, by default.
+constexpr double kDefaultRunOff = 200.0;
+
+// import --point-to-point: the line as it is, from its first point to its last, with its start and finish lines.
+int importCourse(int argc, char** argv) {
+  const std::string source = argv[2], folder = argv[3];
+  TrackInfo info;
+  info.name = option(argc, argv, "--name", fs::path(folder).filename().string());
+  info.closed = false;
+  auto points = importPoints(source, numberOption(argc, argv, "--width", "12"));
+  // A recorded lap that drives on over its start: the retraced tail is cut here too.
+  std::size_t cut = 0;
+  points = trimRetracedTail(points, &cut);
+  if (cut > 0)
+    std::cout << source << ": cut the last " << cut << " points, which drive the start of the course again\n";
+  const std::string spacing = option(argc, argv, "--spacing", "");
+  if (!spacing.empty()) points = resampleLine(points, roar::config::numberArgument("--spacing", spacing), false);
+  double length = 0.0;
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    length += std::hypot(points[i + 1].x - points[i].x, points[i + 1].y - points[i].y);
+  }
+  info.start_finish_s = numberOption(argc, argv, "--start", std::to_string(std::ceil(kGridLength)));
+  info.finish_s = numberOption(argc, argv, "--finish", std::to_string(std::floor(length - kDefaultRunOff)));
+  try {
+    writeMapFolder(folder, points, info);
+  } catch (const std::invalid_argument& e) {
+    throw MapError(source + " as a point-to-point course: " + e.what() + " (--start and --finish place the lines)");
+  }
+  return check(folder);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) return usage();
   const std::string cmd = argv[1];
   try {
+    if (cmd == "import" && argc >= 4 && flag(argc, argv, "--point-to-point")) return importCourse(argc, argv);
     if (cmd == "import" && argc >= 4) {
       const std::string folder = argv[3];
       TrackInfo info;
@@ -137,13 +177,14 @@ int main(int argc, char** argv) {
           throw MapError(std::string(argv[2]) + ": the loop does not close: its last point is " +
                          std::to_string(gap.gap) + " m from its first (its points are " +
                          std::to_string(gap.median_step) +
-                         " m apart); --close-gap bridges it with a straight stretch, if the course is a circuit");
+                         " m apart); --close-gap bridges it with a straight stretch, if the course is a circuit; "
+                         "--point-to-point imports it as an open course from its first point to its last");
         }
         if (!gap.bridgeable()) {
           throw MapError(std::string(argv[2]) + ": the loop cannot be closed: its first point lies " +
                          std::to_string(-gap.ahead) +
                          " m behind its last, not ahead of it (the course runs on past its "
-                         "start, or is not a loop: roar_ros imports circuits)");
+                         "start, or is not a loop: --point-to-point imports it as an open course)");
         }
         points = closeLoopGap(points);
         std::cout << argv[2] << ": bridged the " << gap.gap
@@ -163,7 +204,7 @@ int main(int argc, char** argv) {
     }
     if (cmd == "resample" && argc == 5) {
       const Track track = loadMapFolder(argv[2]);
-      const auto points = resampleClosed(track.points(), numberOption(argc, argv, "--spacing", "2"));
+      const auto points = resampleLine(track.points(), numberOption(argc, argv, "--spacing", "2"), track.closed());
       writeMapFolder(argv[2], points, track.info());
       return check(argv[2]);
     }

@@ -52,23 +52,33 @@ std::vector<ControlPoint> readControlPoints(const std::string& path) {
 }
 
 std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing) {
+  return resampleLine(points, spacing, true);
+}
+
+std::vector<CentreLinePoint> resampleLine(const std::vector<CentreLinePoint>& points, double spacing, bool closed) {
   if (spacing <= 0) throw std::invalid_argument("resampling spacing must be positive");
   const std::size_t n = points.size();
-  if (n < 3) throw std::invalid_argument("a closed centre line needs at least 3 points");
-  std::vector<double> s(n + 1, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
+  if (n < 3) throw std::invalid_argument("a centre line needs at least 3 points");
+  const std::size_t segments = closed ? n : n - 1;
+  std::vector<double> s(segments + 1, 0.0);
+  for (std::size_t i = 0; i < segments; ++i) {
     const auto &a = points[i], &b = points[(i + 1) % n];
     s[i + 1] = s[i] + std::hypot(b.x - a.x, b.y - a.y);
   }
-  const double length = s[n];
+  const double length = s[segments];
   const std::size_t count = std::max<std::size_t>(3, static_cast<std::size_t>(std::round(length / spacing)));
   const double step = length / static_cast<double>(count);
   std::vector<CentreLinePoint> out;
-  out.reserve(count);
+  out.reserve(count + 1);
   std::size_t seg = 0;
-  for (std::size_t k = 0; k < count; ++k) {
+  // An open line keeps its last point: count steps lead to it.
+  for (std::size_t k = 0; k < count + (closed ? 0 : 1); ++k) {
+    if (k == count) {
+      out.push_back(points.back());
+      break;
+    }
     const double target = step * static_cast<double>(k);
-    while (seg + 1 < n && s[seg + 1] <= target) ++seg;
+    while (seg + 1 < segments && s[seg + 1] <= target) ++seg;
     const auto &a = points[seg], &b = points[(seg + 1) % n];
     const double t = (target - s[seg]) / (s[seg + 1] - s[seg]);
     out.push_back({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.width_right + t * (b.width_right - a.width_right),

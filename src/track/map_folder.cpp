@@ -134,9 +134,10 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
   const std::size_t n = track.size();
   // Closure: the way back from the last point to the first is no longer than the other steps.
   const LoopGap gap = loopGap(track.points());
-  if (gap.open()) {
+  if (track.closed() && gap.open()) {
     throw MapError(path + ": the centre line does not close: its last point is " + std::to_string(gap.gap) +
-                   " m from its first (a circuit's last point should be about one step from the first)");
+                   " m from its first (a circuit's last point should be about one step from the first; a "
+                   "point-to-point course says `course: point_to_point` in its track.yaml)");
   }
   std::vector<Eigen::Vector2d> left(n), right(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -147,7 +148,8 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
     return lines.empty() ? "centre-line point " + std::to_string(i) : "line " + std::to_string(lines[i]);
   };
   // An edge offset further than the corner's radius runs backwards there: the corner is too tight for the width.
-  for (std::size_t i = 0; i < n; ++i) {
+  const std::size_t segments = track.closed() ? n : n - 1;
+  for (std::size_t i = 0; i < segments; ++i) {
     const std::size_t j = (i + 1) % n;
     const Eigen::Vector2d centre = track.position(j) - track.position(i);
     for (const auto* edge : {&left, &right}) {
@@ -168,7 +170,11 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
                {&left, &right, "the left edge crosses the right edge"}};
   // Where the circuit crosses itself, one branch passes over the other on a bridge (bridges.h).
   auto apart = [&](std::size_t i, std::size_t j) { return std::abs(track.point(i).z - track.point(j).z); };
-  auto bridged = [&](std::size_t i, std::size_t j) { return apart(i, j) >= kBridgeClearance; };
+  auto bridged = [&](std::size_t i, std::size_t j) {
+    // A course's edges end at its last point: nothing joins it to its first.
+    if (!track.closed() && (i == n - 1 || j == n - 1)) return true;
+    return apart(i, j) >= kBridgeClearance;
+  };
   for (const auto& pair : pairs) {
     if (auto hit = findClosedPolylineCrossing(*pair.a, *pair.b, bridged)) {
       char heights[200];
@@ -217,9 +223,22 @@ TrackInfo readTrackYaml(const std::string& path, std::string* centreline) {
   top.read("ground_friction", &info.ground_friction);
   inRange("friction", info.friction, 0, 3, true, "");
   inRange("ground_friction", info.ground_friction, 0, 3, true, "");
+  std::string course = "circuit";
+  top.read("course", &course);
+  if (course != "circuit" && course != "point_to_point") {
+    top.fail("course", "'" + course + "' is neither 'circuit' nor 'point_to_point'");
+  }
+  info.closed = course == "circuit";
   auto start_finish = top.child("start_finish");
   start_finish.read("s", &info.start_finish_s);
   start_finish.finish();
+  if (top.has("finish") && info.closed) top.fail("finish", "a circuit finishes on its start_finish line");
+  if (!info.closed) {
+    if (!top.has("finish")) top.fail("finish", "a point-to-point course needs its finish line: finish: {s: <metres>}");
+    auto finish = top.child("finish");
+    finish.read("s", &info.finish_s);
+    finish.finish();
+  }
   top.read("sectors", &info.sectors);
   inRange("sectors", info.sectors, 1, 100, false, "");
   top.read("barrier_offset", &info.barrier_offset);
@@ -239,8 +258,13 @@ void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::s
       << "altitude" << YAML::Value << info.origin.altitude << YAML::EndMap;
   out << YAML::Key << "friction" << YAML::Value << info.friction;
   out << YAML::Key << "ground_friction" << YAML::Value << info.ground_friction;
+  if (!info.closed) out << YAML::Key << "course" << YAML::Value << "point_to_point";
   out << YAML::Key << "start_finish" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "s" << YAML::Value
       << info.start_finish_s << YAML::EndMap;
+  if (!info.closed) {
+    out << YAML::Key << "finish" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "s" << YAML::Value
+        << info.finish_s << YAML::EndMap;
+  }
   out << YAML::Key << "sectors" << YAML::Value << info.sectors;
   out << YAML::Key << "barrier_offset" << YAML::Value << info.barrier_offset;
   out << YAML::Key << "barrier_height" << YAML::Value << info.barrier_height << YAML::EndMap;
@@ -293,7 +317,14 @@ Track loadMapFolder(const std::string& folder) {
   TrackInfo info = readTrackYaml(yaml_path.string(), &centreline);
   const std::string csv_path = (fs::path(folder) / centreline).string();
   CentreLineFile file = readCentreLineCsv(csv_path);
-  Track track(std::move(file.points), std::move(info));
+  auto made = [&]() {
+    try {
+      return Track(std::move(file.points), std::move(info));
+    } catch (const std::invalid_argument& e) {
+      throw MapError(yaml_path.string() + " with " + csv_path + ": " + e.what());
+    }
+  };
+  Track track = made();
   if (track.info().start_finish_s < 0 || track.info().start_finish_s >= track.length()) {
     throw MapError(yaml_path.string() + ": field 'start_finish.s' must be in [0, track length " +
                    std::to_string(track.length()) + ")");

@@ -16,7 +16,7 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z) {
     mesh.vertices.emplace_back(l.x(), l.y(), z + track.surfaceHeight(i, p.width_left));
     mesh.vertices.emplace_back(r.x(), r.y(), z + track.surfaceHeight(i, -p.width_right));
   }
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < static_cast<int>(track.segments()); ++i) {
     const int j = (i + 1) % n;
     const int li = 2 * i, ri = 2 * i + 1, lj = 2 * j, rj = 2 * j + 1;
     mesh.triangles.push_back({ri, rj, lj});
@@ -27,11 +27,11 @@ TriangleMesh roadSurfaceMesh(const Track& track, double z) {
 
 namespace {
 
-// Adds a closed wall along a loop of base points, standing `height` above the road edge's height at each
-// point and reaching below it, so that it meets the ground on an elevated or banked track too; on a
-// bridge's deck it reaches only the deck's depth down, leaving the road below clear.
+// Adds a wall along a line of base points (a loop when `closed`), standing `height` above the road edge's
+// height at each point and reaching below it, so that it meets the ground on an elevated or banked track
+// too; on a bridge's deck it reaches only the deck's depth down, leaving the road below clear.
 void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, const std::vector<Eigen::Vector2d>& outer,
-             const std::vector<double>& edge_z, const std::vector<bool>& deck, double height) {
+             const std::vector<double>& edge_z, const std::vector<bool>& deck, double height, bool closed) {
   const int n = static_cast<int>(inner.size());
   const int base = static_cast<int>(mesh->vertices.size());
   for (int i = 0; i < n; ++i) {
@@ -42,13 +42,29 @@ void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, cons
     mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), top);
     mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), bottom);
   }
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < (closed ? n : n - 1); ++i) {
     const int a = base + 4 * i, b = base + 4 * ((i + 1) % n);
     for (int f = 0; f < 3; ++f) {  // inner face, top, outer face
       mesh->triangles.push_back({a + f, b + f, b + f + 1});
       mesh->triangles.push_back({a + f, b + f + 1, a + f + 1});
     }
   }
+}
+
+// A point-to-point course's end closed by a wall across its run-off, `offset` beyond its end point
+// (point i, looking the way `outwards` points), joining the side barriers' ends.
+void addEndWall(TriangleMesh* mesh, const Track& track, std::size_t i, const Eigen::Vector2d& outwards, double offset,
+                double thickness) {
+  const auto& p = track.point(i);
+  const std::vector<Eigen::Vector2d> inner = {track.leftEdge(i, offset), track.leftEdge(i, offset) + offset * outwards,
+                                              track.rightEdge(i, offset) + offset * outwards,
+                                              track.rightEdge(i, offset)};
+  const double far = offset + thickness;
+  const std::vector<Eigen::Vector2d> outer = {track.leftEdge(i, far), track.leftEdge(i, far) + far * outwards,
+                                              track.rightEdge(i, far) + far * outwards, track.rightEdge(i, far)};
+  const double left_z = track.surfaceHeight(i, p.width_left), right_z = track.surfaceHeight(i, -p.width_right);
+  const std::vector<double> z = {left_z, left_z, right_z, right_z};
+  addWall(mesh, inner, outer, z, std::vector<bool>(4, false), track.info().barrier_height, false);
 }
 
 }  // namespace
@@ -59,7 +75,7 @@ void addWall(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, cons
 void unfold(const Track& track, std::vector<Eigen::Vector2d>* line) {
   const std::size_t n = line->size();
   for (int pass = 0; pass < 2; ++pass) {  // the second pass settles the wrap-around
-    for (std::size_t k = 1; k <= n; ++k) {
+    for (std::size_t k = 1; k < (track.closed() ? n + 1 : n); ++k) {
       const std::size_t i = k % n, prev = k - 1;
       const Eigen::Vector2d along = track.position((prev + 1) % n) - track.position(prev);
       if (((*line)[i] - (*line)[prev]).dot(along) < 0) (*line)[i] = (*line)[prev];
@@ -86,15 +102,22 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
     left_z[i] = track.surfaceHeight(i, track.point(i).width_left);
     right_z[i] = track.surfaceHeight(i, -track.point(i).width_right);
   }
-  addWall(&mesh, left_in, left_out, left_z, deck, track.info().barrier_height);
-  addWall(&mesh, right_in, right_out, right_z, deck, track.info().barrier_height);
+  addWall(&mesh, left_in, left_out, left_z, deck, track.info().barrier_height, track.closed());
+  addWall(&mesh, right_in, right_out, right_z, deck, track.info().barrier_height, track.closed());
+  if (!track.closed()) {
+    auto heading = [&](std::size_t i) {
+      return Eigen::Vector2d(std::cos(track.heading(i)), std::sin(track.heading(i)));
+    };
+    addEndWall(&mesh, track, 0, -heading(0), track.info().barrier_offset, thickness);
+    addEndWall(&mesh, track, n - 1, heading(n - 1), track.info().barrier_offset, thickness);
+  }
   return mesh;
 }
 
 KerbMesh kerbMesh(const Track& track, double width, double min_radius, double lift) {
   KerbMesh out;
   const std::size_t n = track.size();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < track.segments(); ++i) {
     const std::size_t j = (i + 1) % n;
     if (std::max(std::abs(track.curvature(i)), std::abs(track.curvature(j))) < 1.0 / min_radius) continue;
     for (int side = 0; side < 2; ++side) {

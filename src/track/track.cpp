@@ -49,6 +49,7 @@ Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std:
   double s = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     s_[i] = s;
+    if (!closed() && i + 1 == n) break;
     const double seg = (position((i + 1) % n) - position(i)).norm();
     if (seg < 1e-9) {
       throw std::invalid_argument("centre-line points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
@@ -58,6 +59,13 @@ Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std:
   }
   length_ = s;
   for (std::size_t i = 0; i < n; ++i) {
+    // A course's ends look one way only: their heading along their one segment, their curvature their
+    // neighbour's.
+    if (!closed() && (i == 0 || i + 1 == n)) {
+      const Eigen::Vector2d d = i == 0 ? position(1) - position(0) : position(i) - position(i - 1);
+      heading_[i] = std::atan2(d.y(), d.x());
+      continue;
+    }
     const Eigen::Vector2d prev = position((i + n - 1) % n), cur = position(i), next = position((i + 1) % n);
     const Eigen::Vector2d d = next - prev;
     heading_[i] = std::atan2(d.y(), d.x());
@@ -66,6 +74,24 @@ Track::Track(std::vector<CentreLinePoint> points, TrackInfo info) : points_(std:
     const double cross = a.x() * b.y() - a.y() * b.x();
     const double denom = a.norm() * b.norm() * (next - prev).norm();
     curvature_[i] = denom > 0 ? 2.0 * cross / denom : 0.0;
+  }
+  if (!closed()) {
+    curvature_[0] = curvature_[1];
+    curvature_[n - 1] = curvature_[n - 2];
+    checkCourseLines();
+  }
+}
+
+void Track::checkCourseLines() const {
+  char buf[256];
+  const double start = info_.start_finish_s, finish = info_.finish_s;
+  if (!(start >= kGridLength && finish > start + kGridLength && finish <= length_)) {
+    std::snprintf(buf, sizeof buf,
+                  "a point-to-point course needs its start line (start_finish.s = %g m) at least %g m (the grid) "
+                  "from its road's start and its finish line (finish.s = %g m) at least %g m past the start and on "
+                  "its road (%g m long)",
+                  start, kGridLength, finish, kGridLength, length_);
+    throw std::invalid_argument(buf);
   }
 }
 
@@ -98,16 +124,22 @@ double Track::lowestPoint() const {
 }
 
 double Track::wrap(double s) const {
+  if (!closed()) return std::clamp(s, 0.0, length_);
   s = std::fmod(s, length_);
   return s < 0 ? s + length_ : s;
 }
 
-double Track::forwardDistance(double s_from, double s_to) const { return wrap(s_to - s_from); }
+double Track::forwardDistance(double s_from, double s_to) const {
+  if (!closed()) return s_to >= s_from ? s_to - s_from : std::numeric_limits<double>::infinity();
+  return wrap(s_to - s_from);
+}
+
+std::size_t Track::segments() const { return closed() ? size() : size() - 1; }
 
 std::size_t Track::segmentAt(double s) const {
   s = wrap(s);
   auto it = std::upper_bound(s_.begin(), s_.end(), s);
-  return static_cast<std::size_t>(std::distance(s_.begin(), it)) - 1;
+  return std::min(static_cast<std::size_t>(std::distance(s_.begin(), it)) - 1, segments() - 1);
 }
 
 TrackPose Track::poseAt(double s) const {
@@ -136,7 +168,8 @@ Projection Track::projectOnSegment(const Eigen::Vector2d& p, std::size_t i, doub
   const std::size_t j = (i + 1) % size();
   const Eigen::Vector2d a = position(i), d = position(j) - a;
   const double seg2 = d.squaredNorm();
-  const double t = std::clamp((p - a).dot(d) / seg2, 0.0, 1.0);
+  const double along = (p - a).dot(d) / seg2;
+  const double t = std::clamp(along, 0.0, 1.0);
   const Eigen::Vector2d foot = a + t * d;
   *dist2 = (p - foot).squaredNorm();
   Projection pr;
@@ -147,13 +180,15 @@ Projection Track::projectOnSegment(const Eigen::Vector2d& p, std::size_t i, doub
   pr.heading = heading_[i] + t * wrapAngle(heading_[j] - heading_[i]);
   pr.width_right = (1 - t) * points_[i].width_right + t * points_[j].width_right;
   pr.width_left = (1 - t) * points_[i].width_left + t * points_[j].width_left;
+  if (!closed() && i == 0 && along < 0) pr.past_end = -along * std::sqrt(seg2);
+  if (!closed() && i + 2 == size() && along > 1) pr.past_end = (along - 1) * std::sqrt(seg2);
   return pr;
 }
 
 Projection Track::project(const Eigen::Vector2d& p) const {
   Projection best;
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < size(); ++i) {
+  for (std::size_t i = 0; i < segments(); ++i) {
     double d2;
     Projection pr = projectOnSegment(p, i, &d2);
     if (d2 < best_d2) {
@@ -167,7 +202,7 @@ Projection Track::project(const Eigen::Vector2d& p) const {
 Projection Track::projectAtHeight(const Eigen::Vector3d& p) const {
   Projection best;
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < size(); ++i) {
+  for (std::size_t i = 0; i < segments(); ++i) {
     double d2;
     Projection pr = projectOnSegment(p.head<2>(), i, &d2);
     const double dz = kProjectionHeightWeight * (p.z() - surfaceHeightAt(pr.s, pr.lateral));
@@ -186,7 +221,7 @@ Projection Track::projectNear(const Eigen::Vector2d& p, double near_s, double wi
   double best_d2 = std::numeric_limits<double>::infinity();
   std::size_t i = segmentAt(near_s - window);
   const std::size_t last = segmentAt(near_s + window);
-  for (;; i = (i + 1) % size()) {
+  for (;; i = (i + 1) % segments()) {
     double d2;
     Projection pr = projectOnSegment(p, i, &d2);
     if (d2 < best_d2) {
@@ -205,6 +240,7 @@ std::vector<std::size_t> Track::indicesAhead(double from_s, double length) const
   std::size_t i = (segmentAt(from_s) + 1) % size();
   while (out.size() < size() && forwardDistance(from_s, s_[i]) <= length && forwardDistance(from_s, s_[i]) > 0) {
     out.push_back(i);
+    if (!closed() && i + 1 == size()) break;
     i = (i + 1) % size();
   }
   return out;
@@ -212,7 +248,7 @@ std::vector<std::size_t> Track::indicesAhead(double from_s, double length) const
 
 std::vector<TrackPose> Track::evenSpawnPoints(int count) const {
   std::vector<TrackPose> out;
-  for (int k = 0; k < count; ++k) out.push_back(poseAt(info_.start_finish_s + k * length_ / count));
+  for (int k = 0; k < count; ++k) out.push_back(poseAt(info_.start_finish_s + k * raceDistance() / count));
   return out;
 }
 

@@ -44,19 +44,19 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   const auto barrier_l = polygon([&](std::size_t i) { return track.leftEdge(i, offset); });
   const auto barrier_r = polygon([&](std::size_t i) { return track.rightEdge(i, offset); });
   // The road as one quad per segment (works for either winding of the circuit).
-  for (std::size_t i = 0; i < track.size(); ++i) {
+  for (std::size_t i = 0; i < track.segments(); ++i) {
     const std::size_t j = (i + 1) % track.size();
     std::vector<cv::Point> quad = {px(track.leftEdge(i)), px(track.leftEdge(j)), px(track.rightEdge(j)),
                                    px(track.rightEdge(i))};
     cv::fillConvexPoly(image, quad, cv::Scalar(85, 85, 85), cv::LINE_AA);
   }
-  cv::polylines(image, barrier_l, true, cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
-  cv::polylines(image, barrier_r, true, cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
-  cv::polylines(image, polygon([&](std::size_t i) { return track.position(i); }), true, cv::Scalar(200, 200, 200), 1,
-                cv::LINE_AA);
+  cv::polylines(image, barrier_l, track.closed(), cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
+  cv::polylines(image, barrier_r, track.closed(), cv::Scalar(220, 220, 220), 2, cv::LINE_AA);
+  cv::polylines(image, polygon([&](std::size_t i) { return track.position(i); }), track.closed(),
+                cv::Scalar(200, 200, 200), 1, cv::LINE_AA);
   // A bridge's deck over the road below it, its parapets at the road's edge.
   const std::vector<bool> deck = bridgeDeckPoints(track);
-  for (std::size_t i = 0; i < track.size(); ++i) {
+  for (std::size_t i = 0; i < track.segments(); ++i) {
     const std::size_t j = (i + 1) % track.size();
     if (!deck[i] || !deck[j]) continue;
     std::vector<cv::Point> quad = {px(track.leftEdge(i, kParapetOffset)), px(track.leftEdge(j, kParapetOffset)),
@@ -78,16 +78,20 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   };
   const int sectors = track.info().sectors;
   for (int k = 1; k < sectors; ++k) {
-    line_across(track.info().start_finish_s + k * track.length() / sectors, cv::Scalar(0, 200, 255), 3);
+    line_across(track.info().start_finish_s + k * track.raceDistance() / sectors, cv::Scalar(0, 200, 255), 3);
   }
   line_across(track.info().start_finish_s, cv::Scalar(255, 255, 255), 5);
+  if (!track.closed()) {  // a course's finish line, chequered black and white
+    line_across(track.finishLine(), cv::Scalar(255, 255, 255), 7);
+    line_across(track.finishLine(), cv::Scalar(0, 0, 0), 3);
+  }
   // Direction arrow just after the line.
   const TrackPose a = track.poseAt(track.info().start_finish_s + 20),
                   b = track.poseAt(track.info().start_finish_s + 60);
   cv::arrowedLine(image, px(a.position), px(b.position), cv::Scalar(0, 0, 255), 3, cv::LINE_AA, 0, 0.3);
   char title[256];
-  std::snprintf(title, sizeof(title), "%s  %.0f m  %d sectors  (100 m = %d px)", track.info().name.c_str(),
-                track.length(), sectors, static_cast<int>(100 * scale));
+  std::snprintf(title, sizeof(title), "%s  %.0f m%s  %d sectors  (100 m = %d px)", track.info().name.c_str(),
+                track.raceDistance(), track.closed() ? "" : " start to finish", sectors, static_cast<int>(100 * scale));
   cv::putText(image, title, cv::Point(12, 38), cv::FONT_HERSHEY_SIMPLEX, 0.9, cv::Scalar(255, 255, 255), 2,
               cv::LINE_AA);
   const cv::Scalar white(255, 255, 255);

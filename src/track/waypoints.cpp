@@ -85,9 +85,11 @@ std::vector<Waypoint> waypointsOf(const Track& track) {
     Waypoint w;
     const Eigen::Vector2d mid = 0.5 * (track.leftEdge(i) + track.rightEdge(i));
     const auto& p = track.point(i);
-    const std::size_t next = (i + 1) % track.size();
-    const double run = (track.position(next) - track.position(i)).norm();
-    const double pitch = -std::atan2(track.point(next).z - p.z, run);  // REP-103: nose down is positive pitch
+    // The slope to the next point (a course's last point: from the one before).
+    const bool last = !track.closed() && i + 1 == track.size();
+    const std::size_t from = last ? i - 1 : i, to = last ? i : (i + 1) % track.size();
+    const double run = (track.position(to) - track.position(from)).norm();
+    const double pitch = -std::atan2(track.point(to).z - track.point(from).z, run);  // REP-103: nose down positive
     w.location = Eigen::Vector3d(mid.x(), mid.y(), track.surfaceHeight(i, 0.5 * (p.width_left - p.width_right)));
     w.roll_pitch_yaw = Eigen::Vector3d(p.banking, pitch, track.heading(i));
     w.lane_width = track.point(i).width_left + track.point(i).width_right;
@@ -106,18 +108,18 @@ Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo
     pts.push_back(
         {w.location.x(), w.location.y(), 0.5 * w.lane_width, 0.5 * w.lane_width, w.location.z(), w.roll_pitch_yaw.x()});
   }
-  while (pts.size() > 3 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < 0.01)
+  while (info.closed && pts.size() > 3 && std::hypot(pts.front().x - pts.back().x, pts.front().y - pts.back().y) < 0.01)
     pts.pop_back();
-  repairElevation(&pts);
+  repairElevation(&pts, info.closed);
   return Track(std::move(pts), info);
 }
 
-bool repairElevation(std::vector<CentreLinePoint>* points, double max_grade, double half_window) {
+bool repairElevation(std::vector<CentreLinePoint>* points, bool closed, double max_grade, double half_window) {
   auto& p = *points;
   const std::size_t n = p.size();
   std::vector<double> s(n + 1, 0.0);
   bool implausible = false;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < (closed ? n : n - 1); ++i) {
     const auto &a = p[i], &b = p[(i + 1) % n];
     const double run = std::hypot(b.x - a.x, b.y - a.y);
     s[i + 1] = s[i] + run;
@@ -131,9 +133,11 @@ bool repairElevation(std::vector<CentreLinePoint>* points, double max_grade, dou
     double sum = p[i].z, count = 1;
     for (int dir : {-1, 1}) {
       for (std::size_t k = 1; k < n; ++k) {
+        // An open line's window stops at its ends.
+        if (!closed && (dir < 0 ? k > i : i + k >= n)) break;
         const std::size_t j = (i + n + static_cast<std::size_t>(dir) * k) % n;
         double d = std::abs(s[j] - s[i]);
-        d = std::min(d, length - d);
+        if (closed) d = std::min(d, length - d);
         if (d > half_window) break;
         sum += p[j].z;
         ++count;

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""rostest: waypoint_server on Roar Ring publishes its latched topics and answers every service."""
+"""rostest: waypoint_server on Roar Ring publishes its latched topics and answers every service; another on
+Roar Hillclimb (in namespace course) publishes a point-to-point course and routes only forwards along it."""
 import math
 import sys
 import unittest
@@ -104,6 +105,30 @@ class WaypointServer(unittest.TestCase):
         self.assertFalse(refused.success)
         self.assertIn("goal (", refused.message)
         self.assertIn("must be finite", refused.message)
+
+    def test_a_course_is_published_open_and_routed_one_way(self):
+        waypoints = rospy.wait_for_message("/course/waypoints", WaypointArray, timeout=30)
+        self.assertEqual(waypoints.map_name, "Roar Hillclimb")
+        self.assertFalse(waypoints.closed)
+        self.assertEqual((waypoints.start_s, waypoints.finish_s), (170.0, 1527.0))
+        path = rospy.wait_for_message("/course/waypoints/path", Path, timeout=30)
+        self.assertEqual(len(path.poses), len(waypoints.waypoints), "no way back from the end to the start")
+        route = call("/course/waypoint_server/get_route", GetRoute)
+        ws = waypoints.waypoints
+
+        def pose(w):
+            p = Pose()
+            p.position.x, p.position.y = w.location.x, w.location.y
+            p.orientation.w = 1.0
+            return p
+
+        forward = route(pose(ws[100]), pose(ws[600]))
+        self.assertTrue(forward.success, forward.message)
+        self.assertAlmostEqual(forward.distance, ws[600].s - ws[100].s, delta=0.5)
+        backward = route(pose(ws[600]), pose(ws[100]))
+        self.assertFalse(backward.success)
+        self.assertIn("is behind the start", backward.message)
+        self.assertIn("driven one way", backward.message)
 
     def test_bad_waypoint_requests_are_refused_by_name(self):
         get = call("/waypoint_server/get_waypoints", GetWaypoints)

@@ -205,8 +205,9 @@ TEST(MsgConversion, WaypointArraysThatAreNoCircuitAreRefused) {
   }
   EXPECT_EQ(error(), "");
   EXPECT_NEAR(ros_bridge::trackFromMessage(msg).info().friction, 1.0, 0.0);
+  // An open list is a point-to-point course, whose start and finish lines must lie on it.
   msg.closed = false;
-  EXPECT_NE(error().find("not a closed circuit"), std::string::npos);
+  EXPECT_NE(error().find("a point-to-point course needs its start line"), std::string::npos) << error();
   msg.closed = true;
   msg.friction = std::nan("");
   EXPECT_NE(error().find("friction"), std::string::npos);
@@ -217,6 +218,33 @@ TEST(MsgConversion, WaypointArraysThatAreNoCircuitAreRefused) {
 
 // cfg/Controller.cfg repeats the tracker's defaults for dynamic_reconfigure: they must agree.
 // rviz's track markers lie on the road: up a bridge's ramps and over its deck, parapets at the deck's edge.
+// A point-to-point course goes over /waypoints as one: open, with its start and finish lines; its path and
+// its edges do not return to the start.
+TEST(MsgConversion, ACourseCrossesAsACourse) {
+  const auto course = track::loadMapFolder(test::sourceDir() + "/maps/roar_hillclimb");
+  const auto msg = ros_bridge::toWaypointArray(course, "map");
+  EXPECT_FALSE(msg.closed);
+  EXPECT_EQ(msg.start_s, course.info().start_finish_s);
+  EXPECT_EQ(msg.finish_s, course.finishLine());
+  const auto back = ros_bridge::trackFromMessage(msg);
+  EXPECT_FALSE(back.closed());
+  EXPECT_EQ(back.info().start_finish_s, course.info().start_finish_s);
+  EXPECT_EQ(back.info().finish_s, course.info().finish_s);
+  EXPECT_NEAR(back.length(), course.length(), 1.0);
+  EXPECT_EQ(ros_bridge::toPath(course, "map").poses.size(), course.size()) << "no way back to the start";
+  const auto markers = ros_bridge::trackMarkers(course, "map");
+  int lines_across = 0;
+  for (const auto& m : markers.markers) {
+    if (m.ns == "edges") EXPECT_EQ(m.points.size(), course.size());
+    if (m.ns == "start_finish") ++lines_across;
+  }
+  EXPECT_EQ(lines_across, 2) << "the start line and the finish line";
+  // A circuit's still closes.
+  const auto circuit = ros_bridge::toWaypointArray(test::circleTrack(50.0), "map");
+  EXPECT_TRUE(circuit.closed);
+  EXPECT_TRUE(ros_bridge::trackFromMessage(circuit).closed());
+}
+
 TEST(TrackMarkers, FollowTheRoadOverABridge) {
   const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
   const auto markers = ros_bridge::trackMarkers(track, "map");

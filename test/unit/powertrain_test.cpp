@@ -102,3 +102,23 @@ TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottle) {
   EXPECT_EQ(pt.strongestGear(wheel_rpm), 4) << "6430 rpm in fourth is still below 6500";
   EXPECT_EQ(pt.strongestGear(1e5), 0) << "faster than the top gear's redline";
 }
+
+// Climbing at full throttle, a car shifts up at first gear's limit and loses a little speed in the torque
+// gap: kickdown must not take it straight back to first (which would shift up again at once, and so on:
+// the hatchback hunted between first and second for 15 s up Roar Hillclimb), but may once the second gear
+// has had its chance.
+TEST(Powertrain, NoKickdownStraightAfterAShiftUp) {
+  const auto p = roar::test::sedan();
+  Powertrain pt(p);
+  pt.update({1.0, false, false, 0}, omegaForRpm(p, 1, p.gearbox.shift_up_rpm + 50), 0.005);
+  ASSERT_EQ(pt.gear(), 2);
+  // Slower now: first would turn 600 rpm below its shift-up, room enough for kickdown to pick it.
+  const double slower = omegaForRpm(p, 1, p.gearbox.shift_up_rpm - 600);
+  ASSERT_EQ(pt.strongestGear(slower * 60 / (2 * M_PI), 300.0), 1);
+  for (int i = 0; i < 190; ++i) {
+    pt.update({1.0, false, false, 0}, slower, 0.005);
+    ASSERT_EQ(pt.gear(), 2) << "after " << (i + 1) * 0.005 << " s";
+  }
+  for (int i = 0; i < 20; ++i) pt.update({1.0, false, false, 0}, slower, 0.005);
+  EXPECT_EQ(pt.gear(), 1) << "a second after the shift up, kickdown again";
+}

@@ -46,8 +46,9 @@ TEST(RacingLine, StaysInsideTheMarginsAndBendsLessThanTheCentreLine) {
     EXPECT_GT(line.iterations, 1);
     const auto centre = planning::centreLine(track, options.step);
     EXPECT_LT(sumSquaredCurvature(line), 0.8 * sumSquaredCurvature(centre));
-    const auto promised = planning::computeSpeedProfile(line.step, line.curvature, limits, true).total_time;
-    const auto on_centre = planning::computeSpeedProfile(centre.step, centre.curvature, limits, true).total_time;
+    const auto promised = planning::computeSpeedProfile(line.step, line.curvature, limits, line.closed).total_time;
+    const auto on_centre =
+        planning::computeSpeedProfile(centre.step, centre.curvature, limits, centre.closed).total_time;
     EXPECT_LT(promised, 0.97 * on_centre);
     // It uses the track: somewhere close to each edge.
     const auto [lo, hi] = std::minmax_element(line.offset.begin(), line.offset.end());

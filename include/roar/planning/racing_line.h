@@ -20,13 +20,14 @@ struct RacingLineOptions {
   double curvature_tolerance = 2e-4;  // 1/m: stop when the curvature changes by less than this (RMS over the line)
 };
 
-// A closed line through the track, evenly sampled.
+// A line through the track, evenly sampled: closed round a circuit, open from a course's first point to its last.
 struct RacingLine {
+  bool closed = true;
   std::vector<Eigen::Vector2d> points;
   std::vector<double> s;          // m along the line
   std::vector<double> heading;    // rad
   std::vector<double> curvature;  // 1/m, positive left
-  std::vector<double> step;       // m from each point to the next (the last one back to the first)
+  std::vector<double> step;       // m from each point to the next (the last one back to the first; open: 0)
   std::vector<double> track_s;    // progress of each point's projection on the track's centre line
   std::vector<double> offset;     // m left of the centre line
   double length = 0.0;
@@ -45,8 +46,9 @@ RacingLine centreLine(const track::Track& track, double step);
 RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptions& options);
 // Heading, curvature, steps, length and the projection on the track, from the points.
 void computeGeometry(const track::Track& track, RacingLine* line);
-// Only the shape of a closed polyline: steps to the next point, headings and curvatures.
+// Only the shape of a polyline (closed, or open with one-sided ends): steps to the next point, headings and
+// curvatures.
 void computeShape(const std::vector<Eigen::Vector2d>& points, std::vector<double>* step, std::vector<double>* heading,
-                  std::vector<double>* curvature);
+                  std::vector<double>* curvature, bool closed = true);
 
 }  // namespace roar::planning

@@ -20,6 +20,9 @@ struct SpeedProfileOptions {
   double max_speed = 0.0;     // m/s; 0: the car's top speed
   double start_speed = -1.0;  // open paths: speed at the first point (negative: as fast as allowed)
   double end_speed = -1.0;    // open paths: speed at the last point (negative: as fast as allowed)
+  // Per point, the sine of the road's slope from it to the next (positive uphill); empty: level. Gravity
+  // along the road takes from the drive uphill and from the brakes downhill.
+  std::vector<double> grade;
 };
 
 // The hardest braking at speed v on curvature kappa: brakes or the grip the corner leaves, plus drag.

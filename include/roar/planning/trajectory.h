@@ -46,7 +46,12 @@ struct PlannerOptions {
   bool minimum_time = false;
 };
 
-// Racing line and speed profile, with each point's road height.
+// Metres before a point-to-point course's road ends where its trajectory has the car stopped.
+inline constexpr double kCourseStopMargin = 20.0;
+
+// Racing line and speed profile (the road's grade counted), with each point's road height. A
+// point-to-point course's trajectory runs to the road's end, the car stopped kCourseStopMargin before it;
+// its lap_time is the time from the start line to the finish line.
 Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options);
 Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const SpeedProfile& profile);
 
@@ -77,8 +82,11 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
                   const VehicleLimits& limits);
 
-// How far a is ahead of b round a lap of `length` (both line s), in [-length / 2, length / 2).
+// How far a is ahead of b round a lap of `length` (both line s), in [-length / 2, length / 2); a - b when
+// `length` is 0 (an open line has no lap).
 double aheadOnLap(double a, double b, double length);
+// The lap aheadOnLap measures along a trajectory: a closed one's length, 0 for an open one.
+inline double lapLength(const Trajectory& trajectory) { return trajectory.closed ? trajectory.length : 0.0; }
 
 // The trajectory's speeds times `pace`, its accelerations times pace squared (the same path driven at a
 // share of the speed) and its times divided by it.

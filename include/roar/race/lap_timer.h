@@ -1,7 +1,8 @@
 #pragma once
 // Lap and sector timing from a car's positions. A lap counts only when the car crosses the start/finish
 // line forwards after having been round the far side of the circuit since its last crossing, so a car
-// wobbling back and forth over the line never scores a false lap (the f1tenth_gym failure).
+// wobbling back and forth over the line never scores a false lap (the f1tenth_gym failure). On a
+// point-to-point course the one "lap" is the run from the start line to the finish line.
 #include <Eigen/Core>
 #include <optional>
 #include <vector>
@@ -35,12 +36,17 @@ class LapTimer {
   int lapsCompleted() const { return static_cast<int>(laps_.size()); }
   const std::vector<LapRecord>& laps() const { return laps_; }
   std::optional<double> bestLap() const;
-  double progress() const { return progress_; }   // metres after the start/finish line, [0, length)
+  // Metres after the start/finish line, [0, length); on a point-to-point course after the start line,
+  // negative before it.
+  double progress() const { return progress_; }
   double lapStart() const { return lap_start_; }  // s, when the lap under way began (once started)
-  // Distance covered since the first crossing: laps * length + progress; for gaps between cars.
+  // Distance covered since the first crossing: laps * length + progress (a course: its progress); for
+  // gaps between cars.
   double distanceCovered() const;
 
  private:
+  std::optional<LapRecord> updateOnCourse(double time, double progress);
+
   const track::Track& track_;
   LapTimerOptions options_;
   bool have_previous_ = false;

@@ -13,7 +13,7 @@
 namespace roar::stack {
 
 struct TimeTrialOptions {
-  int laps = 1;             // timed flying laps after an untimed out-lap from the grid
+  int laps = 1;  // timed flying laps after an untimed out-lap from the grid (a point-to-point course: its one run)
   double time_limit = 0.0;  // s simulated; 0: three times the promised time plus a minute
   double grip_use = 0.85;   // share of the road's friction the plan uses
   planning::PlannerOptions planner;

@@ -23,6 +23,8 @@ std::vector<CentreLinePoint> buildCircuit(const std::vector<ControlPoint>& contr
 
 // Resamples a closed centre line at an even spacing (the last gap absorbs the remainder).
 std::vector<CentreLinePoint> resampleClosed(const std::vector<CentreLinePoint>& points, double spacing);
+// The same for a closed or an open line (a point-to-point course: both its ends kept).
+std::vector<CentreLinePoint> resampleLine(const std::vector<CentreLinePoint>& points, double spacing, bool closed);
 
 // The way from a centre line's last point back to its first, against its steps: a loop whose gap is many
 // steps long is not closed (ROAR_PY's BerkMajor waypoints stop 50.7 m short of their start).

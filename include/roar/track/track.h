@@ -1,7 +1,9 @@
 #pragma once
-// A closed circuit: a centre line with right and left widths, in the map frame (x east, y north, metres).
-// The driving direction is the order of the points; progress `s` is the distance along the centre line.
+// A closed circuit, or a point-to-point course (a sprint, a hill climb: the road runs from its first point
+// to its last): a centre line with right and left widths, in the map frame (x east, y north, metres). The
+// driving direction is the order of the points; progress `s` is the distance along the centre line.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -15,6 +17,11 @@ inline constexpr double kProjectionHeightWeight = 3.0;
 
 // The start grid's slots a race places its cars on (scenarios, roar_sim, waypoint_server's spawn points).
 inline constexpr int kGridSlots = 20;
+// The grid: pole this far behind the start line, each further slot this much further back.
+inline constexpr double kGridFirstGap = 10.0;
+inline constexpr double kGridSpacing = 8.0;
+// Road a point-to-point course needs behind its start line for every grid slot (and a car's length).
+inline constexpr double kGridLength = kGridFirstGap + kGridSpacing * (kGridSlots - 1) + 5.0;
 
 struct CentreLinePoint {
   double x = 0.0;
@@ -47,9 +54,13 @@ struct TrackInfo {
   double friction = 1.0;         // tyre-road friction coefficient of the road surface
   double ground_friction = 0.6;  // off the road (grass, gravel)
   double start_finish_s = 0.0;   // progress of the start/finish line along the centre line, metres
-  int sectors = 3;               // equal-length sectors starting at the start/finish line
-  double barrier_offset = 3.0;   // run-off: barriers stand this far outside each road edge, metres
-  double barrier_height = 1.0;   // metres
+  // false: a point-to-point course. Its race is one run from the start line (start_finish_s) to the
+  // finish line (finish_s), and the road after the finish is where the cars stop.
+  bool closed = true;
+  double finish_s = 0.0;        // point-to-point only: progress of the finish line, metres
+  int sectors = 3;              // equal-length sectors starting at the start/finish line
+  double barrier_offset = 3.0;  // run-off: barriers stand this far outside each road edge, metres
+  double barrier_height = 1.0;  // metres
 };
 
 // A pose on the track at some progress, interpolated between centre-line points.
@@ -69,14 +80,20 @@ struct Projection {
   double heading = 0.0;     // track heading at s
   double width_right = 0.0;
   double width_left = 0.0;
-  bool on_track() const { return lateral <= width_left && -lateral <= width_right; }
-  // Metres beyond the nearer road edge (negative: on the road, that far inside the edge on its side).
-  double beyondEdge() const { return lateral >= 0 ? lateral - width_left : -lateral - width_right; }
+  double past_end = 0.0;  // m before a point-to-point course's first point or after its last, along the road
+  bool on_track() const { return lateral <= width_left && -lateral <= width_right && past_end <= 0.0; }
+  // Metres beyond the nearer road edge or end (negative: on the road, that far inside the edge on its side).
+  double beyondEdge() const {
+    const double side = lateral >= 0 ? lateral - width_left : -lateral - width_right;
+    return past_end > 0.0 ? std::max(side, past_end) : side;
+  }
 };
 
 class Track {
  public:
-  // Throws std::invalid_argument when there are fewer than 3 points or two consecutive points coincide.
+  // Throws std::invalid_argument when there are fewer than 3 points or two consecutive points coincide, or
+  // when a point-to-point course's start and finish lines are not on its road in that order, with the
+  // grid's length of road behind the start.
   Track(std::vector<CentreLinePoint> points, TrackInfo info);
 
   const TrackInfo& info() const { return info_; }
@@ -99,9 +116,23 @@ class Track {
   double surfaceHeightAt(double s, double lateral) const;
   double lowestPoint() const;
 
+  bool closed() const { return info_.closed; }
+  // Centre-line segments: a circuit's last point leads back to its first, a course's leads nowhere.
+  std::size_t segments() const;
+  // Progress on the course: a circuit's wrapped into [0, length), a point-to-point course's clamped to its road.
   double wrap(double s) const;
-  // Distance travelled forward from s_from to reach s_to, in [0, length).
+  // Distance travelled forward from s_from to reach s_to: in [0, length) on a circuit; on a point-to-point
+  // course s_to - s_from, and infinity when s_to is behind (no way forward reaches it).
   double forwardDistance(double s_from, double s_to) const;
+  // Progress of the line a race finishes on: the start/finish line of a circuit, a course's finish line.
+  double finishLine() const { return closed() ? info_.start_finish_s : info_.finish_s; }
+  // Metres after the start line along the race to progress s: a circuit's in [0, length), a course's
+  // negative before its start line.
+  double raceProgress(double s) const {
+    return closed() ? forwardDistance(info_.start_finish_s, s) : s - info_.start_finish_s;
+  }
+  // Metres a race covers from its start line to its finish: a lap, or the run of a point-to-point course.
+  double raceDistance() const { return closed() ? length_ : info_.finish_s - info_.start_finish_s; }
   TrackPose poseAt(double s) const;
   double curvatureAt(double s) const;
   Projection project(const Eigen::Vector2d& p) const;
@@ -112,15 +143,19 @@ class Track {
 
   // Start grid: slot 0 (pole) `first_gap` metres behind the start/finish line, then alternating sides.
   // Races place cars on the first kGridSlots slots.
-  std::vector<TrackPose> gridSpawnPoints(int count, double first_gap = 10.0, double spacing = 8.0) const;
-  // Indices of the centre-line points with progress in (from_s, from_s + length], the forward way round.
+  std::vector<TrackPose> gridSpawnPoints(int count, double first_gap = kGridFirstGap,
+                                         double spacing = kGridSpacing) const;
+  // Indices of the centre-line points with progress in (from_s, from_s + length], the forward way round
+  // (on a point-to-point course, up to its last point).
   std::vector<std::size_t> indicesAhead(double from_s, double length) const;
 
-  // `count` spawn points evenly round the lap on the centre line, the first on the start/finish line.
+  // `count` spawn points evenly round the lap (a course: from its start line to its finish line) on the
+  // centre line, the first on the start/finish line.
   std::vector<TrackPose> evenSpawnPoints(int count) const;
 
  private:
   std::size_t segmentAt(double s) const;
+  void checkCourseLines() const;
   Projection projectOnSegment(const Eigen::Vector2d& p, std::size_t i, double* dist2) const;
 
   std::vector<CentreLinePoint> points_;

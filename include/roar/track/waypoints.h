@@ -25,8 +25,9 @@ Waypoint interpolate(const Waypoint& a, const Waypoint& b, double t);
 
 // One waypoint per centre-line point: the middle of the road between its edges, full road width.
 std::vector<Waypoint> waypointsOf(const Track& track);
-// A closed track through waypoint locations with half the lane width each side and their roll as banking.
-// Consecutive waypoints closer than 1 cm (and a last one repeating the first) are merged; an implausible
+// A track through waypoint locations with half the lane width each side and their roll as banking (closed
+// or a point-to-point course as `info` says). Consecutive waypoints closer than 1 cm (and on a circuit a
+// last one repeating the first) are merged; an implausible
 // height profile is repaired (see repairElevation). Throws std::invalid_argument for fewer than 3 distinct
 // waypoints or a non-positive width.
 Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo& info);
@@ -36,7 +37,8 @@ Track trackFromWaypoints(const std::vector<Waypoint>& waypoints, const TrackInfo
 // the heights are smoothed by a moving average over +-`half_window` metres of centre line, which turns such
 // steps into gentle ramps and keeps hills. A plausible profile is left exactly as it is. Returns whether
 // the profile was smoothed.
-bool repairElevation(std::vector<CentreLinePoint>* points, double max_grade = 0.2, double half_window = 15.0);
+bool repairElevation(std::vector<CentreLinePoint>* points, bool closed = true, double max_grade = 0.2,
+                     double half_window = 15.0);
 
 // ROAR_PY files; errors (NpzError) name the file, the array and the problem.
 std::vector<Waypoint> readRoarWaypoints(const std::string& path);
