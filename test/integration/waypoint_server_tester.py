@@ -19,6 +19,14 @@ def call(name, srv_type):
     return rospy.ServiceProxy(name, srv_type)
 
 
+def pose(waypoint):
+    """The pose at a waypoint's location, unrotated."""
+    p = Pose()
+    p.position.x, p.position.y = waypoint.location.x, waypoint.location.y
+    p.orientation.w = 1.0
+    return p
+
+
 class WaypointServer(unittest.TestCase):
     def test_latched_topics(self):
         waypoints = rospy.wait_for_message("/waypoints", WaypointArray, timeout=30)
@@ -82,11 +90,6 @@ class WaypointServer(unittest.TestCase):
         route = call("/waypoint_server/get_route", GetRoute)
         get = call("/waypoint_server/get_waypoints", GetWaypoints)
         ws = get(0.0, 0.0).waypoints
-        def pose(w):
-            p = Pose()
-            p.position.x, p.position.y = w.location.x, w.location.y
-            p.orientation.w = 1.0
-            return p
         forward = route(pose(ws[100]), pose(ws[200]))
         self.assertAlmostEqual(forward.distance, ws[200].s - ws[100].s, delta=0.5)
         around = route(pose(ws[200]), pose(ws[100]))
@@ -115,13 +118,6 @@ class WaypointServer(unittest.TestCase):
         self.assertEqual(len(path.poses), len(waypoints.waypoints), "no way back from the end to the start")
         route = call("/course/waypoint_server/get_route", GetRoute)
         ws = waypoints.waypoints
-
-        def pose(w):
-            p = Pose()
-            p.position.x, p.position.y = w.location.x, w.location.y
-            p.orientation.w = 1.0
-            return p
-
         forward = route(pose(ws[100]), pose(ws[600]))
         self.assertTrue(forward.success, forward.message)
         self.assertAlmostEqual(forward.distance, ws[600].s - ws[100].s, delta=0.5)

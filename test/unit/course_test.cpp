@@ -20,6 +20,7 @@
 
 using namespace roar;
 using test::errorOf;
+using test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
@@ -51,22 +52,6 @@ track::TrackInfo courseInfo(double start = 200.0, double finish = 600.0) {
   info.finish_s = finish;
   return info;
 }
-
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("roar_course_test_" + std::to_string(::getpid()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-    return (path_ / name).string();
-  }
-  std::string str() const { return path_.string(); }
-
- private:
-  fs::path path_;
-};
 
 sensors::RayHit castOne(const sensors::RayScene& scene, const Eigen::Vector3d& origin,
                         const Eigen::Vector3f& direction) {

@@ -1,6 +1,10 @@
 #pragma once
 // Shared by the unit tests: tracks made in code, the shipped data, and reading error messages.
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <regex>
 #include <string>
@@ -11,6 +15,29 @@
 namespace roar::test {
 
 inline std::string sourceDir() { return ROAR_SOURCE_DIR; }
+
+// A fresh folder under the system's temporary one, removed with everything in it when it goes.
+class TempDir {
+ public:
+  TempDir()
+      : path_(std::filesystem::temp_directory_path() /
+              ("roar_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++))) {
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() { std::filesystem::remove_all(path_); }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  // Writes `text` to the file `name` in it; returns the file's path.
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return (path_ / name).string();
+  }
+  std::string str() const { return path_.string(); }
+
+ private:
+  static inline int counter_ = 0;
+  std::filesystem::path path_;
+};
 
 // The message of the exception f throws, or "" when it throws none.
 inline std::string errorOf(const std::function<void()>& f) {

@@ -15,28 +15,7 @@ using namespace roar;
 using test::errorOf;
 namespace fs = std::filesystem;
 
-namespace {
-
-class TempDir {
- public:
-  TempDir()
-      : path_(fs::temp_directory_path() /
-              ("roar_track_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-    return (path_ / name).string();
-  }
-  std::string str() const { return path_.string(); }
-
- private:
-  static inline int counter_ = 0;
-  fs::path path_;
-};
-
-}  // namespace
+using test::TempDir;
 
 TEST(Track, CircleGeometry) {
   const auto track = test::circleTrack(50.0);
