@@ -2,9 +2,10 @@
 // EnvPool's asynchronous batching: actions go to chosen environments (send), and recv() returns the first
 // batch_size environments to be done, so no thread waits for the slowest and there is no barrier across
 // threads. Each thread owns a fixed set of environments (i % threads) and steps only those: whatever it
-// needs while stepping is its own. An environment whose episode ended resets at once (auto-reset, as
-// VectorEnv): its result holds the new episode's first observation and the old one's last observation in
-// final_observation. The synchronous step is send to every environment then recv of all of them.
+// needs while stepping is its own. The caller's thread is one of them: it steps its set in recv(), while
+// the batch is not complete, and `threads` - 1 workers step the others. An environment whose episode ended resets at
+// once (auto-reset, as VectorEnv): its result holds the new episode's first observation and the old one's last
+// observation in final_observation. The synchronous step is send to every environment then recv of all of them.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -28,7 +29,8 @@ struct AsyncResult {
 
 class AsyncVectorEnv {
  public:
-  // Every environment must have the same spaces; threads >= 1 (each its own, besides the caller's).
+  // Every environment must have the same spaces; threads >= 1, the caller's included (1: recv() steps every
+  // environment itself).
   AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads);
   ~AsyncVectorEnv();
   AsyncVectorEnv(const AsyncVectorEnv&) = delete;
@@ -64,6 +66,7 @@ class AsyncVectorEnv {
     std::atomic<std::size_t> queued{0};  // jobs.size(), read without the lock by the thread spinning for work
   };
   void work(int thread);
+  void run(Job job);  // steps (or resets) the job's environment; its result joins the done queue
 
   std::vector<std::unique_ptr<RacingEnv>> envs_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
