@@ -35,7 +35,8 @@ double synchronousRate(const EnvFactory& make_env, const Policy& policy, bool ca
   return static_cast<double>(steps) / secondsSince(start);
 }
 
-// One process, `threads` workers, two environments each, batches of `threads`: EnvPool's asynchronous mode.
+// One process, `threads` threads (the caller's and threads - 1 workers), two environments each, batches of
+// `threads`: EnvPool's asynchronous mode.
 double asynchronousRate(const EnvFactory& make_env, const Policy& policy, bool camera, int threads, double seconds) {
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
   for (int i = 0; i < 2 * threads; ++i) envs.push_back(make_env(camera));
@@ -119,7 +120,8 @@ void printScalingTable(const EnvFactory& make_env, const Policy& policy, int max
   }
   std::printf(
       "sync: VectorEnv, two environments a thread, every thread stepping each step; async: AsyncVectorEnv,\n"
-      "two environments a worker, batches of one per worker; processes: one environment each, forked.\n");
+      "two environments a thread (the caller's one of them), batches of one a thread; processes: one\n"
+      "environment each, forked.\n");
 }
 
 }  // namespace roar::bench
