@@ -9,7 +9,7 @@ namespace roar::control {
 namespace {
 
 // m of trajectory over which the road's slope ahead is taken.
-constexpr double kGradeBase = 5.0;
+constexpr double kGradeBase = 20.0;
 
 void check(const TrackerOptions& o) {
   for (double v : {o.wheelbase, o.max_steer_angle, o.lookahead_min, o.speed_gain}) {

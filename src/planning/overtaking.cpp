@@ -145,6 +145,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   }
   SpeedProfileOptions profile_options;
   profile_options.start_speed = -1.0;
+  profile_options.grade = slopes(out);
   // Off the racing line the car is moving sideways as well: it is planned there with a share of the grip
   // (the whole grip back where the path is on the line again: a pass's window after it).
   VehicleLimits limits = limits_;
@@ -159,7 +160,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     pts[k].speed = std::min(pts[k].speed, on_grip.speed[k] + off * (off_grip.speed[k] - on_grip.speed[k]));
   }
   for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the cap made
-    const double a = decelerationAt(offline, pts[k + 1].speed, pts[k + 1].curvature);
+    const double a = decelerationAt(offline, pts[k + 1].speed, pts[k + 1].curvature, profile_options.grade[k]);
     pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * step[k]));
   }
   out.lap_time = 0.0;

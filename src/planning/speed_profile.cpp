@@ -22,6 +22,10 @@ double decelerationAt(const VehicleLimits& limits, double v, double kappa) {
   return (brake + limits.resistance(v)) / limits.effectiveMass();
 }
 
+double decelerationAt(const VehicleLimits& limits, double v, double kappa, double grade) {
+  return std::max(0.0, decelerationAt(limits, v, kappa) + limits.gravity * grade);
+}
+
 SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vector<double>& curvature,
                                  const VehicleLimits& limits, bool closed, const SpeedProfileOptions& options) {
   const std::size_t n = curvature.size();
@@ -80,7 +84,7 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
   const std::size_t end = closed ? start : n - 1;
   for (std::size_t k = 0; k < segments; ++k) {
     const std::size_t j = (end + n - k) % n, i = (j + n - 1) % n;
-    const double d = std::max(0.0, decelerationAt(limits, v[j], curvature[j]) + along(i));
+    const double d = decelerationAt(limits, v[j], curvature[j], options.grade.empty() ? 0.0 : options.grade[i]);
     v[i] = std::min(v[i], std::sqrt(v[j] * v[j] + 2.0 * d * step[i]));
   }
 

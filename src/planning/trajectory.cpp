@@ -274,9 +274,10 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
   for (auto& p : pts) {
     if (p.s >= stop_at) p.speed = std::min(p.speed, cap);
   }
+  const std::vector<double> grade = slopes(*window);
   for (std::size_t k = pts.size() - 1; k-- > 0;) {
     const double ds = pts[k + 1].s - pts[k].s;
-    const double a = decelerationAt(limits, pts[k + 1].speed, pts[k + 1].curvature);
+    const double a = decelerationAt(limits, pts[k + 1].speed, pts[k + 1].curvature, grade[k]);
     pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * ds));
   }
   for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
@@ -284,6 +285,17 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
     pts[k].acceleration = (pts[k + 1].speed * pts[k + 1].speed - pts[k].speed * pts[k].speed) / (2.0 * ds);
   }
   pts.back().acceleration = 0.0;
+}
+
+std::vector<double> slopes(const Trajectory& t) {
+  const std::size_t n = t.points.size();
+  std::vector<double> out(n, 0.0);
+  for (std::size_t i = 0; i + 1 < n || (t.closed && i < n); ++i) {
+    const double run = stepAfter(t, i), rise = t.points[(i + 1) % n].z - t.points[i].z;
+    out[i] = run > 0 ? rise / std::hypot(run, rise) : 0.0;
+  }
+  if (!t.closed && n >= 2) out[n - 1] = out[n - 2];
+  return out;
 }
 
 double aheadOnLap(double a, double b, double length) {

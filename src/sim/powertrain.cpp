@@ -11,10 +11,13 @@ constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
 constexpr double kKickdownThrottle = 0.9;
 // A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
 constexpr double kKickdownHeadroomRpm = 300.0;
-// After shifting up at full throttle, this long before kicking down again: on a climb the car loses speed in
-// each shift's torque gap and the lower gear, stronger at that speed, would take it straight back, shift
-// up again at its limit, and so on, never pulling the higher gear up the hill.
+// For this long after a shift up at full throttle, no kickdown back while the pedal has stayed floored and the
+// car has lost less than kKickdownHoldLoss of the speed it shifted up at: on a climb the car loses a little speed in
+// each shift's torque gap, and the gear just left, stronger at that speed but at its limit, would take it straight
+// back, shift up again at once, and so on, never pulling the higher gear up the hill (the hatchback hunted 1-2 for 15 s
+// up Roar Hillclimb). A car that lifted (behind another) or slowed by more kicks down as before.
 constexpr double kKickdownHoldTime = 1.0;
+constexpr double kKickdownHoldLoss = 0.1;
 }  // namespace
 
 Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
@@ -80,17 +83,22 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
 
   const double wheel_rpm = std::abs(driven_wheel_omega) * kRadPerSecToRpm;
   const double throttle = std::clamp(request.throttle, 0.0, 1.0);
+  if (throttle < kKickdownThrottle) floored_since_upshift_ = false;
   if (!request.manual && gear_ > 0 && shift_timer_ <= 0) {
     const double rpm = wheel_rpm * ratio(gear_);
     int next = gear_;
     if (rpm > gearbox_.shift_up_rpm && gear_ < top) {
       next = gear_ + 1;
       since_upshift_ = 0.0;
+      upshift_wheel_rpm_ = wheel_rpm;
+      floored_since_upshift_ = true;
     } else {
       // Kickdown: floored, the gearbox drops straight to the gear that pulls hardest instead of lugging the
       // one it came into the corner with. Not when lifting as well: measured, shifting down off the throttle
       // mid-corner (engine braking jumps) unsettles the car: Stanley hit the barrier 76 times on Sprint.
-      if (gearbox_.kickdown && throttle >= kKickdownThrottle && since_upshift_ >= kKickdownHoldTime) {
+      const bool holding = since_upshift_ < kKickdownHoldTime && floored_since_upshift_ &&
+                           wheel_rpm > (1.0 - kKickdownHoldLoss) * upshift_wheel_rpm_;
+      if (gearbox_.kickdown && throttle >= kKickdownThrottle && !holding) {
         const int strongest = strongestGear(wheel_rpm, kKickdownHeadroomRpm);
         if (strongest > 0 && strongest < gear_) next = strongest;
       }

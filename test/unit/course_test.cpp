@@ -299,3 +299,31 @@ TEST(Course, AnEpisodeEndsAtTheFinishLine) {
   EXPECT_EQ(out.info.laps, 1);
   EXPECT_NEAR(out.info.progress, 600.0 - 150.0, 1.5);
 }
+
+// Braking to follow a car counts the road's slope: downhill it starts sooner (a car planned braking as hard
+// downhill as on the level ran into the one ahead on roar_eight's bridge ramp).
+TEST(Course, FollowingBrakesSoonerDownhill) {
+  const auto limits = planning::vehicleLimits(test::sedan(), 1.0, 0.85);
+  auto straight = [](double grade) {
+    planning::Trajectory t;
+    t.closed = false;
+    for (int i = 0; i <= 150; ++i) {
+      planning::TrajectoryPoint p;
+      p.s = 2.0 * i;
+      p.position = {p.s, 0.0};
+      p.z = grade * p.s;
+      p.speed = 40.0;
+      t.points.push_back(p);
+    }
+    t.length = t.points.back().s;
+    return t;
+  };
+  planning::Trajectory level = straight(0.0), downhill = straight(-0.08);
+  EXPECT_NEAR(planning::slopes(downhill)[10], -0.08 / std::hypot(1.0, 0.08), 1e-9);
+  EXPECT_EQ(planning::slopes(level)[10], 0.0);
+  for (auto* t : {&level, &downhill}) planning::followBehind(t, 0.0, 250.0, 0.0, 10.0, limits);
+  EXPECT_LT(downhill.points[85].speed, level.points[85].speed - 1.0);
+  EXPECT_EQ(downhill.points[125].speed, 0.0) << "stopped 10 m behind the stopped car";
+  EXPECT_NEAR(planning::decelerationAt(limits, 20.0, 0.0, -0.08),
+              planning::decelerationAt(limits, 20.0, 0.0) - limits.gravity * 0.08, 1e-9);
+}

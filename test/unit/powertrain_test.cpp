@@ -106,19 +106,39 @@ TEST(Powertrain, KickdownDropsToTheStrongestGearAtFullThrottle) {
 // Climbing at full throttle, a car shifts up at first gear's limit and loses a little speed in the torque
 // gap: kickdown must not take it straight back to first (which would shift up again at once, and so on:
 // the hatchback hunted between first and second for 15 s up Roar Hillclimb), but may once the second gear
-// has had its chance.
-TEST(Powertrain, NoKickdownStraightAfterAShiftUp) {
+// has had its chance, or at once when the driver lifted or the car lost more speed (braking behind another).
+TEST(Powertrain, NoKickdownStraightBackAfterAShiftUpAtFullThrottle) {
   const auto p = roar::test::sedan();
-  Powertrain pt(p);
-  pt.update({1.0, false, false, 0}, omegaForRpm(p, 1, p.gearbox.shift_up_rpm + 50), 0.005);
-  ASSERT_EQ(pt.gear(), 2);
-  // Slower now: first would turn 600 rpm below its shift-up, room enough for kickdown to pick it.
-  const double slower = omegaForRpm(p, 1, p.gearbox.shift_up_rpm - 600);
-  ASSERT_EQ(pt.strongestGear(slower * 60 / (2 * M_PI), 300.0), 1);
-  for (int i = 0; i < 190; ++i) {
-    pt.update({1.0, false, false, 0}, slower, 0.005);
-    ASSERT_EQ(pt.gear(), 2) << "after " << (i + 1) * 0.005 << " s";
+  const double up_rpm = p.gearbox.shift_up_rpm;
+  auto shiftedUp = [&] {
+    Powertrain pt(p);
+    pt.update({1.0, false, false, 0}, omegaForRpm(p, 1, up_rpm + 50), 0.005);
+    return pt;
+  };
+  // A little slower: first would turn 500 rpm below its shift-up, room enough for kickdown to pick it.
+  const double slower = omegaForRpm(p, 1, up_rpm - 500);
+  ASSERT_EQ(shiftedUp().gear(), 2);
+  ASSERT_EQ(shiftedUp().strongestGear(slower * 60 / (2 * M_PI), 300.0), 1);
+  {
+    Powertrain pt = shiftedUp();
+    for (int i = 0; i < 190; ++i) {
+      pt.update({1.0, false, false, 0}, slower, 0.005);
+      ASSERT_EQ(pt.gear(), 2) << "after " << (i + 1) * 0.005 << " s";
+    }
+    for (int i = 0; i < 20; ++i) pt.update({1.0, false, false, 0}, slower, 0.005);
+    EXPECT_EQ(pt.gear(), 1) << "a second after the shift up, kickdown again";
   }
-  for (int i = 0; i < 20; ++i) pt.update({1.0, false, false, 0}, slower, 0.005);
-  EXPECT_EQ(pt.gear(), 1) << "a second after the shift up, kickdown again";
+  {
+    Powertrain pt = shiftedUp();
+    for (int i = 0; i < 40; ++i) pt.update({1.0, false, false, 0}, slower, 0.005);  // past the shift's gap
+    pt.update({0.5, false, false, 0}, slower, 0.005);
+    pt.update({1.0, false, false, 0}, slower, 0.005);
+    EXPECT_EQ(pt.gear(), 1) << "lifted, then floored again: kickdown at once";
+  }
+  {
+    Powertrain pt = shiftedUp();
+    for (int i = 0; i < 40; ++i) pt.update({1.0, false, false, 0}, slower, 0.005);
+    pt.update({1.0, false, false, 0}, omegaForRpm(p, 1, 0.85 * up_rpm), 0.005);
+    EXPECT_EQ(pt.gear(), 1) << "15% slower than at the shift up: kickdown at once";
+  }
 }

@@ -27,6 +27,9 @@ struct SpeedProfileOptions {
 
 // The hardest braking at speed v on curvature kappa: brakes or the grip the corner leaves, plus drag.
 double decelerationAt(const VehicleLimits& limits, double v, double kappa);
+// The same on a slope (`grade`: its sine, positive uphill): gravity along the road helps uphill, takes
+// away downhill.
+double decelerationAt(const VehicleLimits& limits, double v, double kappa, double grade);
 
 // `step[i]` is the distance from point i to point i + 1 (on a closed path the last entry leads back to
 // point 0; on an open path it is ignored). Throws std::invalid_argument naming the first bad entry.

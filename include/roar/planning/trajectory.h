@@ -82,6 +82,10 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
                   const VehicleLimits& limits);
 
+// Per point, the sine of the road's slope to the next point (from the points' z and s); the last point of
+// an open trajectory: the slope to it. For speed profiles planned on a window.
+std::vector<double> slopes(const Trajectory& trajectory);
+
 // How far a is ahead of b round a lap of `length` (both line s), in [-length / 2, length / 2); a - b when
 // `length` is 0 (an open line has no lap).
 double aheadOnLap(double a, double b, double length);

@@ -1,7 +1,7 @@
 #pragma once
 // Engine with a full-throttle torque curve and engine braking, a gearbox with automatic shifting (with a
-// torque gap while shifting, and kickdown to the strongest gear at full throttle, not straight after a shift
-// up) or manual selection, and
+// torque gap while shifting, and kickdown to the strongest gear at full throttle, not back straight after a
+// shift up unless the car has slowed) or manual selection, and
 // open differentials. The clutch is modelled only as slipping below idle, so the car can pull away from rest.
 #include "roar/sim/vehicle_params.h"
 
@@ -41,7 +41,9 @@ class Powertrain {
   GearboxParams gearbox_;
   int gear_ = 1;
   double shift_timer_ = 0.0;
-  double since_upshift_ = 0.0;  // s since the last automatic shift up
+  double since_upshift_ = 0.0;      // s since the last automatic shift up
+  double upshift_wheel_rpm_ = 0.0;  // the driven wheels' speed then
+  bool floored_since_upshift_ = false;
   double rpm_ = 0.0;
 };
 
