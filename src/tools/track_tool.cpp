@@ -109,7 +109,7 @@ std::vector<CentreLinePoint> withBridges(const std::vector<CentreLinePoint>& poi
   std::vector<RaisedBridge> raised;
   std::vector<CentreLinePoint> out;
   try {
-    out = raiseBridges(points, info.barrier_offset, &raised);
+    out = raiseBridges(points, info.barrier_offset, &raised, info.closed);
   } catch (const std::invalid_argument& e) {
     throw MapError(source + ": " + e.what());
   }
@@ -142,6 +142,7 @@ int importCourse(int argc, char** argv) {
   for (std::size_t i = 0; i + 1 < points.size(); ++i) {
     length += std::hypot(points[i + 1].x - points[i].x, points[i + 1].y - points[i].y);
   }
+  points = withBridges(points, source, info);
   info.start_finish_s = numberOption(argc, argv, "--start", std::to_string(std::ceil(kGridLength)));
   info.finish_s = numberOption(argc, argv, "--finish", std::to_string(std::floor(length - kDefaultRunOff)));
   try {

@@ -18,7 +18,7 @@ double widest(const CentreLinePoint& p) { return std::max(p.width_left, p.width_
 }  // namespace
 
 std::vector<CentreLinePoint> raiseBridges(std::vector<CentreLinePoint> points, double barrier_offset,
-                                          std::vector<RaisedBridge>* raised) {
+                                          std::vector<RaisedBridge>* raised, bool closed) {
   const std::size_t n = points.size();
   if (n < 3) return points;
   std::vector<Eigen::Vector2d> xy(n);
@@ -27,6 +27,7 @@ std::vector<CentreLinePoint> raiseBridges(std::vector<CentreLinePoint> points, d
   for (std::size_t i = 0; i < n; ++i) s[i + 1] = s[i] + (xy[(i + 1) % n] - xy[i]).norm();
   const double length = s[n];
   for (const auto& [i, j] : closedPolylineSelfCrossings(xy)) {
+    if (!closed && (i == n - 1 || j == n - 1)) continue;  // a course's last point leads nowhere
     const Eigen::Vector2d di = xy[(i + 1) % n] - xy[i], dj = xy[(j + 1) % n] - xy[j];
     const double denom = cross(di, dj);
     const double ti = cross(xy[j] - xy[i], dj) / denom, tj = cross(xy[j] - xy[i], di) / denom;
@@ -54,7 +55,7 @@ std::vector<CentreLinePoint> raiseBridges(std::vector<CentreLinePoint> points, d
     const double span_half = other_half / sin_angle + own_half * cos_angle / sin_angle;
     const double ramp = rise * M_PI / (2.0 * kBridgeMaxGrade);
     const double apart = std::fmod(std::abs(s_upper - s_lower), length);
-    const double between = std::min(apart, length - apart);
+    const double between = closed ? std::min(apart, length - apart) : std::abs(s_upper - s_lower);
     const double needed = span_half + ramp + other_half;
     if (between < needed) {
       throw std::invalid_argument(std::string(where) + " with only " + std::to_string(between) +
@@ -64,7 +65,7 @@ std::vector<CentreLinePoint> raiseBridges(std::vector<CentreLinePoint> points, d
     }
     for (std::size_t k = 0; k < n; ++k) {
       const double d = std::fmod(std::abs(s[k] - s_upper), length);
-      const double a = std::min(d, length - d);
+      const double a = closed ? std::min(d, length - d) : std::abs(s[k] - s_upper);
       const double f = a <= span_half         ? 1.0
                        : a < span_half + ramp ? 0.5 * (1.0 + std::cos(M_PI * (a - span_half) / ramp))
                                               : 0.0;

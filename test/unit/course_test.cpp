@@ -15,6 +15,7 @@
 #include "roar/race/race_control.h"
 #include "roar/rl/episode.h"
 #include "roar/sensors/ray_scene.h"
+#include "roar/track/bridges.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
 
@@ -326,4 +327,33 @@ TEST(Course, FollowingBrakesSoonerDownhill) {
   EXPECT_EQ(downhill.points[125].speed, 0.0) << "stopped 10 m behind the stopped car";
   EXPECT_NEAR(planning::decelerationAt(limits, 20.0, 0.0, -0.08),
               planning::decelerationAt(limits, 20.0, 0.0) - limits.gravity * 0.08, 1e-9);
+}
+
+// A course that crosses itself (east, a 270 degree left loop, then south across its own start) goes over
+// itself on a bridge as a circuit does; unbridged it is refused.
+TEST(Course, ACourseThatCrossesItselfGoesOverItselfOnABridge) {
+  std::vector<track::CentreLinePoint> pts;
+  auto add = [&](double x, double y) { pts.push_back({x, y, 5.0, 5.0}); };
+  for (double x = -300; x < 300; x += 2) add(x, 0);
+  const int arc = static_cast<int>(std::round(1.5 * M_PI * 150 / 2));
+  for (int k = 0; k < arc; ++k) {
+    const double a = -0.5 * M_PI + 1.5 * M_PI * k / arc;
+    add(300 + 150 * std::cos(a), 150 + 150 * std::sin(a));
+  }
+  for (double y = 148.7; y >= -600; y -= 2) add(150.5, y);  // the roads cross between points, not at one
+  const track::TrackInfo info = courseInfo(200.0, 1700.0);
+  std::vector<track::RaisedBridge> raised;
+  const auto bridged = track::raiseBridges(pts, info.barrier_offset, &raised, false);
+  ASSERT_EQ(raised.size(), 1u);
+  EXPECT_NEAR(raised[0].x, 150.0, 1.0);
+  EXPECT_NEAR(raised[0].y, 0.0, 1.0);
+  EXPECT_GT(raised[0].s, 1000.0) << "the later branch goes over";
+  TempDir dir;
+  track::writeMapFolder(dir.str() + "/bridged", bridged, info);
+  const auto course = track::loadMapFolder(dir.str() + "/bridged");
+  EXPECT_FALSE(course.closed());
+  const auto deck = track::bridgeDeckPoints(course);
+  EXPECT_GT(std::count(deck.begin(), deck.end(), true), 5);
+  const std::string flat = errorOf([&] { track::writeMapFolder(dir.str() + "/flat", pts, info); });
+  EXPECT_NE(flat.find("crosses"), std::string::npos) << flat;
 }

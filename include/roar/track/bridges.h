@@ -32,9 +32,10 @@ struct RaisedBridge {
 // The centre line with a branch raised at every crossing that lacks the clearance (the branch already
 // higher, or the later one), by a plateau over the other road and cosine ramps either side. Throws
 // std::invalid_argument naming the crossing when there is not course enough between its branches for
-// the ramps. `barrier_offset`: the run-off the other road keeps clear beside it (m).
+// the ramps. `barrier_offset`: the run-off the other road keeps clear beside it (m). `closed` false: a
+// point-to-point course's centre line, which does not lead from its last point back to its first.
 std::vector<CentreLinePoint> raiseBridges(std::vector<CentreLinePoint> points, double barrier_offset,
-                                          std::vector<RaisedBridge>* raised = nullptr);
+                                          std::vector<RaisedBridge>* raised = nullptr, bool closed = true);
 
 // For each centre-line point: whether its road runs over another part of the circuit there, at least
 // the clearance above it (a bridge's deck).
