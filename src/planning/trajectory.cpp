@@ -31,16 +31,24 @@ double raceTime(const track::Track& track, const std::vector<double>& track_s, c
   return timeAt(track.finishLine()) - timeAt(track.info().start_finish_s);
 }
 
-// Per point of the line, the sine of the road's slope to the next point (the last of an open line: 0).
-std::vector<double> roadGrade(const track::Track& track, const RacingLine& line) {
-  const std::size_t n = line.points.size();
-  std::vector<double> z(n), grade(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) z[i] = track.surfaceHeightAt(line.track_s[i], line.offset[i]);
-  for (std::size_t i = 0; i < (line.closed ? n : n - 1); ++i) {
+// Per point, the sine of the slope to the next point from heights z and the steps between them; an open
+// line's last point: the slope to it.
+std::vector<double> gradesAlong(const std::vector<double>& z, const std::vector<double>& step, bool closed) {
+  const std::size_t n = z.size();
+  std::vector<double> grade(n, 0.0);
+  for (std::size_t i = 0; i < (closed ? n : n - 1); ++i) {
     const double rise = z[(i + 1) % n] - z[i];
-    grade[i] = rise / std::hypot(line.step[i], rise);
+    grade[i] = step[i] > 0 ? rise / std::hypot(step[i], rise) : 0.0;
   }
+  if (!closed && n >= 2) grade[n - 1] = grade[n - 2];
   return grade;
+}
+
+// The racing line's grades, from the road's height at its points.
+std::vector<double> roadGrade(const track::Track& track, const RacingLine& line) {
+  std::vector<double> z(line.points.size());
+  for (std::size_t i = 0; i < z.size(); ++i) z[i] = track.surfaceHeightAt(line.track_s[i], line.offset[i]);
+  return gradesAlong(z, line.step, line.closed);
 }
 
 }  // namespace
@@ -98,7 +106,8 @@ Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& 
   RacingLine line = minimumCurvatureLine(track, options.line);
   if (options.minimum_time) line = minimumTimeLine(track, line, limits, options.line).line;
   SpeedProfileOptions profile = options.profile;
-  profile.grade = roadGrade(track, line);
+  const std::vector<double> grade = roadGrade(track, line);
+  profile.grade = grade;
   if (line.closed)
     return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, profile));
   // A course's road runs on past its finish line for the cars to stop: stopped kCourseStopMargin before its
@@ -107,7 +116,6 @@ Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& 
   while (stop > 1 && line.s[stop] > line.length - kCourseStopMargin) --stop;
   auto upTo = [&](const std::vector<double>& v) { return std::vector<double>(v.begin(), v.begin() + stop + 1); };
   profile.end_speed = 0.0;
-  const std::vector<double> grade = profile.grade;
   profile.grade = upTo(grade);
   SpeedProfile run = computeSpeedProfile(upTo(line.step), upTo(line.curvature), limits, false, profile);
   run.speed.resize(line.points.size(), 0.0);
@@ -288,14 +296,12 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
 }
 
 std::vector<double> slopes(const Trajectory& t) {
-  const std::size_t n = t.points.size();
-  std::vector<double> out(n, 0.0);
-  for (std::size_t i = 0; i + 1 < n || (t.closed && i < n); ++i) {
-    const double run = stepAfter(t, i), rise = t.points[(i + 1) % n].z - t.points[i].z;
-    out[i] = run > 0 ? rise / std::hypot(run, rise) : 0.0;
+  std::vector<double> z, step;
+  for (std::size_t i = 0; i < t.points.size(); ++i) {
+    z.push_back(t.points[i].z);
+    step.push_back(stepAfter(t, i));
   }
-  if (!t.closed && n >= 2) out[n - 1] = out[n - 2];
-  return out;
+  return gradesAlong(z, step, t.closed);
 }
 
 double aheadOnLap(double a, double b, double length) {
