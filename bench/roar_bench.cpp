@@ -319,8 +319,8 @@ int main(int argc, char** argv) {
   control::LateralMethod lateral = control::TrackerOptions().lateral;
   bool minimum_time = false, yardstick = true;
   bool race = true, benchmarks = true, traffic = false, verbose = false, scaling = false;
-  int max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  double scaling_seconds = 3.0;
+  bench::ScalingOptions scaling_options;
+  scaling_options.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   int seeds = 3, traffic_laps = 3;
   std::string only_map, only_field;
   planning::OvertakeOptions overtake;
@@ -359,9 +359,14 @@ int main(int argc, char** argv) {
         scaling = true;
         race = benchmarks = false;
       } else if (std::strncmp(argv[i], "--max-threads=", 14) == 0) {
-        max_threads = static_cast<int>(config::wholeNumberArgument("--max-threads", argv[i] + 14, 1));
+        scaling_options.max_threads = static_cast<int>(config::wholeNumberArgument("--max-threads", argv[i] + 14, 1));
       } else if (std::strncmp(argv[i], "--seconds=", 10) == 0) {
-        scaling_seconds = std::max(0.5, config::numberArgument("--seconds", argv[i] + 10));
+        scaling_options.seconds = std::max(0.5, config::numberArgument("--seconds", argv[i] + 10));
+      } else if (std::strncmp(argv[i], "--envs-per-thread=", 18) == 0) {
+        scaling_options.envs_per_thread =
+            static_cast<int>(config::wholeNumberArgument("--envs-per-thread", argv[i] + 18, 1));
+      } else if (std::strncmp(argv[i], "--repeats=", 10) == 0) {
+        scaling_options.repeats = static_cast<int>(config::wholeNumberArgument("--repeats", argv[i] + 10, 1));
       } else if (std::strcmp(argv[i], "--verbose") == 0) {
         verbose = true;
       } else {
@@ -385,7 +390,7 @@ int main(int argc, char** argv) {
         sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
     bench::printScalingTable(
         [&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); }, chaseAction,
-        max_threads, scaling_seconds);
+        scaling_options);
   }
   if (traffic) {
     bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,

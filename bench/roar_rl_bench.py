@@ -4,7 +4,7 @@ run here in the same session) and against N single-thread processes, for 1..N th
 roar_bench times (Roar Sprint, config/rl/state.yaml, or that plus an 84x84 RGB camera; the car chases the
 waypoint 10 m ahead; one environment on one thread, two a thread beyond).
 
-    /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N]
+    /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N] [--repeats R]
 """
 import argparse
 import multiprocessing
@@ -99,25 +99,39 @@ def processes_rate(options: str, count: int, num_envs: int, seconds: float) -> f
     return total
 
 
+def median(values):
+    return sorted(values)[len(values) // 2]
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description="roar_rl.VectorEnv steps/s from Python")
-    parser.add_argument("--seconds", type=float, default=5.0)
+    parser.add_argument("--seconds", type=float, default=3.0)
     parser.add_argument("--max-threads", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--repeats", type=int, default=3,
+                        help="rounds of the four measurements, taken in turn; medians are printed")
     args = parser.parse_args()
     for camera in (False, True):
         options = options_file(camera)
         name = "camera" if camera else "state"
         for threads in range(1, args.max_threads + 1):
             envs = 1 if threads == 1 else 2 * threads
-            cpp = cpp_rate(camera, threads, args.seconds)
-            py = python_rate(options, envs, threads, args.seconds)
-            procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
-            # Asynchronous: two environments a worker thread, half of them a batch (the caller's Python works on
-            # one batch while the workers step the other). Its workers spin for work only with a core each
-            # besides the caller's.
+            # Asynchronous: two environments a thread, half of them a batch (the caller's Python works on one
+            # batch while the other threads step the rest).
             async_envs = 2 * threads
-            asynchronous = async_rate(options, async_envs, threads, args.seconds)
+            rounds = []
+            # In turn, round after round, so that a slow spell of the machine falls on all four alike; each
+            # ratio is the median of the rounds' own.
+            for _ in range(args.repeats):
+                cpp = cpp_rate(camera, threads, args.seconds)
+                py = python_rate(options, envs, threads, args.seconds)
+                procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
+                asynchronous = async_rate(options, async_envs, threads, args.seconds)
+                rounds.append((cpp, py, procs, asynchronous))
+            cpp, py, procs, asynchronous = (median([r[k] for r in rounds]) for k in range(4))
+            py_cpp = median([r[1] / r[0] for r in rounds])
+            py_procs = median([r[1] / r[2] for r in rounds])
+            async_procs = median([r[3] / r[2] for r in rounds])
             print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
-                  f"({py / cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py / procs:4.2f}); "
+                  f"({py_cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py_procs:4.2f}); "
                   f"asynchronous, {async_envs} envs in batches of {threads}: {asynchronous:8.0f} "
-                  f"({asynchronous / procs:4.2f})", flush=True)
+                  f"({async_procs:4.2f}); medians of {args.repeats} rounds", flush=True)

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <vector>
@@ -18,50 +19,72 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// One process, `threads` threads, two environments each, stepped in lockstep.
-double synchronousRate(const EnvFactory& make_env, const Policy& policy, bool camera, int threads, double seconds) {
+// What one measurement does: every configuration steps the same environments (environment i reset with
+// seed 1 + i, driven by the same policy) the same number of steps each, so the three columns do the same
+// work, episode for episode, and differ only in how threads share it. (Timed for a fixed time instead, a
+// 1 s window of one environment alone varied by a third with the stretch of track and the resets in it.)
+struct Work {
+  EnvFactory make_env;
+  Policy policy;
+  bool camera = false;
+  int envs_per_thread = 2;
+  long steps_per_env = 0;
+};
+
+std::vector<std::unique_ptr<rl::RacingEnv>> makeEnvs(const Work& w, int count) {
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
-  for (int i = 0; i < 2 * threads; ++i) envs.push_back(make_env(camera));
-  rl::VectorEnv vec(std::move(envs), threads);
-  std::vector<rl::Value> actions;
-  for (auto& r : vec.reset(1)) actions.push_back(policy(vec.actionSpace(), r.observation));
-  long steps = 0;
-  const auto start = Clock::now();
-  while (secondsSince(start) < seconds) {
-    const rl::VectorStepResult& r = vec.step(actions);
-    for (std::size_t i = 0; i < actions.size(); ++i) actions[i] = policy(vec.actionSpace(), r.steps[i].observation);
-    steps += static_cast<long>(actions.size());
-  }
-  return static_cast<double>(steps) / secondsSince(start);
+  for (int i = 0; i < count; ++i) envs.push_back(w.make_env(w.camera));
+  return envs;
 }
 
-// One process, `threads` threads (the caller's and threads - 1 workers), two environments each, batches of
-// `threads`: EnvPool's asynchronous mode.
-double asynchronousRate(const EnvFactory& make_env, const Policy& policy, bool camera, int threads, double seconds) {
-  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
-  for (int i = 0; i < 2 * threads; ++i) envs.push_back(make_env(camera));
-  rl::AsyncVectorEnv pool(std::move(envs), threads);
-  pool.reset(1);
-  long steps = 0;
+// One process, `threads` threads, envs_per_thread environments each, stepped in lockstep.
+double synchronousRate(const Work& w, int threads) {
+  rl::VectorEnv vec(makeEnvs(w, w.envs_per_thread * threads), threads);
+  std::vector<rl::Value> actions;
+  for (auto& r : vec.reset(1)) actions.push_back(w.policy(vec.actionSpace(), r.observation));
   const auto start = Clock::now();
-  while (secondsSince(start) < seconds) {
-    const std::vector<rl::AsyncResult> done = pool.recv(static_cast<std::size_t>(threads));
-    std::vector<rl::Value> actions;
-    std::vector<std::size_t> ids;
-    for (const auto& r : done) {
-      actions.push_back(policy(pool.actionSpace(), r.step.observation));
-      ids.push_back(r.env_id);
+  for (long k = 0; k < w.steps_per_env; ++k) {
+    const rl::VectorStepResult& r = vec.step(actions);
+    for (std::size_t i = 0; i < actions.size(); ++i) actions[i] = w.policy(vec.actionSpace(), r.steps[i].observation);
+  }
+  return static_cast<double>(w.steps_per_env) * static_cast<double>(actions.size()) / secondsSince(start);
+}
+
+// One process, `threads` threads (the caller's and threads - 1 workers), envs_per_thread environments each,
+// batches of one a thread: EnvPool's asynchronous mode. Timed until the first environment has made its steps:
+// from then on fewer environments than the threads can keep busy are left, a stretch (8-10% of the run here)
+// that a learner sending every environment again never has.
+double asynchronousRate(const Work& w, int threads) {
+  const std::size_t count = static_cast<std::size_t>(w.envs_per_thread * threads);
+  rl::AsyncVectorEnv pool(makeEnvs(w, static_cast<int>(count)), threads);
+  pool.reset(1);
+  std::vector<std::size_t> ids = pool.recv(count);
+  std::vector<long> left(count, w.steps_per_env);
+  std::vector<rl::Value> actions;
+  for (const std::size_t id : ids) actions.push_back(w.policy(pool.actionSpace(), pool.result(id).step.observation));
+  const auto start = Clock::now();
+  pool.send(actions, ids);
+  long steps = 0;
+  bool one_done = false;
+  while (!one_done) {
+    ids = pool.recv(static_cast<std::size_t>(threads));
+    actions.clear();
+    steps += static_cast<long>(ids.size());
+    for (const std::size_t id : ids) {
+      one_done = one_done || --left[id] == 0;
+      actions.push_back(w.policy(pool.actionSpace(), pool.result(id).step.observation));
     }
-    pool.send(actions, ids);
-    steps += static_cast<long>(done.size());
+    if (!one_done) pool.send(actions, ids);
   }
   const double rate = static_cast<double>(steps) / secondsSince(start);
   pool.recv(pool.inFlight());
   return rate;
 }
 
-// `processes` forked processes, each one environment on one thread: the reference a process per core gives.
-double processesRate(const EnvFactory& make_env, const Policy& policy, bool camera, int processes, double seconds) {
+// `processes` forked processes, each one thread stepping its envs_per_thread environments in turn (process
+// p's being the environments p * envs_per_thread.. of the pools): the reference a process per core gives,
+// the sum of the processes' rates.
+double processesRate(const Work& w, int processes) {
   std::vector<int> reads;
   std::vector<pid_t> children;
   for (int p = 0; p < processes; ++p) {
@@ -70,18 +93,22 @@ double processesRate(const EnvFactory& make_env, const Policy& policy, bool came
     const pid_t child = fork();
     if (child == 0) {
       close(fds[0]);
-      auto env = make_env(camera);
-      rl::Value action = policy(env->actionSpace(), env->reset(1 + static_cast<std::uint64_t>(p)).observation);
-      rl::StepResult result;
-      long steps = 0;
-      const auto start = Clock::now();
-      while (secondsSince(start) < seconds) {
-        env->step(action, &result);
-        if (result.done()) result.observation = env->reset().observation;
-        action = policy(env->actionSpace(), result.observation);
-        ++steps;
+      std::vector<std::unique_ptr<rl::RacingEnv>> envs = makeEnvs(w, w.envs_per_thread);
+      std::vector<rl::Value> actions;
+      for (int e = 0; e < w.envs_per_thread; ++e) {
+        const auto seed = static_cast<std::uint64_t>(1 + w.envs_per_thread * p + e);
+        actions.push_back(w.policy(envs[e]->actionSpace(), envs[e]->reset(seed).observation));
       }
-      const double rate = static_cast<double>(steps) / secondsSince(start);
+      rl::StepResult result;
+      const auto start = Clock::now();
+      for (long k = 0; k < w.steps_per_env; ++k) {
+        for (std::size_t e = 0; e < envs.size(); ++e) {
+          envs[e]->step(actions[e], &result);
+          if (result.done()) result.observation = envs[e]->reset().observation;
+          actions[e] = w.policy(envs[e]->actionSpace(), result.observation);
+        }
+      }
+      const double rate = static_cast<double>(w.steps_per_env) * static_cast<double>(envs.size()) / secondsSince(start);
       const ssize_t written = write(fds[1], &rate, sizeof rate);
       _exit(written == sizeof rate ? 0 : 1);
     }
@@ -99,29 +126,61 @@ double processesRate(const EnvFactory& make_env, const Policy& policy, bool came
   return total;
 }
 
+// Steps per environment for about `seconds` of a thread's work: one environment's rate over half a second.
+long stepsPerEnv(const Work& w, double seconds) {
+  auto env = w.make_env(w.camera);
+  rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
+  rl::StepResult result;
+  long steps = 0;
+  const auto start = Clock::now();
+  while (secondsSince(start) < 0.5) {
+    env->step(action, &result);
+    if (result.done()) result.observation = env->reset().observation;
+    action = w.policy(env->actionSpace(), result.observation);
+    ++steps;
+  }
+  return std::max(1L, static_cast<long>(steps / secondsSince(start) * seconds / w.envs_per_thread));
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
 }  // namespace
 
-void printScalingTable(const EnvFactory& make_env, const Policy& policy, int max_threads, double seconds) {
+void printScalingTable(const EnvFactory& make_env, const Policy& policy, const ScalingOptions& options) {
   std::printf(
       "\nScaling: the RL environment on Roar Sprint, steps/s in one process against as many single-thread "
-      "processes (%.0f s each)\n",
-      seconds);
-  std::printf("%-7s %7s %12s %12s %12s %10s %10s\n", "obs", "threads", "sync", "async", "processes", "sync/proc",
-              "async/proc");
+      "processes (about %.1f s of work a thread, %d environments a thread, median of %d rounds)\n",
+      options.seconds, options.envs_per_thread, options.repeats);
+  std::printf("%-7s %7s %9s %12s %12s %12s %10s %10s %12s %12s\n", "obs", "threads", "steps/env", "sync", "async",
+              "processes", "sync/proc", "async/proc", "sync range", "async range");
   for (bool camera : {false, true}) {
-    for (int threads = 1; threads <= max_threads; ++threads) {
-      const double sync = synchronousRate(make_env, policy, camera, threads, seconds);
-      const double async = asynchronousRate(make_env, policy, camera, threads, seconds);
-      const double procs = processesRate(make_env, policy, camera, threads, seconds);
-      std::printf("%-7s %7d %12.0f %12.0f %12.0f %10.2f %10.2f\n", camera ? "camera" : "state", threads, sync, async,
-                  procs, sync / procs, async / procs);
+    Work work{make_env, policy, camera, options.envs_per_thread, 0};
+    work.steps_per_env = stepsPerEnv(work, options.seconds);
+    for (int threads = 1; threads <= options.max_threads; ++threads) {
+      // Measured in turn, round after round, so a slow spell of the machine falls on all three alike.
+      std::vector<double> sync, async, procs, sync_ratio, async_ratio;
+      for (int round = 0; round < options.repeats; ++round) {
+        sync.push_back(synchronousRate(work, threads));
+        async.push_back(asynchronousRate(work, threads));
+        procs.push_back(processesRate(work, threads));
+        sync_ratio.push_back(sync.back() / procs.back());
+        async_ratio.push_back(async.back() / procs.back());
+      }
+      const auto [sync_min, sync_max] = std::minmax_element(sync_ratio.begin(), sync_ratio.end());
+      const auto [async_min, async_max] = std::minmax_element(async_ratio.begin(), async_ratio.end());
+      std::printf("%-7s %7d %9ld %12.0f %12.0f %12.0f %10.2f %10.2f %7.2f-%.2f %7.2f-%.2f\n",
+                  camera ? "camera" : "state", threads, work.steps_per_env, median(sync), median(async), median(procs),
+                  median(sync_ratio), median(async_ratio), *sync_min, *sync_max, *async_min, *async_max);
       std::fflush(stdout);
     }
   }
   std::printf(
-      "sync: VectorEnv, two environments a thread, every thread stepping each step; async: AsyncVectorEnv,\n"
-      "two environments a thread (the caller's one of them), batches of one a thread; processes: one\n"
-      "environment each, forked.\n");
+      "sync: VectorEnv, every thread stepping each step; async: AsyncVectorEnv (the caller's thread one of\n"
+      "them), batches of one a thread; processes: forked, one thread each, their rates summed. Every column\n"
+      "steps the same environments the same steps; ratios are the median of the rounds' own, and their range.\n");
 }
 
 }  // namespace roar::bench

@@ -380,16 +380,16 @@ class PyAsyncVectorEnv {
 
   // Every environment reset (environment i with seed + i): their first observations and infos, by id.
   py::tuple reset(std::uint64_t seed) {
-    std::vector<rl::AsyncResult> results;
+    std::vector<std::size_t> ids;
     {
       py::gil_scoped_release released;
       while (env_->inFlight() > 0) env_->recv(env_->inFlight());  // results nobody asked for: dropped
       env_->reset(seed);
-      results = env_->recv(env_->size());
+      ids = env_->recv(env_->size());
     }
-    for (const auto& r : results) {
-      first_observations_->write(r.env_id, r.step.observation);
-      first_infos_->write(r.env_id, r.step.info);
+    for (const std::size_t id : ids) {
+      first_observations_->write(id, env_->result(id).step.observation);
+      first_infos_->write(id, env_->result(id).step.info);
     }
     return py::make_tuple(first_observations_->view, first_infos_->view);
   }
@@ -408,15 +408,16 @@ class PyAsyncVectorEnv {
   }
 
   py::tuple recv() {
-    std::vector<rl::AsyncResult> results;
+    std::vector<std::size_t> done;
     {
       py::gil_scoped_release released;
-      results = env_->recv(batch_);
+      done = env_->recv(batch_);
     }
     auto ids = env_ids_.mutable_unchecked<1>();
-    for (std::size_t k = 0; k < results.size(); ++k) {
-      out_->write(k, results[k].step, results[k].final_observation);
-      ids(k) = static_cast<std::int64_t>(results[k].env_id);
+    for (std::size_t k = 0; k < done.size(); ++k) {
+      const rl::AsyncResult& r = env_->result(done[k]);
+      out_->write(k, r.step, r.final_observation);
+      ids(k) = static_cast<std::int64_t>(done[k]);
     }
     return py::make_tuple(out_->observations->view, out_->rewards, out_->terminations, out_->truncations,
                           out_->infos->view, out_->final_observations->view, out_->final_mask, env_ids_);

@@ -8,7 +8,7 @@
 namespace roar::rl {
 
 AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads)
-    : envs_(std::move(envs)), busy_(envs_.size(), 0) {
+    : envs_(std::move(envs)), slots_(envs_.size()), busy_(envs_.size(), 0) {
   if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
   if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
   for (const auto& e : envs_) {
@@ -22,18 +22,18 @@ AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int
   // a spinning thread takes the core from the one it waits for.
   spin_ = static_cast<unsigned>(n) <= std::thread::hardware_concurrency();
   for (int t = 0; t < n; ++t) inboxes_.push_back(std::make_unique<Inbox>());
-  // Inbox 0 is the caller's: it steps those environments itself in recv() (a thread of its own for them
+  // Inbox 0 is the caller's: it steps jobs itself in recv() (a thread of its own for them
   // would leave the caller's core idle while it waits, or, on as many threads as cores, take a core from a
   // worker: 0.68 of the processes' steps/s at 2 threads on 2 cores).
   for (int t = 1; t < n; ++t) threads_.emplace_back([this, t] { work(t); });
 }
 
 AsyncVectorEnv::~AsyncVectorEnv() {
-  for (auto& inbox : inboxes_) {
-    std::lock_guard<std::mutex> lock(inbox->mutex);
+  {
+    std::lock_guard<std::mutex> lock(idle_mutex_);
     stopping_ = true;
   }
-  for (auto& inbox : inboxes_) inbox->ready.notify_all();
+  idle_.notify_all();
   for (auto& t : threads_) t.join();
 }
 
@@ -42,35 +42,76 @@ std::size_t AsyncVectorEnv::inFlight() const {
   return in_flight_;
 }
 
+bool AsyncVectorEnv::anyQueued() const {
+  for (const auto& inbox : inboxes_) {
+    if (inbox->queued.load(std::memory_order_acquire) > 0) return true;
+  }
+  return false;
+}
+
+bool AsyncVectorEnv::takeJob(std::size_t thread, std::size_t* env_id) {
+  const std::size_t n = inboxes_.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    Inbox& inbox = *inboxes_[(thread + k) % n];
+    if (inbox.queued.load(std::memory_order_acquire) == 0) continue;
+    std::lock_guard<std::mutex> lock(inbox.mutex);
+    if (inbox.jobs.empty()) continue;  // taken meanwhile
+    *env_id = inbox.jobs.front();
+    inbox.jobs.pop_front();
+    inbox.queued.fetch_sub(1, std::memory_order_acq_rel);
+    return true;
+  }
+  return false;
+}
+
+void AsyncVectorEnv::push(std::size_t env_id) {
+  Inbox& inbox = *inboxes_[env_id % inboxes_.size()];
+  {
+    std::lock_guard<std::mutex> lock(inbox.mutex);
+    inbox.jobs.push_back(env_id);
+    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
+  }
+  // Checked under the lock a sleeper takes before it sleeps, so a job queued just before it sleeps wakes it.
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(idle_mutex_);
+    wake = sleeping_ > 0;
+  }
+  if (wake) idle_.notify_one();
+}
+
 void AsyncVectorEnv::work(int thread) {
-  Inbox& inbox = *inboxes_[static_cast<std::size_t>(thread)];
+  const auto self = static_cast<std::size_t>(thread);
   for (;;) {
-    Job job;
-    if (spin_) spinFor([&] { return inbox.queued.load(std::memory_order_acquire) > 0 || stopping_; });
-    {
-      std::unique_lock<std::mutex> lock(inbox.mutex);
-      inbox.ready.wait(lock, [&] { return stopping_ || !inbox.jobs.empty(); });
-      if (inbox.jobs.empty()) return;  // stopping
-      job = std::move(inbox.jobs.front());
-      inbox.jobs.pop_front();
-      inbox.queued.fetch_sub(1, std::memory_order_acq_rel);
+    std::size_t env_id = 0;
+    if (takeJob(self, &env_id)) {
+      run(env_id);
+      continue;
     }
-    run(std::move(job));
+    if (spin_ && spinFor([&] { return anyQueued() || stopping_; }) && !stopping_) continue;
+    std::unique_lock<std::mutex> lock(idle_mutex_);
+    ++sleeping_;
+    idle_.wait(lock, [&] { return stopping_ || anyQueued(); });
+    --sleeping_;
+    if (stopping_) return;
   }
 }
 
-void AsyncVectorEnv::run(Job job) {
-  AsyncResult result;
-  result.env_id = job.env_id;
+void AsyncVectorEnv::run(std::size_t env_id) {
+  Slot& slot = slots_[env_id];
+  AsyncResult& result = slot.result;
+  result.env_id = env_id;
+  result.final_observation.reset();
   std::exception_ptr error;
   try {
-    RacingEnv& env = *envs_[job.env_id];
-    if (job.reset_seed) {
-      ResetResult r = env.reset(*job.reset_seed);
+    RacingEnv& env = *envs_[env_id];
+    if (slot.reset_seed) {
+      ResetResult r = env.reset(*slot.reset_seed);
+      result.step = StepResult{};
       result.step.observation = std::move(r.observation);
       result.step.info = r.info;
     } else {
-      env.step(job.action, &result.step);
+      env.step(slot.action, &result.step);
       if (result.step.done()) {
         result.final_observation = std::move(result.step.observation);
         result.step.observation = env.reset().observation;
@@ -82,7 +123,7 @@ void AsyncVectorEnv::run(Job job) {
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
     if (error && !error_) error_ = error;
-    done_.push_back(std::move(result));
+    done_.push_back(env_id);
     done_count_.store(done_.size(), std::memory_order_release);
   }
   done_ready_.notify_one();
@@ -90,18 +131,15 @@ void AsyncVectorEnv::run(Job job) {
 
 void AsyncVectorEnv::reset(std::uint64_t seed) {
   if (inFlight() > 0) throw std::logic_error("AsyncVectorEnv::reset: environments are in flight; recv() them first");
-  for (std::size_t i = 0; i < envs_.size(); ++i) {
-    busy_[i] = 1;
-    Inbox& inbox = *inboxes_[i % inboxes_.size()];
-    std::lock_guard<std::mutex> lock(inbox.mutex);
-    inbox.jobs.push_back({i, Value{}, seed + i});
-    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
-  }
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
     in_flight_ += envs_.size();
   }
-  for (auto& inbox : inboxes_) inbox->ready.notify_one();
+  for (std::size_t i = 0; i < envs_.size(); ++i) {
+    busy_[i] = 1;
+    slots_[i].reset_seed = seed + i;
+    push(i);
+  }
 }
 
 void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<std::size_t>& env_ids) {
@@ -123,22 +161,21 @@ void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<s
     listed[id] = 1;
     check(actionSpace(), actions[k], "actions[" + std::to_string(k) + "]");
   }
-  for (std::size_t k = 0; k < env_ids.size(); ++k) {
-    busy_[env_ids[k]] = 1;
-    Inbox& inbox = *inboxes_[env_ids[k] % inboxes_.size()];
-    std::lock_guard<std::mutex> lock(inbox.mutex);
-    inbox.jobs.push_back({env_ids[k], actions[k], std::nullopt});
-    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
-  }
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
     in_flight_ += env_ids.size();
   }
-  for (auto& inbox : inboxes_) inbox->ready.notify_one();
+  for (std::size_t k = 0; k < env_ids.size(); ++k) {
+    Slot& slot = slots_[env_ids[k]];
+    slot.action = actions[k];  // assigned into the last action's storage
+    slot.reset_seed.reset();
+    busy_[env_ids[k]] = 1;
+    push(env_ids[k]);
+  }
 }
 
-std::vector<AsyncResult> AsyncVectorEnv::recv(std::size_t batch_size) {
-  std::vector<AsyncResult> out;
+std::vector<std::size_t> AsyncVectorEnv::recv(std::size_t batch_size) {
+  std::vector<std::size_t> out;
   out.reserve(batch_size);
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
@@ -147,26 +184,19 @@ std::vector<AsyncResult> AsyncVectorEnv::recv(std::size_t batch_size) {
                                   std::to_string(in_flight_) + " environment(s) in flight");
     }
   }
-  // The caller's own environments first, while the batch is not complete: no worker would step them.
-  Inbox& own = *inboxes_.front();
+  // The caller's thread steps jobs (its own environments' first) while the batch is not complete.
   while (done_count_.load(std::memory_order_acquire) < batch_size) {
-    Job job;
-    {
-      std::lock_guard<std::mutex> lock(own.mutex);
-      if (own.jobs.empty()) break;
-      job = std::move(own.jobs.front());
-      own.jobs.pop_front();
-      own.queued.fetch_sub(1, std::memory_order_acq_rel);
-    }
-    run(std::move(job));
+    std::size_t env_id = 0;
+    if (!takeJob(0, &env_id)) break;
+    run(env_id);
   }
   if (spin_) spinFor([&] { return done_count_.load(std::memory_order_acquire) >= batch_size; });
   std::unique_lock<std::mutex> lock(done_mutex_);
   done_ready_.wait(lock, [&] { return done_.size() >= batch_size; });
   for (std::size_t k = 0; k < batch_size; ++k) {
-    out.push_back(std::move(done_.front()));
+    out.push_back(done_.front());
     done_.pop_front();
-    busy_[out.back().env_id] = 0;
+    busy_[out.back()] = 0;
   }
   done_count_.store(done_.size(), std::memory_order_release);
   in_flight_ -= batch_size;

@@ -30,7 +30,9 @@ def test_a_value_that_is_not_a_number_is_refused():
     # roar_bench's own options likewise (--seeds=0 used to become 1, --seeds=3x 3)
     for bad, said in (("--seeds=3x", "--seeds '3x' is not a whole number of at least 1"),
                       ("--seeds=0", "--seeds '0' is not a whole number of at least 1"),
-                      ("--seconds=2s", "--seconds '2s' is not a number")):
+                      ("--seconds=2s", "--seconds '2s' is not a number"),
+                      ("--repeats=0", "--repeats '0' is not a whole number of at least 1"),
+                      ("--envs-per-thread=2.5", "--envs-per-thread '2.5' is not a whole number of at least 1")):
         done = run(bad)
         assert done.returncode == 2 and said in done.stderr, (bad, done.stderr)
 

@@ -2,9 +2,11 @@
 // rejected actions and the vectorised environment.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <regex>
+#include <thread>
 
 #include "roar/rl/async_vector_env.h"
 #include "roar/rl/racing_env.h"
@@ -294,7 +296,7 @@ TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
   async.reset(7);
   EXPECT_EQ(async.inFlight(), 4u);
   std::vector<Value> ao(4), lo(4);
-  for (auto& r : async.recv(4)) ao[r.env_id] = r.step.observation;
+  for (const std::size_t id : async.recv(4)) ao[id] = async.result(id).step.observation;
   for (std::size_t i = 0; i < 4; ++i) {
     lo[i] = l0[i].observation;
     EXPECT_EQ(ao[i].at("speed").numbers, lo[i].at("speed").numbers);
@@ -317,12 +319,14 @@ TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
   for (std::size_t i = 0; i < 4; ++i) sendOne(i);
   while (async.inFlight() > 0) {
     const std::size_t batch = async.inFlight() >= 2 ? 2 : 1;
-    for (auto& r : async.recv(batch)) {
-      ASSERT_LT(r.env_id, 4u);
-      async_rewards[r.env_id].push_back(r.step.reward);
-      ao[r.env_id] = r.step.observation;
+    for (const std::size_t id : async.recv(batch)) {
+      ASSERT_LT(id, 4u);
+      const rl::AsyncResult& r = async.result(id);
+      EXPECT_EQ(r.env_id, id);
+      async_rewards[id].push_back(r.step.reward);
+      ao[id] = r.step.observation;
       if (r.final_observation) ++finals;
-      if (++steps[r.env_id] < 30) sendOne(r.env_id);
+      if (++steps[id] < 30) sendOne(id);
     }
   }
   EXPECT_EQ(async_rewards, lockstep_rewards);
@@ -341,7 +345,28 @@ TEST(RlAsyncVectorEnv, BatchesAsTheyAreDoneWithTheSameResultsAsLockstep) {
   bad[0].at("brake").numbers[0] = -1;
   EXPECT_EQ(test::errorOf([&] { async.send(bad, {2}); }), "actions[0]['brake'][0] = -1 is outside [0, 1]");
   EXPECT_EQ(async.inFlight(), 1u);
-  EXPECT_EQ(async.recv(1).front().env_id, 1u);
+  EXPECT_EQ(async.recv(1).front(), 1u);
+}
+
+// A learner's thread is away in its own code between recv() and send(): the workers step every environment
+// sent meanwhile, its own share included, so no core idles while work waits.
+TEST(RlAsyncVectorEnv, WorkersStepTheCallersEnvironmentsWhileItIsAway) {
+  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+  for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), stateOptions()));
+  rl::AsyncVectorEnv async(std::move(envs), 2);  // the caller's thread and one worker
+  async.reset(3);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (async.ready() < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(async.ready(), 4u) << "environments waited for the caller to come back";
+  const std::vector<std::size_t> ids = async.recv(4);
+  std::vector<Value> actions;
+  for (const std::size_t id : ids) actions.push_back(chase(async.actionSpace(), async.result(id).step.observation));
+  async.send(actions, ids);
+  while (async.ready() < 4 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(async.ready(), 4u);
+  EXPECT_EQ(async.recv(4).size(), 4u);
 }
 
 TEST(RlEnv, EveryNumberOfTheOptionsAtEveryExtremeIsRefusedByNameOrStepsFinite) {

@@ -1,11 +1,16 @@
 #pragma once
 // EnvPool's asynchronous batching: actions go to chosen environments (send), and recv() returns the first
 // batch_size environments to be done, so no thread waits for the slowest and there is no barrier across
-// threads. Each thread owns a fixed set of environments (i % threads) and steps only those: whatever it
-// needs while stepping is its own. The caller's thread is one of them: it steps its set in recv(), while
-// the batch is not complete, and `threads` - 1 workers step the others. An environment whose episode ended resets at
+// threads. Each thread owns a set of environments (i % threads) and an inbox for their jobs, and steps them
+// first; a thread whose inbox is empty takes a job from another's, so no core idles while work waits (the
+// caller's thread, above all, is away in the learner's code between recv() and send()). An environment is
+// stepped by one thread at a time, and everything it needs is its own. The caller's thread is one of the
+// `threads`: it steps jobs in recv(), while the batch is not complete, and `threads` - 1 workers step the
+// rest. An environment whose episode ended resets at
 // once (auto-reset, as VectorEnv): its result holds the new episode's first observation and the old one's last
 // observation in final_observation. The synchronous step is send to every environment then recv of all of them.
+// Actions and results live in a slot per environment, reused step after step: nothing on the way is allocated
+// by one thread and freed by another.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -41,6 +46,8 @@ class AsyncVectorEnv {
   const Space& observationSpace() const { return envs_.front()->observationSpace(); }
   // Environments sent an action (or reset) whose result has not been received yet.
   std::size_t inFlight() const;
+  // Results done and waiting for recv(), counted without waiting.
+  std::size_t ready() const { return done_count_.load(std::memory_order_acquire); }
 
   // Resets every idle environment (environment i with seed + i); each comes back through recv(). Throws
   // std::logic_error while any environment is in flight.
@@ -48,37 +55,51 @@ class AsyncVectorEnv {
   // One action for each listed environment, which must be idle (its last result received) and listed once.
   // Throws std::invalid_argument or SpaceError naming the first bad one; nothing is sent then.
   void send(const std::vector<Value>& actions, const std::vector<std::size_t>& env_ids);
-  // The first batch_size results to be ready (waits for them), in the order they were done. Throws
-  // std::invalid_argument when fewer than batch_size environments are in flight, and rethrows an
-  // exception an environment threw while stepping.
-  std::vector<AsyncResult> recv(std::size_t batch_size);
+  // The ids of the first batch_size environments to be done (waits for them), in the order they were
+  // done; each one's result is result(id). Throws std::invalid_argument when fewer than batch_size
+  // environments are in flight, and rethrows an exception an environment threw while stepping.
+  std::vector<std::size_t> recv(std::size_t batch_size);
+  // Environment env_id's last result, written in place step after step (no allocation once its storage has
+  // grown): valid from the recv() that returned env_id until env_id is sent again.
+  const AsyncResult& result(std::size_t env_id) const { return slots_.at(env_id).result; }
 
  private:
-  struct Job {
-    std::size_t env_id = 0;
+  // Per environment, on cache lines of its own: the action sent and the result, touched by the caller's
+  // thread while the environment is idle and by the thread stepping it while it is in flight.
+  struct alignas(64) Slot {
     Value action;
-    std::optional<std::uint64_t> reset_seed;
+    std::optional<std::uint64_t> reset_seed;  // a reset instead of a step
+    AsyncResult result;
   };
-  struct Inbox {  // one per thread
+  struct alignas(64) Inbox {  // one per thread, on cache lines of its own
     std::mutex mutex;
-    std::condition_variable ready;
-    std::deque<Job> jobs;
-    std::atomic<std::size_t> queued{0};  // jobs.size(), read without the lock by the thread spinning for work
+    std::deque<std::size_t> jobs;        // environment ids
+    std::atomic<std::size_t> queued{0};  // jobs.size(), read without the lock by threads looking for work
   };
   void work(int thread);
-  void run(Job job);  // steps (or resets) the job's environment; its result joins the done queue
+  // The next job for `thread`: its own inbox's first, else one taken from another inbox; false when every
+  // inbox is empty.
+  bool takeJob(std::size_t thread, std::size_t* env_id);
+  bool anyQueued() const;
+  void push(std::size_t env_id);  // to the inbox of the environment's owner; wakes a sleeping thread
+  void run(std::size_t env_id);   // steps (or resets) the environment into its slot; its id joins the done queue
 
   std::vector<std::unique_ptr<RacingEnv>> envs_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
   std::vector<std::thread> threads_;
+  std::vector<Slot> slots_;
   std::vector<char> busy_;  // per environment, touched by the caller's thread only
   mutable std::mutex done_mutex_;
   std::condition_variable done_ready_;
-  std::deque<AsyncResult> done_;
+  std::deque<std::size_t> done_;            // environment ids
   std::atomic<std::size_t> done_count_{0};  // done_.size(), read without the lock by recv() spinning
   std::exception_ptr error_;
   std::size_t in_flight_ = 0;
   std::atomic<bool> stopping_{false};
+  // Threads asleep for want of a job, woken by any job sent: a job in one inbox is every idle thread's work.
+  std::mutex idle_mutex_;
+  std::condition_variable idle_;
+  int sleeping_ = 0;   // guarded by idle_mutex_
   bool spin_ = false;  // waiting threads spin before they sleep (a core for each of them)
 };
 
