@@ -32,10 +32,14 @@ def options_file(camera: bool) -> str:
 
 
 def chase(obs, action):
-    """roar_bench's chase action, written into `action` (arrays made once, as an agent's would be)."""
+    """roar_bench's chase action, written into `action` (arrays made once, as an agent's would be; ufuncs
+    rather than np.clip, which took 5 us of the 10 us this took on one environment's 1x1 array)."""
     wp = obs["waypoints_information"]["waypoint_10"]
-    np.arctan2(wp[:, 1:2], wp[:, 0:1], out=action["steer"])
-    np.clip(1.5 * action["steer"], -1, 1, out=action["steer"])
+    steer = action["steer"]
+    np.arctan2(wp[:, 1:2], wp[:, 0:1], out=steer)
+    np.multiply(steer, 1.5, out=steer)
+    np.minimum(steer, 1.0, out=steer)
+    np.maximum(steer, -1.0, out=steer)
     return action
 
 

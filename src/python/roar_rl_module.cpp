@@ -245,6 +245,11 @@ class BatchedActions {
  public:
   BatchedActions(const rl::Space& space, std::size_t capacity) {
     leavesOf(space, {}, &leaves_);
+    for (const auto& leaf : leaves_) {
+      std::vector<py::str> keys;
+      for (const auto& key : leaf.path) keys.emplace_back(key);
+      keys_.push_back(std::move(keys));
+    }
     actions_ = std::vector<rl::Value>(capacity, rl::zeros(space));
     for (std::size_t i = 0; i < capacity; ++i) {
       for (const auto& leaf : leaves_) {
@@ -253,26 +258,28 @@ class BatchedActions {
     }
   }
 
-  // The first `rows` actions, read from `actions`; throws KeyError/ValueError naming the entry.
+  // The first `rows` actions, read from `actions`; throws KeyError/ValueError naming the entry. Every step
+  // passes here: the keys are Python strings made once, and the entry's name is written only for an error.
   const std::vector<rl::Value>& read(const py::object& actions, std::size_t rows) {
-    for (const auto& leaf : leaves_) {
-      py::object entry = actions;
-      std::string where = "actions";
-      for (const auto& key : leaf.path) {
-        where += "['" + key + "']";
-        if (!py::isinstance<py::dict>(entry) || !entry.cast<py::dict>().contains(key)) {
-          throw py::key_error(where + " is missing: an action is a dict of arrays with a leading axis of " +
+    for (std::size_t l = 0; l < leaves_.size(); ++l) {
+      const Leaf& leaf = leaves_[l];
+      PyObject* entry = actions.ptr();
+      for (std::size_t k = 0; k < keys_[l].size(); ++k) {
+        entry = PyDict_Check(entry) ? PyDict_GetItemWithError(entry, keys_[l][k].ptr()) : nullptr;
+        if (!entry) {
+          if (PyErr_Occurred()) throw py::error_already_set();
+          throw py::key_error(entryName(leaf, k + 1) +
+                              " is missing: an action is a dict of arrays with a leading axis of " +
                               std::to_string(rows) + " environments");
         }
-        entry = entry.cast<py::dict>()[py::str(key)];
       }
-      const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(entry);
+      const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
+          py::reinterpret_borrow<py::object>(entry));
       if (!array || static_cast<std::size_t>(array.size()) != rows * leaf.elements) {
-        throw py::value_error(where + " must hold " + std::to_string(rows) + " x " + std::to_string(leaf.elements) +
-                              " numbers (one row per environment)");
+        throw py::value_error(entryName(leaf, leaf.path.size()) + " must hold " + std::to_string(rows) + " x " +
+                              std::to_string(leaf.elements) + " numbers (one row per environment)");
       }
       const double* data = array.data();
-      const std::size_t l = static_cast<std::size_t>(&leaf - leaves_.data());
       for (std::size_t i = 0; i < rows; ++i) {
         values_[i * leaves_.size() + l]->numbers.assign(data + i * leaf.elements, data + (i + 1) * leaf.elements);
       }
@@ -283,7 +290,15 @@ class BatchedActions {
   }
 
  private:
+  // actions['a']['b'], the leaf's first `depth` keys.
+  static std::string entryName(const Leaf& leaf, std::size_t depth) {
+    std::string where = "actions";
+    for (std::size_t k = 0; k < depth; ++k) where += "['" + leaf.path[k] + "']";
+    return where;
+  }
+
   std::vector<Leaf> leaves_;
+  std::vector<std::vector<py::str>> keys_;  // per leaf, its path as Python strings
   std::vector<rl::Value> actions_, some_;
   std::vector<rl::Value*> values_;  // env-major, one per action leaf
 };

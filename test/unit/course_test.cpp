@@ -167,7 +167,9 @@ TEST(Course, TheRunIsTimedFromTheStartLineToTheFinishLineOnce) {
       ++runs;
       run = *lap;
     }
-    if (t > 0.6) EXPECT_TRUE(timer.started()) << "started at the start line, 10 m from pole";
+    if (t > 0.6) {
+      EXPECT_TRUE(timer.started()) << "started at the start line, 10 m from pole";
+    }
   }
   EXPECT_EQ(runs, 1);
   EXPECT_NEAR(run.lap_time, 400.0 / speed, 0.05);
@@ -214,7 +216,9 @@ TEST(Course, TheRacingLineRunsEndToEndAndTheCarStopsBeforeTheRoadEnds) {
   EXPECT_FALSE(trajectory.closed);
   EXPECT_EQ(trajectory.points.back().speed, 0.0);
   for (const auto& p : trajectory.points) {
-    if (p.s > trajectory.length - planning::kCourseStopMargin) EXPECT_EQ(p.speed, 0.0) << "at s = " << p.s;
+    if (p.s > trajectory.length - planning::kCourseStopMargin) {
+      EXPECT_EQ(p.speed, 0.0) << "at s = " << p.s;
+    }
   }
   // The promise: the run from a standing start on pole, longer than the flying run's time over the line.
   const auto at = [&](double track_s) {

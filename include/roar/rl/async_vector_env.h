@@ -1,16 +1,15 @@
 #pragma once
 // EnvPool's asynchronous batching: actions go to chosen environments (send), and recv() returns the first
 // batch_size environments to be done, so no thread waits for the slowest and there is no barrier across
-// threads. Each thread owns a set of environments (i % threads) and an inbox for their jobs, and steps them
+// threads. Each thread has a set of environments (i % threads) and an inbox for their jobs, and steps them
 // first; a thread whose inbox is empty takes a job from another's, so no core idles while work waits (the
-// caller's thread, above all, is away in the learner's code between recv() and send()). An environment is
-// stepped by one thread at a time, and everything it needs is its own. The caller's thread is one of the
-// `threads`: it steps jobs in recv(), while the batch is not complete, and `threads` - 1 workers step the
-// rest. An environment whose episode ended resets at
-// once (auto-reset, as VectorEnv): its result holds the new episode's first observation and the old one's last
-// observation in final_observation. The synchronous step is send to every environment then recv of all of them.
-// Actions and results live in a slot per environment, reused step after step: nothing on the way is allocated
-// by one thread and freed by another.
+// caller's thread, above all, is away in the learner's code between recv() and send()). The caller's thread
+// is one of the `threads`: it steps jobs in recv() while the batch is not complete, and `threads` - 1
+// workers step the rest. An environment is stepped by one thread at a time; its action and result live in a
+// slot of its own, reused step after step, so nothing on the way is allocated by one thread and freed by
+// another. An environment whose episode ended resets at once (auto-reset, as VectorEnv): its result holds the
+// new episode's first observation and the old one's last observation in final_observation. The synchronous
+// step is send to every environment then recv of all of them.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
