@@ -37,6 +37,13 @@ std::vector<std::unique_ptr<rl::RacingEnv>> makeEnvs(const Work& w, int count) {
   return envs;
 }
 
+// One step of an environment outside any pool, reset when its episode ends, and the policy's next action.
+void stepAlone(const Work& w, rl::RacingEnv& env, rl::Value* action, rl::StepResult* result) {
+  env.step(*action, result);
+  if (result->done()) result->observation = env.reset().observation;
+  *action = w.policy(env.actionSpace(), result->observation);
+}
+
 // One process, `threads` threads, envs_per_thread environments each, stepped in lockstep.
 double synchronousRate(const Work& w, int threads) {
   rl::VectorEnv vec(makeEnvs(w, w.envs_per_thread * threads), threads);
@@ -103,9 +110,7 @@ double processesRate(const Work& w, int processes) {
       const auto start = Clock::now();
       for (long k = 0; k < w.steps_per_env; ++k) {
         for (std::size_t e = 0; e < envs.size(); ++e) {
-          envs[e]->step(actions[e], &result);
-          if (result.done()) result.observation = envs[e]->reset().observation;
-          actions[e] = w.policy(envs[e]->actionSpace(), result.observation);
+          stepAlone(w, *envs[e], &actions[e], &result);
         }
       }
       const double rate = static_cast<double>(w.steps_per_env) * static_cast<double>(envs.size()) / secondsSince(start);
@@ -134,9 +139,7 @@ long stepsPerEnv(const Work& w, double seconds) {
   long steps = 0;
   const auto start = Clock::now();
   while (secondsSince(start) < 0.5) {
-    env->step(action, &result);
-    if (result.done()) result.observation = env->reset().observation;
-    action = w.policy(env->actionSpace(), result.observation);
+    stepAlone(w, *env, &action, &result);
     ++steps;
   }
   return std::max(1L, static_cast<long>(steps / secondsSince(start) * seconds / w.envs_per_thread));
