@@ -10,6 +10,7 @@
 
 #include "roar/rl/async_vector_env.h"
 #include "roar/rl/vector_env.h"
+#include "statistics.h"
 
 namespace roar::bench {
 
@@ -143,11 +144,6 @@ long stepsPerEnv(const Work& w, double seconds) {
     ++steps;
   }
   return std::max(1L, static_cast<long>(steps / secondsSince(start) * seconds / w.envs_per_thread));
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

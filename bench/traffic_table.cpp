@@ -15,6 +15,7 @@
 #include "roar/sim/vehicle_config.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
+#include "statistics.h"
 
 namespace roar::bench {
 
@@ -77,12 +78,6 @@ struct Totals {
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
   }
 };
-
-double median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 double mean(const std::vector<double>& v) {
   if (v.empty()) return std::nan("");
