@@ -2,7 +2,8 @@
 // waypoint_server) and the car's own limits (the simulator's vehicle files), publishes the whole
 // trajectory latched on /racing_line (+ /racing_line/path) and, for every odometry message of each car,
 // the window ahead of it on /<vehicle>/local_trajectory (and as a path on /<vehicle>/local_path), stamped
-// with the odometry's time. Which car each one follows or passes is planning::FieldPlanner's decision.
+// with the odometry's time. Which car each one follows or passes is planning::FieldPlanner's decision; for
+// rviz, /<vehicle>/manoeuvre shows that decision and the planner's prediction of the cars around the car.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 
@@ -82,6 +83,7 @@ class PlannerNode {
       Car& car = cars_[name];
       car.window_pub = nh.advertise<roar_ros::Trajectory>(name + "/local_trajectory", ros_bridge::kPerTickQueue);
       car.path_pub = nh.advertise<nav_msgs::Path>(name + "/local_path", ros_bridge::kPerTickQueue);
+      car.manoeuvre_pub = nh.advertise<visualization_msgs::MarkerArray>(name + "/manoeuvre", 1);
       car.odom_sub = nh.subscribe<nav_msgs::Odometry>(
           name + "/odom", 10, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, m); },
           ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
@@ -90,7 +92,7 @@ class PlannerNode {
 
  private:
   struct Car {
-    ros::Publisher window_pub, path_pub;
+    ros::Publisher window_pub, path_pub, manoeuvre_pub;
     ros::Subscriber odom_sub;
     nav_msgs::Odometry::ConstPtr last_odom;
   };
@@ -137,9 +139,7 @@ class PlannerNode {
     const planning::Trajectory local = field_->window(name);
     const planning::RaceDecision now = field_->decision(name);
     if (now.mode != before.mode || now.other != before.other || now.side != before.side) {
-      ROS_INFO("planner: %s: %s%s%s at t = %.2f s", name.c_str(), planning::raceModeName(now.mode),
-               now.other.empty() ? "" : (" " + now.other).c_str(),
-               now.mode == planning::RaceMode::kPass ? (now.side > 0 ? " on the left" : " on the right") : "",
+      ROS_INFO("planner: %s: %s at t = %.2f s", name.c_str(), planning::describe(now).c_str(),
                odom.header.stamp.toSec());
     }
     roar_ros::Trajectory window = ros_bridge::toMessage(local, options_.frame, map_name_);
@@ -149,6 +149,11 @@ class PlannerNode {
       nav_msgs::Path path = ros_bridge::toPath(local, options_.frame);
       path.header.stamp = odom.header.stamp;
       car.path_pub.publish(path);
+    }
+    if (car.manoeuvre_pub.getNumSubscribers() > 0) {  // for rviz: why it passes or waits
+      const Eigen::Vector2d position(odom.pose.pose.position.x, odom.pose.pose.position.y);
+      car.manoeuvre_pub.publish(ros_bridge::manoeuvreMarkers(name, now, field_->predictions(name), position,
+                                                             options_.frame, odom.header.stamp));
     }
   }
 

@@ -78,6 +78,10 @@ RaceDecision FieldPlanner::decision(const std::string& car) const {
   return it == follow_decisions_.end() ? RaceDecision{} : it->second;
 }
 
+std::vector<PredictedPath> FieldPlanner::predictions(const std::string& car) const {
+  return overtaker_ ? overtaker_->predictions(car) : std::vector<PredictedPath>{};
+}
+
 void FieldPlanner::followCarAhead(const std::string& car, const Place& place, Trajectory* window,
                                   RaceDecision* decision) const {
   double nearest = options_.window_ahead;

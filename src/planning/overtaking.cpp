@@ -36,6 +36,21 @@ const char* raceModeName(RaceMode mode) {
   return "unknown";
 }
 
+std::string describe(const RaceDecision& d) {
+  if (d.mode == RaceMode::kRacingLine) return "racing line";
+  std::string text = raceModeName(d.mode);
+  if (!d.other.empty()) {
+    const bool towards = d.mode == RaceMode::kYield;
+    const bool against = d.mode == RaceMode::kDefend;
+    text += towards ? " to " : against ? " against " : (d.mode == RaceMode::kHold ? " beside " : " ");
+    text += d.other;
+  }
+  if (d.side != 0 && d.mode != RaceMode::kFollow && d.mode != RaceMode::kHold) {
+    text += d.side > 0 ? " on the left" : " on the right";
+  }
+  return text;
+}
+
 OvertakePlanner::OvertakePlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits,
                                  OvertakeOptions options)
     : line_(std::move(line)), limits_(limits), options_(options) {
@@ -190,8 +205,9 @@ Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) c
 }
 
 namespace {
-constexpr double kPredictionStep = 0.1;  // s
-}
+constexpr double kPredictionStep = 0.1;       // s
+constexpr double kShownPredictionStep = 0.5;  // s between the predicted positions kept for rviz
+}  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
   const double k = std::clamp(t / kPredictionStep, 0.0, static_cast<double>(ahead.size() - 1));
@@ -351,6 +367,18 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
   std::vector<Prediction> predicted;
   for (const auto& o : others) predicted.push_back(predict(o, s));
+  auto& shown = predictions_[car];
+  shown.clear();
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    PredictedPath path{others[i].name, kShownPredictionStep, {}};
+    for (double t = 0.0; t <= options_.horizon + 1e-9; t += kShownPredictionStep) {
+      const Prediction& p = predicted[i];
+      const TrajectoryPoint on_line = sampleAt(line_, p.s + (p.at(t) - p.ahead.front()));
+      path.positions.push_back(on_line.position +
+                               lateralAt(p, t) * Eigen::Vector2d(-std::sin(on_line.yaw), std::cos(on_line.yaw)));
+    }
+    shown.push_back(std::move(path));
+  }
   const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
   // In the leader's slipstream a pass is planned with the speed the tow gives (and carries out of it).
   const double tow = leader ? sim::slipstreamReduction(leader_gap - options_.car_length, lateral - leader->lateral,
@@ -708,6 +736,11 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     nearest_rel = rel;
   }
   if (nearest) followBehind(window, s, s + nearest_rel, nearest->speed, gap, limits_);
+}
+
+std::vector<PredictedPath> OvertakePlanner::predictions(const std::string& car) const {
+  auto it = predictions_.find(car);
+  return it == predictions_.end() ? std::vector<PredictedPath>{} : it->second;
 }
 
 RaceDecision OvertakePlanner::decision(const std::string& car) const {

@@ -33,6 +33,87 @@ roar_ros::Trajectory toMessage(const planning::Trajectory& t, const std::string&
   return msg;
 }
 
+namespace {
+
+std_msgs::ColorRGBA modeColour(planning::RaceMode mode) {
+  std_msgs::ColorRGBA c;
+  c.a = 1.0;
+  switch (mode) {
+    case planning::RaceMode::kPass:  // orange
+      c.r = 1.0, c.g = 0.55, c.b = 0.0;
+      break;
+    case planning::RaceMode::kFollow:  // yellow
+      c.r = 1.0, c.g = 0.9, c.b = 0.1;
+      break;
+    case planning::RaceMode::kDefend:  // red
+      c.r = 1.0, c.g = 0.2, c.b = 0.2;
+      break;
+    case planning::RaceMode::kYield:  // blue
+      c.r = 0.3, c.g = 0.6, c.b = 1.0;
+      break;
+    case planning::RaceMode::kHold:  // cyan
+      c.r = 0.2, c.g = 0.9, c.b = 0.9;
+      break;
+    case planning::RaceMode::kRacingLine:  // white
+      c.r = c.g = c.b = 1.0;
+      break;
+  }
+  return c;
+}
+
+}  // namespace
+
+visualization_msgs::MarkerArray manoeuvreMarkers(const std::string& car, const planning::RaceDecision& decision,
+                                                 const std::vector<planning::PredictedPath>& predictions,
+                                                 const Eigen::Vector2d& position, const std::string& frame,
+                                                 const ros::Time& stamp) {
+  visualization_msgs::MarkerArray out;
+  auto marker = [&](const std::string& ns, int id, int type) {
+    visualization_msgs::Marker m;
+    m.header.frame_id = frame;
+    m.header.stamp = stamp;
+    m.ns = car + "/" + ns;
+    m.id = id;
+    m.type = type;
+    m.action = visualization_msgs::Marker::ADD;
+    m.pose.orientation.w = 1.0;
+    return m;
+  };
+  visualization_msgs::Marker clear = marker("", 0, visualization_msgs::Marker::CUBE);
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  out.markers.push_back(clear);
+  visualization_msgs::Marker text = marker("decision", 0, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  text.pose.position.x = position.x();
+  text.pose.position.y = position.y();
+  text.pose.position.z = 3.0;  // m: below race_control's timing text (4.5 m), above the roof
+  text.scale.z = 0.7;
+  text.color = modeColour(decision.mode);
+  text.text = planning::describe(decision);
+  out.markers.push_back(text);
+  int id = 0;
+  for (const auto& p : predictions) {
+    visualization_msgs::Marker line = marker("predictions", id, visualization_msgs::Marker::LINE_STRIP);
+    visualization_msgs::Marker dots = marker("prediction_steps", id, visualization_msgs::Marker::SPHERE_LIST);
+    ++id;
+    line.scale.x = 0.15;
+    dots.scale.x = dots.scale.y = dots.scale.z = 0.5;
+    line.color = dots.color = modeColour(decision.mode);
+    line.color.a = 0.5;
+    dots.color.a = 0.8;
+    for (const auto& xy : p.positions) {
+      geometry_msgs::Point point;
+      point.x = xy.x();
+      point.y = xy.y();
+      point.z = 0.5;
+      line.points.push_back(point);
+      dots.points.push_back(point);
+    }
+    out.markers.push_back(line);
+    out.markers.push_back(dots);
+  }
+  return out;
+}
+
 planning::Trajectory fromMessage(const roar_ros::Trajectory& msg) {
   planning::Trajectory t;
   t.closed = msg.closed;

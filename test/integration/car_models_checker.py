@@ -90,6 +90,9 @@ class CarModels(unittest.TestCase):
             self.assertEqual(models, {car: car + "/robot_description" for car in CARS})
             plans = [d["Topic"] for d in displays if d["Class"] == "rviz/Path"]
             self.assertEqual(plans, ["/racing_line/path"] + ["/%s/local_path" % car for car in CARS])
+            markers = [d["Marker Topic"] for d in displays if d["Class"] == "rviz/MarkerArray"]
+            for car in CARS:
+                self.assertIn("/%s/manoeuvre" % car, markers, "each car's decision and predictions")
             shipped = os.path.join(folder, "race.rviz")
             subprocess.check_call([os.path.join(PKG, "scripts", "race_rviz"), "time_trial", "--sensors", "default",
                                    "--output", shipped])

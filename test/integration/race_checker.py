@@ -14,10 +14,12 @@ import rostest
 import yaml
 from roar_ros.msg import RaceStatus, VehicleStatus
 from rosgraph_msgs.msg import Clock, Log
+from visualization_msgs.msg import Marker, MarkerArray
 
 STATUS = []
 LOGGED = []
 LEAST_DRAG = {}  # car: the smallest drag_share its vehicle_status reported
+MANOEUVRES = {}  # car: (decision texts its /<car>/manoeuvre showed, most points of one predicted car)
 
 
 def this_runs_results(path, run_id):
@@ -127,6 +129,22 @@ class RaceResults(unittest.TestCase):
         # Cars that must have driven in another's slipstream (~towed): roar_sim's drag_share below 0.9.
         for car in rospy.get_param("~towed", []):
             self.assertLess(LEAST_DRAG.get(car, 1.0), 0.9, "%s never drove in a slipstream" % car)
+        # Decisions rviz must have shown (~manoeuvres: {car: text}), each with the predicted cars drawn.
+        for car, text in rospy.get_param("~manoeuvres", {}).items():
+            texts, most_points = MANOEUVRES.get(car, (set(), 0))
+            self.assertTrue(any(t.startswith(text) for t in texts),
+                            "/%s/manoeuvre never showed '%s' (showed %s)" % (car, text, sorted(texts)))
+            self.assertGreater(most_points, 5, "/%s/manoeuvre drew no predicted car's path" % car)
+
+
+def on_manoeuvre(car, markers):
+    texts, most_points = MANOEUVRES.setdefault(car, (set(), 0))
+    for m in markers.markers:
+        if m.type == Marker.TEXT_VIEW_FACING:
+            texts.add(m.text)
+        elif m.type == Marker.LINE_STRIP:
+            most_points = max(most_points, len(m.points))
+    MANOEUVRES[car] = (texts, most_points)
 
 
 if __name__ == "__main__":
@@ -140,4 +158,7 @@ if __name__ == "__main__":
             lambda m, car=towed: LEAST_DRAG.__setitem__(car, min(LEAST_DRAG.get(car, 1.0), m.drag_share)),
             queue_size=100,
         )
+    for watched in rospy.get_param("~manoeuvres", {}):
+        rospy.Subscriber("/%s/manoeuvre" % watched, MarkerArray, lambda m, car=watched: on_manoeuvre(car, m),
+                         queue_size=100)
     rostest.rosrun("roar_ros", "race_results", RaceResults, sys.argv)

@@ -288,3 +288,34 @@ TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
   EXPECT_EQ(config.speed_preview, t.speed_preview);
   EXPECT_EQ(config.max_speed, t.max_speed);
 }
+
+TEST(MsgConversion, ManoeuvreMarkersShowTheDecisionAndEachPrediction) {
+  const planning::RaceDecision decision{planning::RaceMode::kPass, -1, "pace"};
+  std::vector<planning::PredictedPath> predictions(2);
+  predictions[0] = {"pace", 0.5, {{10.0, 1.0}, {15.0, 1.0}, {20.0, 1.5}}};
+  predictions[1] = {"rival", 0.5, {{-5.0, 0.0}, {0.0, 0.0}}};
+  const auto m = ros_bridge::manoeuvreMarkers("ego", decision, predictions, {3.0, 4.0}, "map", ros::Time(12.5));
+  ASSERT_EQ(m.markers.size(), 2u + 2u * predictions.size());
+  EXPECT_EQ(m.markers[0].action, visualization_msgs::Marker::DELETEALL) << "stale predictions cleared first";
+  const auto& text = m.markers[1];
+  EXPECT_EQ(text.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  EXPECT_EQ(text.text, "pass pace on the right");
+  EXPECT_EQ(text.pose.position.x, 3.0);
+  EXPECT_EQ(text.pose.position.y, 4.0);
+  EXPECT_EQ(text.header.frame_id, "map");
+  EXPECT_EQ(text.header.stamp, ros::Time(12.5));
+  EXPECT_EQ(text.ns.rfind("ego/", 0), 0u) << "namespaced by the car: " << text.ns;
+  for (std::size_t k = 0; k < predictions.size(); ++k) {
+    const auto& line = m.markers[2 + 2 * k];
+    const auto& dots = m.markers[3 + 2 * k];
+    EXPECT_EQ(line.type, visualization_msgs::Marker::LINE_STRIP);
+    EXPECT_EQ(dots.type, visualization_msgs::Marker::SPHERE_LIST);
+    ASSERT_EQ(line.points.size(), predictions[k].positions.size());
+    ASSERT_EQ(dots.points.size(), predictions[k].positions.size());
+    for (std::size_t i = 0; i < line.points.size(); ++i) {
+      EXPECT_EQ(line.points[i].x, predictions[k].positions[i].x());
+      EXPECT_EQ(line.points[i].y, predictions[k].positions[i].y());
+    }
+  }
+  EXPECT_NE(m.markers[2].id, m.markers[4].id) << "one marker per predicted car";
+}

@@ -356,3 +356,54 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
   EXPECT_EQ(overlap, 0.0) << "the cars overlapped at t = " << overlap << " s";
   EXPECT_EQ(defences, 1) << "one defensive move, made";
 }
+
+// What rviz shows of a car's view: each car near it where the plan predicted it, every half second over the
+// horizon; nothing when the car is alone.
+TEST(Overtaking, APlanKeepsItsPredictionOfTheCarsAroundIt) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  const planning::TrafficCar slow{"slow", s + 40.0, 0.8, 0.5 * v, 0.5};
+  planner.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+  const auto predictions = planner.predictions("ego");
+  ASSERT_EQ(predictions.size(), 1u);
+  const auto& p = predictions.front();
+  EXPECT_EQ(p.name, "slow");
+  const planning::OvertakeOptions o;
+  ASSERT_EQ(p.positions.size(), static_cast<std::size_t>(std::round(o.horizon / p.step)) + 1);
+  // Where the car is now, 0.8 m left of the line.
+  const auto here = planning::sampleAt(f.line, slow.s);
+  const Eigen::Vector2d left(-std::sin(here.yaw), std::cos(here.yaw));
+  EXPECT_NEAR((p.positions.front() - (here.position + 0.8 * left)).norm(), 0.0, 1e-6);
+  // Then on along the road at its share of the line's speed, keeping to its side of the line.
+  for (std::size_t k = 1; k < p.positions.size(); ++k) {
+    const double moved = (p.positions[k] - p.positions[k - 1]).norm();
+    const auto on_line = planning::project(f.line, p.positions[k]);
+    const double share_there = slow.line_share * planning::sampleAt(f.line, on_line.s).speed * p.step;
+    EXPECT_GT(moved, 0.8 * share_there) << "step " << k;
+    EXPECT_LT(moved, 1.2 * share_there) << "step " << k;
+    EXPECT_NEAR(on_line.lateral, 0.8, 0.05) << "step " << k;
+  }
+  // Alone, nothing is predicted.
+  planner.plan("ego", s, 0.0, v, {{"ego", s, 0.0, v}}, 10.0, 250.0);
+  EXPECT_TRUE(planner.predictions("ego").empty());
+  EXPECT_TRUE(planner.predictions("never_planned").empty());
+}
+
+TEST(Overtaking, DecisionsReadAsWords) {
+  planning::RaceDecision d;
+  EXPECT_EQ(planning::describe(d), "racing line");
+  d = {RaceMode::kPass, +1, "pace"};
+  EXPECT_EQ(planning::describe(d), "pass pace on the left");
+  d = {RaceMode::kPass, -1, "pace"};
+  EXPECT_EQ(planning::describe(d), "pass pace on the right");
+  d = {RaceMode::kFollow, 0, "rival"};
+  EXPECT_EQ(planning::describe(d), "follow rival");
+  d = {RaceMode::kYield, -1, "leader"};
+  EXPECT_EQ(planning::describe(d), "yield to leader on the right");
+  d = {RaceMode::kDefend, +1, "third"};
+  EXPECT_EQ(planning::describe(d), "defend against third on the left");
+  d = {RaceMode::kHold, 0, ""};
+  EXPECT_EQ(planning::describe(d), "hold");
+}

@@ -47,6 +47,8 @@ class FieldPlanner {
   Trajectory window(const std::string& car);
   // What the last window for `car` chose (kRacingLine or kFollow without overtaking).
   RaceDecision decision(const std::string& car) const;
+  // What the last window for `car` predicted of the cars near it (none without overtaking).
+  std::vector<PredictedPath> predictions(const std::string& car) const;
   // Where the car was last located on the line.
   const TrajectoryProjection& onLine(const std::string& car) const { return cars_.at(car).on_line; }
 

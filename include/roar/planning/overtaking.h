@@ -88,6 +88,14 @@ struct OvertakeOptions {
   sim::SlipstreamOptions slipstream;
 };
 
+// Another car as a car's plan predicted it: where it would be, from the moment of the plan on, every
+// `step` seconds over the horizon (map frame). What rviz shows of a car's view of the cars around it.
+struct PredictedPath {
+  std::string name;
+  double step = 0.5;  // s
+  std::vector<Eigen::Vector2d> positions;
+};
+
 enum class RaceMode { kRacingLine, kFollow, kPass, kHold, kYield, kDefend };
 const char* raceModeName(RaceMode mode);
 
@@ -103,6 +111,9 @@ struct RaceDecision {
   double ramp_from = 0.0;
 };
 
+// The decision in words, for logs and rviz: "pass pace on the left", "follow rival", "racing line", ...
+std::string describe(const RaceDecision& decision);
+
 class OvertakePlanner {
  public:
   // line: the closed racing trajectory every car follows; track: its road (for the edges).
@@ -115,6 +126,8 @@ class OvertakePlanner {
                   const std::vector<TrafficCar>& traffic, double behind, double ahead, double pace = 1.0);
   // What the last plan for `car` chose.
   RaceDecision decision(const std::string& car) const;
+  // What the last plan for `car` predicted of the cars near it (alongside or ahead in its window).
+  std::vector<PredictedPath> predictions(const std::string& car) const;
   const Trajectory& line() const { return line_; }
 
   // Room from the racing line to the left and right road edges at line s (m, both positive when inside).
@@ -202,8 +215,9 @@ class OvertakePlanner {
   Candidate defend(const std::string& car, double s, double lateral, double speed,
                    const std::vector<TrafficCar>& traffic, const Trajectory& base,
                    const std::vector<Prediction>& predicted, const RaceDecision& memory);
-  std::map<std::string, int> doubts_;        // plans in a row a committed pass has looked blocked
-  std::map<std::string, Trajectory> plans_;  // each car's last window
+  std::map<std::string, int> doubts_;                              // plans in a row a committed pass has looked blocked
+  std::map<std::string, Trajectory> plans_;                        // each car's last window
+  std::map<std::string, std::vector<PredictedPath>> predictions_;  // each car's last plan's view of the others
 };
 
 }  // namespace roar::planning
