@@ -40,11 +40,8 @@ CarModelsOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   CarModelsOptions o;
   o.urdf_dir = readString(nh, "urdf_dir", packagePath() + "/urdf");
-  if (const auto scenario = readScenario(nh)) {
-    for (const auto& car : scenario->cars) o.cars.push_back({car.name, car.model, car.colour});
-  } else {
-    const std::string model = readString(nh, "model", "sedan");
-    for (const auto& name : readStringList(nh, "vehicles", {"ego"})) o.cars.push_back({name, model});
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
+    o.cars.push_back({car.name, car.model, car.colour});
   }
   return o;
 }

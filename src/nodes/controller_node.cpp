@@ -50,18 +50,13 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   const std::string pkg = packagePath();
   const std::string urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   const std::string config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
-  // The car's geometry comes from the same vehicle files the simulator reads.
-  if (const auto scenario = readScenario(nh)) {
-    // Cars another driver (a policy_driver) drives instead.
-    const std::vector<std::string> exclude = readStringList(nh, "exclude", {});
-    for (const auto& car : scenario->cars) {
-      if (car.driven && std::find(exclude.begin(), exclude.end(), car.name) == exclude.end()) {
-        o.cars.push_back({car.name, sim::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
-      }
+  // The race's cars the stack drives, but those another driver (a policy_driver) drives instead; each car's
+  // geometry from the same vehicle files the simulator reads.
+  const std::vector<std::string> exclude = readStringList(nh, "exclude", {});
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
+    if (car.driven && std::find(exclude.begin(), exclude.end(), car.name) == exclude.end()) {
+      o.cars.push_back({car.name, sim::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
     }
-  } else {
-    o.cars.push_back({readString(nh, "vehicle", "ego"),
-                      sim::loadVehicleModel(readString(nh, "model", "sedan"), urdf_dir, config_dir), 0.0});
   }
   o.odom_timeout = readDouble(nh, "odom_timeout", o.odom_timeout, 0.0, 3600);
   o.window_wait = readDouble(nh, "window_wait", o.window_wait, 0.0, 3600);

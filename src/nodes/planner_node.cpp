@@ -39,16 +39,13 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   PlannerNodeOptions o;
   const std::string pkg = packagePath();
-  // Every car of the scenario: the stack's cars follow any car ahead of them.
-  if (const auto scenario = readScenario(nh)) {
-    for (const auto& car : scenario->cars) {
-      o.vehicles.push_back(car.name);
-      o.pace[car.name] = car.pace;
-    }
-  } else {
-    o.vehicles = readStringList(nh, "vehicles", {"ego"});
+  // Every car of the race: the stack's cars follow or pass any car ahead of them.
+  const std::string model = readString(nh, "model", "sedan");
+  for (const auto& car : readRaceCars(nh, readScenario(nh), model)) {
+    o.vehicles.push_back(car.name);
+    o.pace[car.name] = car.pace;
   }
-  o.vehicle = sim::loadVehicleModel(readString(nh, "model", "sedan"), readString(nh, "urdf_dir", pkg + "/urdf"),
+  o.vehicle = sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
                                     readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
   o.grip_use = readDouble(nh, "grip_use", o.grip_use, 0.05, 1.0);
   auto& line = o.planner.line;
@@ -62,7 +59,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.window_ahead = readDouble(nh, "window_ahead", field.window_ahead, 10.0, 5000.0);
   field.window_behind = readDouble(nh, "window_behind", field.window_behind, 0.0, 100.0);
   field.follow_gap = readDouble(nh, "follow_gap", field.follow_gap, 5.0, 200.0);
-  o.frame = readString(nh, "frame", o.frame);
+  o.frame = readMapFrame(nh);
   field.overtaking = readBool(nh, "overtaking", field.overtaking);
   field.overtake.car_length = o.vehicle.chassis.box_size.x();
   field.overtake.car_width = o.vehicle.chassis.box_size.y();

@@ -38,10 +38,8 @@ PolicyDriverOptions readParameters(const ros::NodeHandle& nh) {
   o.map_folder = readMapFolder(nh, scenario);
   o.vehicle = readString(nh, "vehicle", "ego");
   std::string model = readString(nh, "model", "sedan");
-  if (scenario) {
-    for (const auto& car : scenario->cars) {
-      if (car.name == o.vehicle) model = car.model;
-    }
+  for (const auto& car : readRaceCars(nh, scenario, model)) {
+    if (car.name == o.vehicle) model = car.model;
   }
   o.forward_gears =
       static_cast<int>(sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),

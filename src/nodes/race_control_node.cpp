@@ -72,11 +72,7 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   RaceControlOptions o;
   const auto scenario = readScenario(nh);
   o.map_folder = readMapFolder(nh, scenario);
-  if (scenario) {
-    for (const auto& car : scenario->cars) o.vehicles.push_back(car.name);
-  } else {
-    o.vehicles = readStringList(nh, "vehicles", {"ego"});
-  }
+  for (const auto& car : readRaceCars(nh, scenario, readString(nh, "model", "sedan"))) o.vehicles.push_back(car.name);
   auto& r = o.rules;
   r.laps = readInt(nh, "laps", scenario ? scenario->laps : 3, 1, 1000);
   r.collision = readRule(nh, "collision_rule", "penalty");

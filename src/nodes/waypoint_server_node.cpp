@@ -32,7 +32,7 @@ class WaypointServer {
     const std::string pkg = packagePath();
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
     folder_ = readMapFolder(pnh, readScenario(pnh));
-    frame_ = readString(pnh, "frame_id", kMapFrame);
+    frame_ = readMapFrame(pnh);
     grid_ = readInt(pnh, "spawn_points", track::kGridSlots, 1, 1000);
     track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
 

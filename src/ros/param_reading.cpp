@@ -1,10 +1,14 @@
 #include "roar/ros/param_reading.h"
 
+#include "roar/ros/frames.h"
+
 #include <ros/package.h>
 
 #include <cmath>
 
 namespace roar::ros_bridge {
+
+std::string readMapFrame(const ros::NodeHandle& nh) { return readString(nh, "map_frame", kMapFrame); }
 
 namespace {
 

@@ -1,25 +1,85 @@
 #include "roar/ros/scenario_params.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include "roar/ros/param_reading.h"
 #include "roar/track/map_folder.h"
 
 namespace roar::ros_bridge {
 
-std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
+namespace {
+
+// Where the names a list of cars uses are looked up: the same parameters for every node.
+stack::ScenarioContext contextOf(const ros::NodeHandle& nh) {
   const std::string pkg = packagePath();
-  const std::string name = readString(nh, "scenario", "");
-  if (name.empty()) return std::nullopt;
   stack::ScenarioContext context;
   context.maps_dir = readString(nh, "maps_dir", pkg + "/maps");
   context.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
   context.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
   context.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
   context.rl_dir = readString(nh, "rl_dir", pkg + "/config/rl");
+  return context;
+}
+
+// A parameter's value as YAML (what the one reader of cars reads).
+YAML::Node yamlOf(XmlRpc::XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeArray: {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (int i = 0; i < v.size(); ++i) list.push_back(yamlOf(v[i]));
+      return list;
+    }
+    case XmlRpc::XmlRpcValue::TypeStruct: {
+      YAML::Node map(YAML::NodeType::Map);
+      for (auto& [key, value] : v) map[key] = yamlOf(value);
+      return map;
+    }
+    case XmlRpc::XmlRpcValue::TypeString:
+      return YAML::Node(static_cast<std::string>(v));
+    case XmlRpc::XmlRpcValue::TypeInt:
+      return YAML::Node(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeDouble:
+      return YAML::Node(static_cast<double>(v));
+    case XmlRpc::XmlRpcValue::TypeBoolean:
+      return YAML::Node(static_cast<bool>(v));
+    default:
+      return YAML::Node();  // refused by the reader as no car
+  }
+}
+
+}  // namespace
+
+std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
+  const std::string pkg = packagePath();
+  const std::string name = readString(nh, "scenario", "");
+  if (name.empty()) return std::nullopt;
   try {
     return stack::loadScenario(stack::resolveScenario(name, readString(nh, "scenarios_dir", pkg + "/config/scenarios")),
-                               context);
+                               contextOf(nh));
   } catch (const stack::ScenarioError& e) {
     throw ParamError("parameter " + nh.resolveName("scenario") + ": " + e.what());
+  }
+}
+
+std::vector<stack::ScenarioCar> readRaceCars(const ros::NodeHandle& nh, const std::optional<stack::Scenario>& scenario,
+                                             const std::string& default_model) {
+  if (scenario) return scenario->cars;
+  const std::string where = nh.resolveName("vehicles");
+  XmlRpc::XmlRpcValue list;
+  YAML::Node cars(YAML::NodeType::Sequence);
+  if (nh.getParam("vehicles", list)) {
+    // rosrun's _vehicles:='[ego, rival]' arrives as a string: its YAML.
+    cars =
+        list.getType() == XmlRpc::XmlRpcValue::TypeString ? YAML::Load(static_cast<std::string>(list)) : yamlOf(list);
+  } else {
+    cars.push_back("ego");
+  }
+  try {
+    return stack::readCars(cars, "vehicles", "parameter " + where, contextOf(nh), default_model);
+  } catch (const stack::ScenarioError& e) {
+    throw ParamError(e.what());
+  } catch (const YAML::Exception& e) {
+    throw ParamError("parameter " + where + ": " + e.what());
   }
 }
 

@@ -62,73 +62,91 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
     fail("map", e.what());
   }
   if (!cars || !cars.IsSequence() || cars.size() == 0) fail("cars", "must be a list of at least one car");
+  s.cars = readCars(cars, "cars", path, context);
+  return s;
+}
+
+std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& field, const std::string& source,
+                                  const ScenarioContext& context, const std::string& default_model) {
+  auto fail = [&](const std::string& where, const std::string& what) {
+    throw ScenarioError(source + ": " + where + ": " + what);
+  };
+  if (list && !list.IsNull() && !list.IsSequence()) fail(field, "must be a list of cars");
+  using Section = config::YamlSection<ScenarioError>;
+  std::vector<ScenarioCar> out;
   std::set<std::string> names;
   std::set<int> slots;
-  for (std::size_t i = 0; i < cars.size(); ++i) {
-    const std::string field = "cars[" + std::to_string(i) + "]";
-    Section c(cars[i], field, path);
+  for (std::size_t i = 0; list && i < list.size(); ++i) {
+    const std::string where = field + "[" + std::to_string(i) + "]";
     ScenarioCar car;
-    car.name = c.require<std::string>("name");
+    car.model = default_model;
     car.spawn_point = static_cast<int>(i);
-    c.read("spawn_point", &car.spawn_point);
-    c.read("model", &car.model);
-    c.read("sensors", &car.sensors);
-    c.read("driven", &car.driven);
-    c.read("max_speed", &car.max_speed);
-    c.read("pace", &car.pace);
-    c.read("agent", &car.agent);
-    std::vector<double> rgb;
-    if (c.read("colour", &rgb)) {
-      if (rgb.size() != 3) fail(field + ".colour", "must be [r, g, b], each 0..1");
-      car.colour = Eigen::Vector3f(static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]));
-      if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any())
-        fail(field + ".colour", "each of r, g, b must be 0..1");
+    if (list[i].IsScalar()) {
+      car.name = list[i].as<std::string>();  // a car by its name alone
+    } else {
+      Section c(list[i], where, source);
+      car.name = c.require<std::string>("name");
+      c.read("spawn_point", &car.spawn_point);
+      c.read("model", &car.model);
+      c.read("sensors", &car.sensors);
+      c.read("driven", &car.driven);
+      c.read("max_speed", &car.max_speed);
+      c.read("pace", &car.pace);
+      c.read("agent", &car.agent);
+      std::vector<double> rgb;
+      if (c.read("colour", &rgb)) {
+        if (rgb.size() != 3) fail(where + ".colour", "must be [r, g, b], each 0..1");
+        car.colour =
+            Eigen::Vector3f(static_cast<float>(rgb[0]), static_cast<float>(rgb[1]), static_cast<float>(rgb[2]));
+        if ((car.colour.array() < 0).any() || (car.colour.array() > 1).any())
+          fail(where + ".colour", "each of r, g, b must be 0..1");
+      }
+      c.finish();
     }
-    c.finish();
     if (car.name.empty() || car.name.find_first_of(" /") != std::string::npos) {
-      fail(field + ".name", "'" + car.name + "' must be non-empty, without spaces or '/'");
+      fail(where + ".name", "'" + car.name + "' must be non-empty, without spaces or '/'");
     }
-    if (!names.insert(car.name).second) fail(field + ".name", "'" + car.name + "' is used by another car");
+    if (!names.insert(car.name).second) fail(where + ".name", "'" + car.name + "' is used by another car");
     if (car.spawn_point < 0 || car.spawn_point >= kGridSlots) {
-      fail(field + ".spawn_point",
+      fail(where + ".spawn_point",
            std::to_string(car.spawn_point) + " is not a grid slot (0.." + std::to_string(kGridSlots - 1) + ")");
     }
     if (!slots.insert(car.spawn_point).second) {
-      fail(field + ".spawn_point", std::to_string(car.spawn_point) + " is taken by another car");
+      fail(where + ".spawn_point", std::to_string(car.spawn_point) + " is taken by another car");
     }
     if (!(car.max_speed >= 0 && car.max_speed <= 150)) {
-      fail(field + ".max_speed", std::to_string(car.max_speed) + " m/s is outside 0..150 (0: no cap)");
+      fail(where + ".max_speed", std::to_string(car.max_speed) + " m/s is outside 0..150 (0: no cap)");
     }
     if (!(car.pace > 0.2 && car.pace <= 1)) {
-      fail(field + ".pace", std::to_string(car.pace) + " is outside (0.2, 1] (the share of the planned speeds)");
+      fail(where + ".pace", std::to_string(car.pace) + " is outside (0.2, 1] (the share of the planned speeds)");
     }
     try {
       sim::loadVehicleModel(car.model, context.urdf_dir, context.vehicle_config_dir);
     } catch (const std::exception& e) {
-      fail(field + ".model", e.what());
+      fail(where + ".model", e.what());
     }
     if (!car.sensors.empty()) {
       const std::string set =
           fs::is_regular_file(car.sensors) ? car.sensors : context.sensors_dir + "/" + car.sensors + ".yaml";
       if (!fs::is_regular_file(set))
-        fail(field + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
+        fail(where + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
       try {
         sensors::readSensorSet(set);
       } catch (const std::exception& e) {
-        fail(field + ".sensors", e.what());
+        fail(where + ".sensors", e.what());
       }
     }
     if (!car.agent.empty()) {
-      if (car.driven) fail(field + ".agent", "an agent's car must have driven: false (the stack would drive it too)");
+      if (car.driven) fail(where + ".agent", "an agent's car must have driven: false (the stack would drive it too)");
       try {
         rl::readEnvOptions(resolveAgentEnv(car.agent, context.rl_dir));
       } catch (const std::exception& e) {
-        fail(field + ".agent", e.what());
+        fail(where + ".agent", e.what());
       }
     }
-    s.cars.push_back(car);
+    out.push_back(car);
   }
-  return s;
+  return out;
 }
 
 std::string resolveAgentEnv(const std::string& name_or_path, const std::string& rl_dir) {

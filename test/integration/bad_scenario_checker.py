@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""rostest: roar_sim, planner and race_control, started on a bad scenario file, exit at once with an error
-naming the file, the field and the problem."""
+"""rostest: roar_sim, planner, race_control, controller and car_models, started on a bad scenario file or bad
+~vehicles, exit at once with an error naming the file or parameter, the field and the problem."""
 import os
 import subprocess
 import sys
@@ -22,11 +22,20 @@ BAD = {
 }
 
 
-def start(node, scenario):
-    """Runs the node on the scenario; returns its exit code and what it printed."""
+# ~vehicles without a scenario, read by the same reader: what each node says of it.
+BAD_VEHICLES = {
+    "[{name: ego, modle: sedan}]": "vehicles[0].modle: is not a known key (did you mean 'model'?)",
+    "[ego, ego]": "vehicles[1].name: 'ego' is used by another car",
+    "[{name: ego, pace: 3}]": "vehicles[0].pace",
+}
+NODES = ["roar_sim", "planner", "race_control", "controller", "car_models"]
+
+
+def start(node, name, *args):
+    """Runs the node as `name` with the private parameters given; returns its exit code and what it printed."""
     # Found as roslaunch finds it (rosrun looks in the source tree only).
     executable = roslib.packages.find_node("roar_ros", node)[0]
-    run = subprocess.run([executable, "__name:=bad_" + node, "_scenario:=" + scenario],
+    run = subprocess.run([executable, "__name:=" + name] + list(args),
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, timeout=60)
     return run.returncode, run.stdout
 
@@ -38,11 +47,20 @@ class BadScenarios(unittest.TestCase):
                 path = os.path.join(folder, name + ".yaml")
                 with open(path, "w") as f:
                     f.write(text)
-                for node in ["roar_sim", "planner", "race_control"]:
-                    code, output = start(node, path)
+                for node in NODES:
+                    code, output = start(node, "bad_" + node, "_scenario:=" + path)
                     self.assertNotEqual(code, 0, "%s started on %s" % (node, name))
                     self.assertIn(path, output, node)
                     self.assertIn(problem, output, "%s on %s said: %s" % (node, name, output))
+
+    def test_every_node_names_the_problem_of_its_vehicles(self):
+        for vehicles, problem in BAD_VEHICLES.items():
+            for node in NODES:
+                # (a name of its own: the scenario runs left theirs on the parameter server)
+                code, output = start(node, "no_scenario_" + node, "_vehicles:=" + vehicles)
+                self.assertNotEqual(code, 0, "%s started with vehicles %s" % (node, vehicles))
+                self.assertIn("parameter /no_scenario_%s/vehicles: %s" % (node, problem), output,
+                              "%s with vehicles %s said: %s" % (node, vehicles, output))
 
 
 if __name__ == "__main__":

@@ -1,5 +1,7 @@
 #include "roar/stack/scenario.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -167,4 +169,41 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
   }
   std::printf("scenario property test: %zu fields x 7 extremes: %d refused by name, %d loaded in range\n",
               fields.size(), refused, loaded);
+}
+
+// The one reader of a race's cars, whether from a scenario or a node's ~vehicles: names alone or cars with
+// a scenario car's keys, checked the same way, errors naming the source, the car and the key.
+TEST(RaceCars, NamesOrCarsReadAndCheckedAsAScenariosAre) {
+  const auto names =
+      stack::readCars(YAML::Load("[ego, rival]"), "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
+  ASSERT_EQ(names.size(), 2u);
+  EXPECT_EQ(names[0].name, "ego");
+  EXPECT_EQ(names[1].name, "rival");
+  EXPECT_EQ(names[1].model, "hatchback") << "the default model for a car that names none";
+  EXPECT_EQ(names[1].spawn_point, 1) << "its place in the list";
+  EXPECT_EQ(names[1].pace, 1.0);
+  const auto cars = stack::readCars(YAML::Load("[{name: ego, pace: 0.9, spawn_point: 3}, {name: slow, model: sedan, "
+                                               "max_speed: 15, driven: false}]"),
+                                    "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
+  ASSERT_EQ(cars.size(), 2u);
+  EXPECT_EQ(cars[0].pace, 0.9);
+  EXPECT_EQ(cars[0].spawn_point, 3);
+  EXPECT_EQ(cars[0].model, "hatchback");
+  EXPECT_EQ(cars[1].model, "sedan");
+  EXPECT_EQ(cars[1].max_speed, 15.0);
+  EXPECT_FALSE(cars[1].driven);
+  EXPECT_TRUE(stack::readCars(YAML::Load("[]"), "vehicles", "p", shipped()).empty()) << "roar_sim with no car";
+  auto error = [](const std::string& yaml) {
+    return test::errorOf(
+        [&] { stack::readCars(YAML::Load(yaml), "vehicles", "parameter /planner/vehicles", shipped()); });
+  };
+  EXPECT_EQ(error("[{name: ego, modle: sedan}]")
+                .rfind("parameter /planner/vehicles: vehicles[0].modle: is not a known key (did you mean 'model'?)", 0),
+            0u);
+  EXPECT_NE(error("[ego, ego]").find("vehicles[1].name: 'ego' is used by another car"), std::string::npos);
+  EXPECT_NE(error("[{name: ego, model: tractor}]").find("parameter /planner/vehicles: vehicles[0].model"),
+            std::string::npos);
+  EXPECT_NE(error("[{name: ego, pace: 2}]").find("vehicles[0].pace"), std::string::npos);
+  EXPECT_NE(error("{name: ego}").find("vehicles: must be a list of cars"), std::string::npos);
+  EXPECT_NE(error("[{name: bot, agent: state}]").find("driven: false"), std::string::npos);
 }

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+namespace YAML {
+class Node;
+}
+
 namespace roar::stack {
 
 struct ScenarioCar {
@@ -47,6 +51,11 @@ struct ScenarioContext {
 // Reads and checks a scenario: every error names the file and the field (an unknown map, model, sensor
 // set or RL environment, two cars with one name or one spawn point, a spawn point past the map's grid).
 Scenario loadScenario(const std::string& path, const ScenarioContext& context);
+// The cars of a race as a scenario's `cars` or a node's ~vehicles list them: each a name alone (then
+// `default_model`, grid slot its place in the list) or a mapping with a scenario car's keys. Every list of
+// cars is read and checked here, whatever its source: errors name `source`, `field`[i] and the key.
+std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& field, const std::string& source,
+                                  const ScenarioContext& context, const std::string& default_model = "sedan");
 // `name_or_path`: a file, or the name of one in `scenarios_dir` (without .yaml).
 std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir);
 // An RL environment file: a path, or a name in `rl_dir` (without .yaml). Throws ScenarioError.
