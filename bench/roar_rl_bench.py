@@ -2,7 +2,8 @@
 """Steps per second of roar_rl.VectorEnv from Python, against the C++ VectorEnv (roar_bench's RlEnvSteps,
 run here in the same session) and against N single-thread processes, for 1..N threads: the environment
 roar_bench times (Roar Sprint, config/rl/state.yaml, or that plus an 84x84 RGB camera; the car chases the
-waypoint 10 m ahead; one environment on one thread, two a thread beyond).
+waypoint 10 m ahead; one environment on one thread, two a thread beyond). The synchronous Python figure is
+given twice: the whole loop, and the module's step alone (the agent's numpy chase timed and taken out).
 
     /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N] [--repeats R]
 """
@@ -48,17 +49,27 @@ def zero_action(n):
             "hand_brake": np.zeros((n, 1)), "reverse": np.zeros((n, 1))}
 
 
-def python_rate(options: str, num_envs: int, threads: int, seconds: float) -> float:
+def python_rates(options: str, num_envs: int, threads: int, seconds: float):
+    """Steps/s of the loop (the agent's numpy chase included), and of the module's step alone (the time spent
+    in the chase taken out: what the C++ figure's own chase, a few arithmetic operations, hardly costs)."""
     envs = roar_rl.VectorEnv("roar_sprint", options, num_envs=num_envs, num_threads=threads)
     obs, _ = envs.reset(seed=1)
     action = zero_action(num_envs)
     for _ in range(20):
         obs, *_ = envs.step(chase(obs, action))
-    steps, started = 0, time.perf_counter()
+    steps, agent, started = 0, 0.0, time.perf_counter()
     while time.perf_counter() - started < seconds:
-        obs, *_ = envs.step(chase(obs, action))
+        before = time.perf_counter()
+        act = chase(obs, action)
+        agent += time.perf_counter() - before
+        obs, *_ = envs.step(act)
         steps += 1
-    return steps * num_envs / (time.perf_counter() - started)
+    elapsed = time.perf_counter() - started
+    return steps * num_envs / elapsed, steps * num_envs / (elapsed - agent)
+
+
+def python_rate(options: str, num_envs: int, threads: int, seconds: float) -> float:
+    return python_rates(options, num_envs, threads, seconds)[0]
 
 
 def async_rate(options: str, num_envs: int, threads: int, seconds: float) -> float:
@@ -127,15 +138,16 @@ if __name__ == "__main__":
             # ratio is the median of the rounds' own.
             for _ in range(args.repeats):
                 cpp = cpp_rate(camera, threads, args.seconds)
-                py = python_rate(options, envs, threads, args.seconds)
+                py, module = python_rates(options, envs, threads, args.seconds)
                 procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
                 asynchronous = async_rate(options, async_envs, threads, args.seconds)
-                rounds.append((cpp, py, procs, asynchronous))
-            cpp, py, procs, asynchronous = (median([r[k] for r in rounds]) for k in range(4))
+                rounds.append((cpp, py, procs, asynchronous, module))
+            cpp, py, procs, asynchronous, module = (median([r[k] for r in rounds]) for k in range(5))
             py_cpp = median([r[1] / r[0] for r in rounds])
+            module_cpp = median([r[4] / r[0] for r in rounds])
             py_procs = median([r[1] / r[2] for r in rounds])
             async_procs = median([r[3] / r[2] for r in rounds])
             print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
-                  f"({py_cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py_procs:4.2f}); "
+                  f"({py_cpp:4.2f}; the module's step alone {module:8.0f}, {module_cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py_procs:4.2f}); "
                   f"asynchronous, {async_envs} envs in batches of {threads}: {asynchronous:8.0f} "
                   f"({async_procs:4.2f}); medians of {args.repeats} rounds", flush=True)
