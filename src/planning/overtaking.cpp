@@ -369,7 +369,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   for (const auto& o : others) predicted.push_back(predict(o, s));
   auto& shown = predictions_[car];
   shown.clear();
-  for (std::size_t i = 0; i < others.size(); ++i) {
+  for (std::size_t i = 0; options_.keep_predictions && i < others.size(); ++i) {
     PredictedPath path{others[i].name, kShownPredictionStep, {}};
     for (double t = 0.0; t <= options_.horizon + 1e-9; t += kShownPredictionStep) {
       const Prediction& p = predicted[i];

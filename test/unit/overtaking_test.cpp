@@ -361,7 +361,9 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
 // horizon; nothing when the car is alone.
 TEST(Overtaking, APlanKeepsItsPredictionOfTheCarsAroundIt) {
   auto& f = fixture();
-  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  planning::OvertakeOptions keeping;
+  keeping.keep_predictions = true;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, keeping);
   const double s = straightStart(f.line);
   const double v = planning::sampleAt(f.line, s).speed;
   const planning::TrafficCar slow{"slow", s + 40.0, 0.8, 0.5 * v, 0.5};
@@ -389,6 +391,10 @@ TEST(Overtaking, APlanKeepsItsPredictionOfTheCarsAroundIt) {
   planner.plan("ego", s, 0.0, v, {{"ego", s, 0.0, v}}, 10.0, 250.0);
   EXPECT_TRUE(planner.predictions("ego").empty());
   EXPECT_TRUE(planner.predictions("never_planned").empty());
+  // Not asked for, none are kept (the in-process races and the benchmarks pay nothing for them).
+  planning::OvertakePlanner plain(f.track, f.line, f.limits, {});
+  plain.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+  EXPECT_TRUE(plain.predictions("ego").empty());
 }
 
 TEST(Overtaking, DecisionsReadAsWords) {

@@ -86,6 +86,8 @@ struct OvertakeOptions {
   // The wake model the simulator applies (sim/slipstream.h): a car close behind the car it would pass
   // plans the pass with the speed the tow gives it on the straight, and pulls out with it (the slingshot).
   sim::SlipstreamOptions slipstream;
+  // Keep each plan's predictions of the cars around it for predictions() (rviz): off, they cost nothing.
+  bool keep_predictions = false;
 };
 
 // Another car as a car's plan predicted it: where it would be, from the moment of the plan on, every
@@ -126,7 +128,8 @@ class OvertakePlanner {
                   const std::vector<TrafficCar>& traffic, double behind, double ahead, double pace = 1.0);
   // What the last plan for `car` chose.
   RaceDecision decision(const std::string& car) const;
-  // What the last plan for `car` predicted of the cars near it (alongside or ahead in its window).
+  // What the last plan for `car` predicted of the cars near it (alongside or ahead in its window); empty
+  // unless OvertakeOptions::keep_predictions.
   std::vector<PredictedPath> predictions(const std::string& car) const;
   const Trajectory& line() const { return line_; }
 
