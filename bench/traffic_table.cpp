@@ -158,6 +158,11 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
           t.barrier += c.barrier_contacts;
           t.traffic_time += c.time_in_traffic;
           best_lap[c.name] = c.lap_times.empty() ? 1e9 : *std::min_element(c.lap_times.begin(), c.lap_times.end());
+          if (verbose && (c.track_limit_violations > 0 || c.barrier_contacts > 0 || !c.finished)) {
+            std::printf("  %s seed %d: %s: %d track-limit excursions, %d barrier contacts%s\n", map.c_str(), seed,
+                        c.name.c_str(), c.track_limit_violations, c.barrier_contacts,
+                        c.finished ? "" : ", did not finish");
+          }
         }
         for (const auto& p : r.passes) {
           ++t.attempts;
