@@ -65,7 +65,7 @@ void orderByPace(Field* f) {
 struct Totals {
   int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
   int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0;
-  std::vector<double> catch_to_pass, passing_share;
+  std::vector<double> catch_to_pass, passing_share, lap_loss;
   double traffic_time = 0.0, race_seconds = 0.0;
 
   void add(const Totals& t) {
@@ -76,6 +76,7 @@ struct Totals {
     traffic_time += t.traffic_time, race_seconds += t.race_seconds;
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
+    lap_loss.insert(lap_loss.end(), t.lap_loss.begin(), t.lap_loss.end());
   }
 };
 
@@ -89,10 +90,11 @@ double mean(const std::vector<double>& v) {
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
   std::printf(
-      "%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s\n", circuit.c_str(), kind.c_str(), t.races,
-      t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share), t.contacts,
-      t.at_fault, t.track_limits, t.late_passes,
-      t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-");
+      "%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s %7.2f\n", circuit.c_str(), kind.c_str(),
+      t.races, t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share),
+      t.contacts, t.at_fault, t.track_limits, t.late_passes,
+      t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-",
+      mean(t.lap_loss));
 }
 
 }  // namespace
@@ -108,9 +110,9 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
       "lockstep, in one process\n",
       laps, seeds);
-  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %9s %8s %8s %8s %7s %8s %9s\n", "circuit", "field", "races", "attempts",
-              "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits", "late",
-              "in_order");
+  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %9s %8s %8s %8s %7s %8s %9s %7s\n", "circuit", "field", "races",
+              "attempts", "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits",
+              "late", "in_order", "loss_s");
   Totals all;
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
@@ -125,6 +127,16 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     stack::RaceOptions solo = options;
     solo.laps = 2;
     const auto alone = stack::runRace(track, vehicle, {{"alone", 0}}, solo).car("alone");
+    // And each car of a field alone, from its grid slot at its pace, for the lap time traffic costs it (the
+    // full-pace cars' runs serve every seed).
+    std::map<std::pair<int, double>, stack::RaceCarResult> alone_at;
+    auto aloneAs = [&](const stack::RaceCar& car) -> const stack::RaceCarResult& {
+      const auto key = std::make_pair(car.grid_slot, car.pace);
+      auto it = alone_at.find(key);
+      if (it == alone_at.end())
+        it = alone_at.emplace(key, stack::runRace(track, vehicle, {car}, options).car(car.name)).first;
+      return it->second;
+    };
     for (auto make : {paceCarField, reverseGridField, twoCarField}) {
       std::mt19937 probe(0);
       if (!only_field.empty() && make(probe).kind != only_field) continue;
@@ -152,7 +164,11 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         ++t.races;
         t.race_seconds += r.sim_time;
         std::map<std::string, double> pace, best_lap;
-        for (const auto& c : field.cars) pace[c.name] = c.pace;
+        for (const auto& c : field.cars) {
+          pace[c.name] = c.pace;
+          const double loss = stack::lapTimeLoss(r.car(c.name), aloneAs(c));
+          if (std::isfinite(loss)) t.lap_loss.push_back(loss);
+        }
         for (const auto& c : r.cars) {
           t.track_limits += c.track_limit_violations;
           t.barrier += c.barrier_contacts;
@@ -209,7 +225,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "columns: passes attempted, completed and aborted; rate_%% completed/attempted; catch_s median time from\n"
       "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
       "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
-      "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order.\n"
+      "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order;\n"
+      "loss_s: seconds a lap a car lost in traffic, against the same car alone from its grid slot (mean of the cars).\n"
       "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n",
       all.race_seconds, wall, all.barrier, all.defences);
   return all.contacts;

@@ -64,6 +64,16 @@ double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& fre
   return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
 
+double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone) {
+  const std::size_t laps = in_traffic.lap_times.size();
+  if (!in_traffic.finished || !alone.finished || laps == 0 || alone.lap_times.size() != laps) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  double lost = 0.0;
+  for (std::size_t k = 0; k < laps; ++k) lost += in_traffic.lap_times[k] - alone.lap_times[k];
+  return lost / static_cast<double>(laps);
+}
+
 RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options) {
   checkCars(cars);

@@ -196,6 +196,24 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   EXPECT_TRUE(r.contacts.empty());
 }
 
+// What traffic costs a car: held behind a car at 15 m/s, a lap of Roar Sprint takes the stack's car far
+// longer than alone from the same grid slot; the car ahead, with nobody in front, loses nothing.
+TEST(Race, LapTimeLossIsTheTimeTrafficCostsAgainstTheSameCarAlone) {
+  stack::RaceOptions options;
+  options.laps = 1;
+  options.field.overtaking = false;
+  const stack::RaceCar pace{"pace", 0, 1.0, 15.0}, ego{"ego", 1};
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {pace, ego}, options);
+  const auto pace_alone = stack::runRace(sprint().track, sprint().vehicle, {pace}, options).car("pace");
+  const auto ego_alone = stack::runRace(sprint().track, sprint().vehicle, {ego}, options).car("ego");
+  ASSERT_TRUE(r.finished);
+  EXPECT_GT(stack::lapTimeLoss(r.car("ego"), ego_alone), 20.0);
+  EXPECT_NEAR(stack::lapTimeLoss(r.car("pace"), pace_alone), 0.0, 0.05);
+  stack::RaceCarResult unfinished = r.car("ego");
+  unfinished.finished = false;
+  EXPECT_TRUE(std::isnan(stack::lapTimeLoss(unfinished, ego_alone)));
+}
+
 TEST(Race, RefusesBadFields) {
   EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"),
             std::string::npos);

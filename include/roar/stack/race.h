@@ -98,4 +98,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
 // alone) at the same place; NaN when no sample has a free-air speed.
 double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& free_air, double speed_bin);
 
+// The seconds a lap a car lost in traffic: the mean of its lap times less those of the same car alone (the
+// same grid slot, pace and options: `alone`), lap by lap; NaN when either did not finish every lap.
+double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone);
+
 }  // namespace roar::stack
