@@ -80,7 +80,9 @@ class VectorEnv:
     With batch_size (EnvPool's asynchronous batching): send(actions, env_ids) queues one action per listed
     environment and recv() returns the first batch_size environments to be done, as (observations, rewards,
     terminations, truncations, infos) of batch_size rows, infos["env_id"] saying whose each row is; send the
-    next actions to those ids. No thread waits for the slowest environment. reset() resets every
+    next actions to those ids. No thread waits for the slowest environment. A batch's arrays stay as they
+    are until the next recv(), even once its environments are sent again (batches go round a ring of
+    buffers, each row written by the thread that stepped its environment). reset() resets every
     environment and returns their first observations by id; step() is send to all then recv (batch_size
     must then be num_envs; rows come in the order the environments were done, see infos["env_id"])."""
 

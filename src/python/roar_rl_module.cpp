@@ -367,7 +367,12 @@ class PyVectorEnv {
 };
 
 // EnvPool's asynchronous batching (rl::AsyncVectorEnv): send() actions to chosen environments, recv()
-// the first batch_size done, in buffers of batch_size rows with the environments' ids.
+// the first batch_size done, in buffers of batch_size rows with the environments' ids. Each result is
+// copied into its rows by the thread that stepped it (AsyncVectorEnv's sink: its number says which batch
+// and row), not one after another in the caller's thread after recv(). Batches go round a ring of buffers,
+// one more than the batches the environments can fill at once, so results done while Python still reads a
+// batch (its environments sent again already) go to other buffers: a batch's arrays stay as they are until
+// the next recv().
 class PyAsyncVectorEnv {
  public:
   PyAsyncVectorEnv(const std::string& map_folder, const std::string& options_path, const std::string& model,
@@ -381,12 +386,23 @@ class PyAsyncVectorEnv {
         makeEnvs(map_folder, options_path, model, urdf_dir, vehicle_dir, num_envs, num_threads), num_threads);
     batch_ = static_cast<std::size_t>(batch_size);
     const std::size_t n = env_->size();
-    out_ = std::make_unique<StepBuffers>(env_->observationSpace(), batch_);
+    for (std::size_t k = 0; k < (n + batch_ - 1) / batch_ + 1; ++k) {
+      ring_.push_back(std::make_unique<StepBuffers>(env_->observationSpace(), batch_));
+      env_ids_.emplace_back(static_cast<py::ssize_t>(batch_));
+      env_id_data_.push_back(env_ids_.back().mutable_data());
+    }
     first_observations_ = std::make_unique<Batch>(env_->observationSpace(), n);
     first_infos_ = std::make_unique<Infos>(n);
-    env_ids_ = py::array_t<std::int64_t>(static_cast<py::ssize_t>(batch_));
     actions_ = std::make_unique<BatchedActions>(env_->actionSpace(), n);
   }
+
+  // The pool's threads first: they finish the jobs queued, and the sink writes into the ring.
+  ~PyAsyncVectorEnv() {
+    py::gil_scoped_release released;
+    env_.reset();
+  }
+  PyAsyncVectorEnv(const PyAsyncVectorEnv&) = delete;
+  PyAsyncVectorEnv& operator=(const PyAsyncVectorEnv&) = delete;
 
   std::size_t numEnvs() const { return env_->size(); }
   std::size_t batchSize() const { return batch_; }
@@ -399,8 +415,17 @@ class PyAsyncVectorEnv {
     {
       py::gil_scoped_release released;
       while (env_->inFlight() > 0) env_->recv(env_->inFlight());  // results nobody asked for: dropped
+      env_->setResultSink(nullptr);
       env_->reset(seed);
       ids = env_->recv(env_->size());
+      // From here on, results fill batches of batch_ in the order they are done.
+      first_number_ = env_->received();
+      env_->setResultSink([this](std::size_t number, const rl::AsyncResult& r) {
+        const std::size_t k = number - first_number_;
+        const std::size_t buffer = (k / batch_) % ring_.size(), row = k % batch_;
+        ring_[buffer]->write(row, r.step, r.final_observation);
+        env_id_data_[buffer][row] = static_cast<std::int64_t>(r.env_id);
+      });
     }
     for (const std::size_t id : ids) {
       first_observations_->write(id, env_->result(id).step.observation);
@@ -423,28 +448,26 @@ class PyAsyncVectorEnv {
   }
 
   py::tuple recv() {
-    std::vector<std::size_t> done;
+    std::size_t buffer = 0;
     {
       py::gil_scoped_release released;
-      done = env_->recv(batch_);
+      buffer = ((env_->received() - first_number_) / batch_) % ring_.size();
+      env_->recv(batch_);  // its rows are written: the sink ran for each result before recv() could return it
     }
-    auto ids = env_ids_.mutable_unchecked<1>();
-    for (std::size_t k = 0; k < done.size(); ++k) {
-      const rl::AsyncResult& r = env_->result(done[k]);
-      out_->write(k, r.step, r.final_observation);
-      ids(k) = static_cast<std::int64_t>(done[k]);
-    }
-    return py::make_tuple(out_->observations->view, out_->rewards, out_->terminations, out_->truncations,
-                          out_->infos->view, out_->final_observations->view, out_->final_mask, env_ids_);
+    const StepBuffers& out = *ring_[buffer];
+    return py::make_tuple(out.observations->view, out.rewards, out.terminations, out.truncations, out.infos->view,
+                          out.final_observations->view, out.final_mask, env_ids_[buffer]);
   }
 
  private:
   std::unique_ptr<rl::AsyncVectorEnv> env_;
   std::size_t batch_ = 1;
-  std::unique_ptr<StepBuffers> out_;
+  std::size_t first_number_ = 0;  // the number of the first result of the first batch since reset()
+  std::vector<std::unique_ptr<StepBuffers>> ring_;
+  std::vector<py::array_t<std::int64_t>> env_ids_;
+  std::vector<std::int64_t*> env_id_data_;
   std::unique_ptr<Batch> first_observations_;
   std::unique_ptr<Infos> first_infos_;
-  py::array_t<std::int64_t> env_ids_;
   std::unique_ptr<BatchedActions> actions_;
 };
 

@@ -8,7 +8,11 @@
 namespace roar::rl {
 
 AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int threads)
-    : envs_(std::move(envs)), slots_(envs_.size()), busy_(envs_.size(), 0) {
+    : envs_(std::move(envs)),
+      slots_(envs_.size()),
+      busy_(envs_.size(), 0),
+      done_ids_(envs_.size(), 0),
+      done_ready_flags_(envs_.size(), 0) {
   if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
   if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
   for (const auto& e : envs_) {
@@ -120,13 +124,29 @@ void AsyncVectorEnv::run(std::size_t env_id) {
   } catch (...) {
     error = std::current_exception();
   }
+  const std::size_t number = next_number_.fetch_add(1, std::memory_order_acq_rel);
+  if (sink_ && !error) sink_(number, result);
   {
     std::lock_guard<std::mutex> lock(done_mutex_);
     if (error && !error_) error_ = error;
-    done_.push_back(env_id);
-    done_count_.store(done_.size(), std::memory_order_release);
+    const std::size_t n = envs_.size();
+    done_ids_[number % n] = env_id;
+    done_ready_flags_[number % n] = 1;
+    std::size_t ready = done_count_.load(std::memory_order_relaxed);
+    while (ready < n && done_ready_flags_[(received_ + ready) % n]) ++ready;
+    done_count_.store(ready, std::memory_order_release);
   }
   done_ready_.notify_one();
+}
+
+void AsyncVectorEnv::setResultSink(ResultSink sink) {
+  if (inFlight() > 0) throw std::logic_error("AsyncVectorEnv::setResultSink: environments are in flight");
+  sink_ = std::move(sink);
+}
+
+std::size_t AsyncVectorEnv::received() const {
+  std::lock_guard<std::mutex> lock(done_mutex_);
+  return received_;
 }
 
 void AsyncVectorEnv::reset(std::uint64_t seed) {
@@ -192,13 +212,16 @@ std::vector<std::size_t> AsyncVectorEnv::recv(std::size_t batch_size) {
   }
   if (spin_) spinFor([&] { return done_count_.load(std::memory_order_acquire) >= batch_size; });
   std::unique_lock<std::mutex> lock(done_mutex_);
-  done_ready_.wait(lock, [&] { return done_.size() >= batch_size; });
+  done_ready_.wait(lock, [&] { return done_count_.load(std::memory_order_relaxed) >= batch_size; });
+  const std::size_t n = envs_.size();
   for (std::size_t k = 0; k < batch_size; ++k) {
-    out.push_back(done_.front());
-    done_.pop_front();
+    const std::size_t at = (received_ + k) % n;
+    out.push_back(done_ids_[at]);
+    done_ready_flags_[at] = 0;
     busy_[out.back()] = 0;
   }
-  done_count_.store(done_.size(), std::memory_order_release);
+  received_ += batch_size;
+  done_count_.store(done_count_.load(std::memory_order_relaxed) - batch_size, std::memory_order_release);
   in_flight_ -= batch_size;
   if (error_) {
     std::exception_ptr e = error_;

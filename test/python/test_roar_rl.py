@@ -1,5 +1,7 @@
 """roar_rl: the C++ vectorised racing environment from Python (no ROS): spaces, determinism, autoreset,
 refused actions."""
+import time
+
 import numpy as np
 import pytest
 
@@ -152,4 +154,27 @@ def test_asynchronous_batches_give_each_environment_the_same_episode():
     with pytest.raises(ValueError, match="environment 0 is still stepping"):
         env.send(full_throttle(1), [0])
     with pytest.raises(ValueError, match="batch_size 2 with 1 environment"):
+        env.recv()
+
+
+def test_a_batch_stays_as_it_is_while_its_environments_step_again():
+    """Each result is copied into its rows by the thread that stepped it, batches going round a ring of
+    buffers: a batch recv() returned is not overwritten by the results done while the learner still reads it,
+    its environments sent again already, and the next batch is other environments' or later steps'."""
+    n = 4
+    env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=n, num_threads=2, batch_size=2)
+    env.reset(seed=3)
+    env.send(full_throttle(n), np.arange(n))
+    seen = set()
+    for _ in range(12):
+        obs, rewards, terminations, truncations, infos = env.recv()
+        kept = [np.array(a) for a in (*flat(obs).values(), rewards, terminations, infos["env_id"], infos["speed"])]
+        env.send(full_throttle(2), np.array(infos["env_id"]))
+        time.sleep(0.05)  # the environments in flight, these two among them, are done meanwhile
+        now = [np.array(a) for a in (*flat(obs).values(), rewards, terminations, infos["env_id"], infos["speed"])]
+        assert all(np.array_equal(a, b) for a, b in zip(kept, now))
+        assert np.allclose(flat(obs)["/speed"][:, 0], infos["speed"])  # each row one environment's
+        seen.update(int(i) for i in infos["env_id"])
+    assert seen == set(range(n))
+    for _ in range(n // 2):
         env.recv()

@@ -235,7 +235,9 @@ TEST(MsgConversion, ACourseCrossesAsACourse) {
   const auto markers = ros_bridge::trackMarkers(course, "map");
   int lines_across = 0;
   for (const auto& m : markers.markers) {
-    if (m.ns == "edges") EXPECT_EQ(m.points.size(), course.size());
+    if (m.ns == "edges") {
+      EXPECT_EQ(m.points.size(), course.size());
+    }
     if (m.ns == "start_finish") ++lines_across;
   }
   EXPECT_EQ(lines_across, 2) << "the start line and the finish line";

@@ -369,6 +369,59 @@ TEST(RlAsyncVectorEnv, WorkersStepTheCallersEnvironmentsWhileItIsAway) {
   EXPECT_EQ(async.recv(4).size(), 4u);
 }
 
+// A result sink copies each result where the caller wants it, on the thread that stepped it, before recv()
+// can return it: results are numbered in the order recv() returns them, batch after batch, each once, and
+// with the caller's thread away the worker's thread copies what it stepped.
+TEST(RlAsyncVectorEnv, ASinkCopiesEachResultBeforeRecvReturnsItNumberedInRecvsOrder) {
+  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+  for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), stateOptions()));
+  rl::AsyncVectorEnv async(std::move(envs), 2);
+  async.reset(5);
+  async.recv(4);
+  const std::size_t first = async.received();
+  EXPECT_EQ(first, 4u);
+  constexpr std::size_t kResults = 4 * 25;
+  std::vector<std::size_t> ids(kResults, 99);
+  std::vector<double> speeds(kResults, -1.0);
+  std::vector<std::thread::id> copiers(kResults);
+  std::vector<int> calls(kResults, 0);
+  async.setResultSink([&](std::size_t number, const rl::AsyncResult& r) {
+    if (number < first || number - first >= kResults) return;  // the misuse check's, at the end
+    ids[number - first] = r.env_id;
+    speeds[number - first] = r.step.observation.at("speed").numbers[0];
+    copiers[number - first] = std::this_thread::get_id();
+    ++calls[number - first];
+  });
+  std::vector<Value> actions;
+  for (std::size_t i = 0; i < 4; ++i) actions.push_back(chase(async.actionSpace(), async.result(i).step.observation));
+  async.send(actions, {0, 1, 2, 3});
+  std::size_t next = 0;
+  bool worker_copied = false;
+  while (next < kResults) {
+    // Away from the pool for a moment now and then: the worker steps (and copies) meanwhile.
+    if (next % 8 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    const std::vector<std::size_t> done = async.recv(2);
+    std::vector<Value> again;
+    for (const std::size_t id : done) {
+      ASSERT_EQ(ids[next], id) << "result " << next << ": recv() returns results in their numbers' order";
+      EXPECT_EQ(speeds[next], async.result(id).step.observation.at("speed").numbers[0]) << "copied before recv()";
+      worker_copied = worker_copied || copiers[next] != std::this_thread::get_id();
+      ++next;
+      again.push_back(chase(async.actionSpace(), async.result(id).step.observation));
+    }
+    if (next + async.inFlight() + done.size() <= kResults) async.send(again, done);
+  }
+  while (async.inFlight() > 0) async.recv(async.inFlight());
+  for (std::size_t k = 0; k < kResults; ++k) EXPECT_EQ(calls[k], 1) << "result " << k;
+  EXPECT_TRUE(worker_copied) << "every result was copied by the caller's thread";
+  EXPECT_NE(test::errorOf([&] {
+              async.send({chase(async.actionSpace(), async.result(0).step.observation)}, {0});
+              async.setResultSink(nullptr);
+            }).find("in flight"),
+            std::string::npos);
+  async.recv(1);
+}
+
 TEST(RlEnv, EveryNumberOfTheOptionsAtEveryExtremeIsRefusedByNameOrStepsFinite) {
   // Property test (issue 17): each number of config/rl/state.yaml set to 0, -1, 1e-30, 1e30, 1e300, NaN
   // and inf in turn: refused naming the key, or an environment whose observations and rewards stay finite

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -62,6 +63,17 @@ class AsyncVectorEnv {
   // grown): valid from the recv() that returned env_id until env_id is sent again.
   const AsyncResult& result(std::size_t env_id) const { return slots_.at(env_id).result; }
 
+  // Results are numbered in the order they are done (0, 1, ... from construction; recv() returns them in
+  // that order, batch after batch). A sink is called by the thread that stepped an environment, with its
+  // result's number, once the result is in its slot and before recv() can return it: it copies the result
+  // where the caller wants it (rows of a batch known from the number) in parallel, on the threads that
+  // stepped, instead of one after another in the caller's thread after recv(). Not for a result whose step
+  // threw. Set while nothing is in flight; empty: none.
+  using ResultSink = std::function<void(std::size_t number, const AsyncResult& result)>;
+  void setResultSink(ResultSink sink);
+  // The number of the next result recv() returns (every earlier one has been received).
+  std::size_t received() const;
+
  private:
   // Per environment, on cache lines of its own: the action sent and the result, touched by the caller's
   // thread while the environment is idle and by the thread stepping it while it is in flight.
@@ -88,10 +100,16 @@ class AsyncVectorEnv {
   std::vector<std::thread> threads_;
   std::vector<Slot> slots_;
   std::vector<char> busy_;  // per environment, touched by the caller's thread only
+  ResultSink sink_;
   mutable std::mutex done_mutex_;
   std::condition_variable done_ready_;
-  std::deque<std::size_t> done_;            // environment ids
-  std::atomic<std::size_t> done_count_{0};  // done_.size(), read without the lock by recv() spinning
+  // Results by number, a ring of one per environment (no more are ever done and not yet received): the
+  // environment's id and whether it is ready (in its slot, through the sink).
+  std::atomic<std::size_t> next_number_{0};
+  std::vector<std::size_t> done_ids_;
+  std::vector<char> done_ready_flags_;
+  std::size_t received_ = 0;                // numbers received, guarded by done_mutex_
+  std::atomic<std::size_t> done_count_{0};  // results ready from received_ on without a gap, read without the lock
   std::exception_ptr error_;
   std::size_t in_flight_ = 0;
   std::atomic<bool> stopping_{false};
