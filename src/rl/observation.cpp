@@ -92,6 +92,7 @@ void validate(const ObservationOptions& o) {
 ObservationBuilder::ObservationBuilder(const track::Track& track, const ObservationOptions& options, double gravity)
     : track_(&track), options_(options), gravity_(gravity) {
   space_ = observationSpace(options_);
+  for (double d : options_.waypoint_distances) waypoint_keys_.push_back(waypointKey(d));
   if (options_.camera.width > 0) {
     sensors::CameraSpec spec;
     spec.fov_deg = options_.camera.fov_deg;
@@ -142,10 +143,10 @@ void ObservationBuilder::observeInto(const sim::VehicleState& state, const track
     const double c = std::cos(yaw), s = std::sin(yaw);
     const Eigen::Vector2d at = state.pose.position.head<2>();
     Value& waypoints = obs.at("waypoints_information");
-    for (double d : o.waypoint_distances) {
-      const track::TrackPose p = track_->poseAt(where.s + d);
+    for (std::size_t k = 0; k < o.waypoint_distances.size(); ++k) {
+      const track::TrackPose p = track_->poseAt(where.s + o.waypoint_distances[k]);
       const Eigen::Vector2d delta = p.position - at;
-      waypoints.at(waypointKey(d))
+      waypoints.at(waypoint_keys_[k])
           .numbers.assign({c * delta.x() + s * delta.y(), -s * delta.x() + c * delta.y(),
                            track::wrapAngle(p.heading - yaw), p.width_left + p.width_right});
     }

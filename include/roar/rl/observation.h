@@ -90,6 +90,7 @@ class ObservationBuilder {
   Space space_;
   std::unique_ptr<sensors::CameraRenderer> camera_;
   std::vector<Eigen::Vector3f> lidar_dirs_;  // base_link frame
+  std::vector<std::string> waypoint_keys_;   // waypointKey of each distance, formatted once
 };
 
 }  // namespace roar::rl
