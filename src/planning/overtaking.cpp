@@ -367,17 +367,19 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
   std::vector<Prediction> predicted;
   for (const auto& o : others) predicted.push_back(predict(o, s));
-  auto& shown = predictions_[car];
-  shown.clear();
-  for (std::size_t i = 0; options_.keep_predictions && i < others.size(); ++i) {
-    PredictedPath path{others[i].name, kShownPredictionStep, {}};
-    for (double t = 0.0; t <= options_.horizon + 1e-9; t += kShownPredictionStep) {
+  if (options_.keep_predictions) {
+    auto& shown = predictions_[car];
+    shown.clear();
+    for (std::size_t i = 0; i < others.size(); ++i) {
+      PredictedPath path{others[i].name, kShownPredictionStep, {}};
       const Prediction& p = predicted[i];
-      const TrajectoryPoint on_line = sampleAt(line_, p.s + (p.at(t) - p.ahead.front()));
-      path.positions.push_back(on_line.position +
-                               lateralAt(p, t) * Eigen::Vector2d(-std::sin(on_line.yaw), std::cos(on_line.yaw)));
+      for (double t = 0.0; t <= options_.horizon + 1e-9; t += kShownPredictionStep) {
+        const TrajectoryPoint on_line = sampleAt(line_, p.s + (p.at(t) - p.ahead.front()));
+        path.positions.push_back(on_line.position +
+                                 lateralAt(p, t) * Eigen::Vector2d(-std::sin(on_line.yaw), std::cos(on_line.yaw)));
+      }
+      shown.push_back(std::move(path));
     }
-    shown.push_back(std::move(path));
   }
   const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
   // In the leader's slipstream a pass is planned with the speed the tow gives (and carries out of it).
