@@ -13,4 +13,12 @@ inline double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The arithmetic mean; NaN for none.
+inline double mean(const std::vector<double>& v) {
+  if (v.empty()) return std::nan("");
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+
 }  // namespace roar::bench

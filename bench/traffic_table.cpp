@@ -80,13 +80,6 @@ struct Totals {
   }
 };
 
-double mean(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  double s = 0.0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
   std::printf(
