@@ -64,7 +64,7 @@ void orderByPace(Field* f) {
 
 struct Totals {
   int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
-  int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0;
+  int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0, given_up = 0;
   std::vector<double> catch_to_pass, passing_share, lap_loss;
   double traffic_time = 0.0, race_seconds = 0.0;
 
@@ -72,7 +72,7 @@ struct Totals {
     races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
     contacts += t.contacts, at_fault += t.at_fault, track_limits += t.track_limits, barrier += t.barrier;
     pace_order += t.pace_order, pace_order_races += t.pace_order_races, late_passes += t.late_passes;
-    defences += t.defences;
+    defences += t.defences, given_up += t.given_up;
     traffic_time += t.traffic_time, race_seconds += t.race_seconds;
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
@@ -83,9 +83,9 @@ struct Totals {
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
   std::printf(
-      "%-14s %-13s %5d %8d %9d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s %7.2f\n", circuit.c_str(), kind.c_str(),
-      t.races, t.attempts, t.completed, t.aborted, rate, median(t.catch_to_pass), 100.0 * mean(t.passing_share),
-      t.contacts, t.at_fault, t.track_limits, t.late_passes,
+      "%-14s %-13s %5d %8d %9d %7d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s %7.2f\n", circuit.c_str(), kind.c_str(),
+      t.races, t.attempts, t.completed, t.aborted, t.given_up, rate, median(t.catch_to_pass),
+      100.0 * mean(t.passing_share), t.contacts, t.at_fault, t.track_limits, t.late_passes,
       t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-",
       mean(t.lap_loss));
 }
@@ -103,9 +103,9 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
       "lockstep, in one process\n",
       laps, seeds);
-  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %9s %8s %8s %8s %7s %8s %9s %7s\n", "circuit", "field", "races",
-              "attempts", "completed", "aborted", "rate_%", "catch_s", "speed_%", "contacts", "at_fault", "limits",
-              "late", "in_order", "loss_s");
+  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %7s %9s %8s %8s %8s %7s %8s %9s %7s\n", "circuit", "field", "races",
+              "attempts", "completed", "aborted", "gave_up", "rate_%", "catch_s", "speed_%", "contacts", "at_fault",
+              "limits", "late", "in_order", "loss_s");
   Totals all;
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
@@ -192,6 +192,13 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
                         p.side > 0 ? "left" : "right", p.caught_time, p.start_time, p.end_time, 100 * share);
           }
         }
+        t.given_up += static_cast<int>(r.given_up_before_alongside.size());
+        for (const auto& p : r.given_up_before_alongside) {
+          if (!verbose) break;
+          std::printf("  %s seed %d: %s gave up a pass on %s on the %s before drawing alongside, %.1f-%.1f s\n",
+                      map.c_str(), seed, p.passer.c_str(), p.passed.c_str(), p.side > 0 ? "left" : "right",
+                      p.start_time, p.end_time);
+        }
         t.contacts += static_cast<int>(r.contacts.size());
         for (const auto& c : r.contacts) {
           if (!c.at_fault.empty()) ++t.at_fault;
@@ -215,10 +222,12 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
   printRow("all", "", all);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::printf(
-      "columns: passes attempted, completed and aborted; rate_%% completed/attempted; catch_s median time from\n"
-      "catching a car to completing the pass; speed_%% mean passing speed against the passer's free-air speed at\n"
-      "the same place; contacts between cars (at_fault: with a car at fault); limits: track-limit excursions;\n"
-      "late: passes completed more than a lap after catching; in_order: reverse-grid races finished in pace order;\n"
+      "columns: passes attempted (the passer drawn alongside), completed and aborted; gave_up: passes begun and\n"
+      "given up before drawing alongside (pulled out and back in: not attempts); rate_%% completed/attempted;\n"
+      "catch_s median time from catching a car to completing the pass; speed_%% mean passing speed against the\n"
+      "passer's free-air speed at the same place; contacts between cars (at_fault: with a car at fault); limits:\n"
+      "track-limit excursions; late: passes completed more than a lap after catching; in_order: reverse-grid\n"
+      "races finished in pace order;\n"
       "loss_s: seconds a lap a car lost in traffic, against the same car alone from its grid slot (mean of the cars).\n"
       "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n",
       all.race_seconds, wall, all.barrier, all.defences);

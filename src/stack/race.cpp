@@ -116,8 +116,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
 
   // A pass attempt is the car going alongside another in a pass (its nose past the other's tail); it is
   // completed when the passer is clear ahead, aborted when it drops back behind. Pulling out and thinking
-  // better of it before drawing alongside is not an attempt, but its time and speeds count towards the
-  // attempt that follows.
+  // better of it before drawing alongside is not an attempt: it is recorded apart (given_up_before_alongside).
+  // A pass that goes on to draw alongside counts its time and speeds from pulling out.
   const double car_length = vehicle.chassis.box_size.x();
   auto gapAhead = [&](const std::string& a, const std::string& b) {  // a ahead of b (m, along the line)
     return planning::aheadOnLap(field.onLine(a).s, field.onLine(b).s, planning::lapLength(line));
@@ -138,6 +138,14 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       states[e.spec.name] = state;
     }
     const double now = world.time();
+    // A pass given up before drawing alongside (or turned to another car) is kept apart from the attempts.
+    auto giveUp = [&](Entrant& e) {
+      if (e.moving_out.passer.empty()) return;
+      e.moving_out.end_time = now;
+      e.moving_out.samples.clear();
+      result.given_up_before_alongside.push_back(std::move(e.moving_out));
+      e.moving_out = PassAttempt{};
+    };
     for (auto& e : entrants) {
       const std::string& name = e.spec.name;
       const sim::VehicleState& state = states[name];
@@ -157,7 +165,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       }
       if (passing && e.open_pass < 0) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
-          e.moving_out = PassAttempt{};
+          giveUp(e);
           e.moving_out.passer = name;
           e.moving_out.passed = d.other;
           e.moving_out.caught_time = e.engaged_since;
@@ -170,7 +178,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
           e.open_pass = static_cast<long>(result.passes.size()) - 1;
         }
       } else if (!passing) {
-        e.moving_out = PassAttempt{};
+        giveUp(e);
       }
       const double s_line = field.onLine(name).s;
       if (options.on_tick)

@@ -184,6 +184,68 @@ TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
   EXPECT_GT(passes_begun, 0);
 }
 
+// A pass the planner begins and gives up before the passer draws alongside is no attempt, but it is not lost
+// either: it is recorded apart, from the tick the pass was chosen to the tick it was not. Each record is such
+// a run of pass decisions; every run in which the passer stayed well behind the car (by more than a car's
+// length and a metre) is one.
+TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
+  stack::RaceOptions options;
+  options.field.overtaking = true;
+  options.laps = 1;
+  struct Run {
+    std::string passer, passed;
+    double start = 0.0, end = -1.0;
+    double closest = 1e9;  // m the passed car was ahead of the passer at the least
+  };
+  std::vector<Run> runs;
+  std::map<std::string, long> open;  // the run under way per car (index into runs)
+  std::map<std::string, double> s_of;
+  const double L = sprint().track.length();
+  options.on_tick = [&](const stack::RaceTick& tick) {
+    const std::string& car = *tick.car;
+    s_of[car] = tick.on_line.s;
+    const auto& d = tick.decision;
+    auto it = open.find(car);
+    if (it != open.end() && (d.mode != RaceMode::kPass || d.other != runs[it->second].passed)) {
+      runs[it->second].end = tick.time;
+      open.erase(it);
+      it = open.end();
+    }
+    if (d.mode != RaceMode::kPass) return;
+    if (it == open.end()) {
+      runs.push_back({car, d.other, tick.time});
+      it = open.emplace(car, static_cast<long>(runs.size()) - 1).first;
+    }
+    double ahead = s_of.at(d.other) - tick.on_line.s;
+    ahead -= std::round(ahead / L) * L;
+    runs[it->second].closest = std::min(runs[it->second].closest, ahead);
+  };
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const double well_behind = sprint().vehicle.chassis.box_size.x() + 1.0;
+  int surely_given_up = 0;
+  for (const auto& run : runs) surely_given_up += run.end >= 0.0 && run.closest > well_behind;
+  EXPECT_GT(surely_given_up, 0) << "no pass given up before alongside in this race: nothing tested";
+  EXPECT_GE(static_cast<int>(r.given_up_before_alongside.size()), surely_given_up);
+  for (const auto& g : r.given_up_before_alongside) {
+    bool matched = false;
+    for (const auto& run : runs) {
+      // (A run may hold an attempt and, once that has closed, a pass given up: that one begins within it.)
+      matched = matched || (run.passer == g.passer && run.passed == g.passed && run.start <= g.start_time &&
+                            run.end == g.end_time);
+    }
+    EXPECT_TRUE(matched) << g.passer << " on " << g.passed << " " << g.start_time << "-" << g.end_time
+                         << ": no run of pass decisions from then to then";
+    EXPECT_FALSE(g.completed);
+    EXPECT_TRUE(g.samples.empty());
+  }
+  for (const auto& pass : r.passes) {
+    for (const auto& g : r.given_up_before_alongside) {
+      EXPECT_FALSE(g.passer == pass.passer && g.start_time == pass.start_time)
+          << "the pass from " << pass.start_time << " s is an attempt and given up both";
+    }
+  }
+}
+
 TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   stack::RaceOptions options;
   options.laps = 1;

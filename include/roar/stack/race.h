@@ -81,6 +81,9 @@ struct RaceCarResult {
 struct RaceResult {
   std::vector<RaceCarResult> cars;  // in finishing order
   std::vector<PassAttempt> passes;
+  // Passes the planner began and gave up before the passer drew alongside (or turned to another car):
+  // pulled out and back in, not attempts. Without samples.
+  std::vector<PassAttempt> given_up_before_alongside;
   std::vector<race::Overtake> overtakes;
   std::vector<CarContactRecord> contacts;
   double sim_time = 0.0;
