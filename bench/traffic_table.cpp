@@ -193,11 +193,12 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
           }
         }
         t.given_up += static_cast<int>(r.given_up_before_alongside.size());
-        for (const auto& p : r.given_up_before_alongside) {
-          if (!verbose) break;
-          std::printf("  %s seed %d: %s gave up a pass on %s on the %s before drawing alongside, %.1f-%.1f s\n",
-                      map.c_str(), seed, p.passer.c_str(), p.passed.c_str(), p.side > 0 ? "left" : "right",
-                      p.start_time, p.end_time);
+        if (verbose) {
+          for (const auto& p : r.given_up_before_alongside) {
+            std::printf("  %s seed %d: %s gave up a pass on %s on the %s before drawing alongside, %.1f-%.1f s\n",
+                        map.c_str(), seed, p.passer.c_str(), p.passed.c_str(), p.side > 0 ? "left" : "right",
+                        p.start_time, p.end_time);
+          }
         }
         t.contacts += static_cast<int>(r.contacts.size());
         for (const auto& c : r.contacts) {
