@@ -142,7 +142,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     auto giveUp = [&](Entrant& e) {
       if (e.moving_out.passer.empty()) return;
       e.moving_out.end_time = now;
-      e.moving_out.samples.clear();
+      e.moving_out.samples = {};  // its memory too (clear() keeps it): a race keeps hundreds of these
       result.given_up_before_alongside.push_back(std::move(e.moving_out));
       e.moving_out = PassAttempt{};
     };
