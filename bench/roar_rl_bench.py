@@ -2,10 +2,12 @@
 """Steps per second of roar_rl.VectorEnv from Python, against the C++ VectorEnv (roar_bench's RlEnvSteps,
 run here in the same session) and against N single-thread processes, for 1..N threads: the environment
 roar_bench times (Roar Sprint, config/rl/state.yaml, or that plus an 84x84 RGB camera; the car chases the
-waypoint 10 m ahead; one environment on one thread, two a thread beyond). The synchronous Python figure is
-given twice: the whole loop, and the module's step alone (the agent's numpy chase timed and taken out).
+waypoint 10 m ahead; one environment on one thread, --envs-per-thread a thread beyond, two by default: the
+C++ figure, roar_bench's two a thread, is compared only then and printed nan otherwise).
+The synchronous Python figure is given twice: the whole loop, and the module's step alone (the agent's numpy
+chase timed and taken out).
 
-    /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N] [--repeats R]
+    /usr/bin/python3 bench/roar_rl_bench.py [--seconds S] [--max-threads N] [--repeats R] [--envs-per-thread E]
 """
 import argparse
 import multiprocessing
@@ -124,22 +126,30 @@ if __name__ == "__main__":
     parser.add_argument("--max-threads", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--repeats", type=int, default=3,
                         help="rounds of the four measurements, taken in turn; medians are printed")
+    parser.add_argument("--envs-per-thread", type=int, default=2,
+                        help="environments a thread beyond one thread, in the pools and in each process alike "
+                             "(roar_rl_ppo.py trains with 8 environments on 2 threads: 4)")
     args = parser.parse_args()
+    if args.envs_per_thread < 1:
+        parser.error(f"--envs-per-thread {args.envs_per_thread}: at least 1")
+    per_thread = args.envs_per_thread
     for camera in (False, True):
         options = options_file(camera)
         name = "camera" if camera else "state"
         for threads in range(1, args.max_threads + 1):
-            envs = 1 if threads == 1 else 2 * threads
-            # Asynchronous: two environments a thread, half of them a batch (the caller's Python works on one
-            # batch while the other threads step the rest).
-            async_envs = 2 * threads
+            envs = 1 if threads == 1 else per_thread * threads
+            # Asynchronous: per_thread environments a thread, half of them a batch (the caller's Python works on
+            # one batch while the other threads step the rest).
+            async_envs = per_thread * threads
+            # roar_bench's RlEnvSteps steps two environments a thread: the Python / C++ column only for that.
+            compared = threads == 1 or per_thread == 2
             rounds = []
             # In turn, round after round, so that a slow spell of the machine falls on all four alike; each
             # ratio is the median of the rounds' own.
             for _ in range(args.repeats):
-                cpp = cpp_rate(camera, threads, args.seconds)
+                cpp = cpp_rate(camera, threads, args.seconds) if compared else float("nan")
                 py, module = python_rates(options, envs, threads, args.seconds)
-                procs = processes_rate(options, threads, 1 if threads == 1 else 2, args.seconds)
+                procs = processes_rate(options, threads, 1 if threads == 1 else per_thread, args.seconds)
                 asynchronous = async_rate(options, async_envs, threads, args.seconds)
                 rounds.append((cpp, py, procs, asynchronous, module))
             cpp, py, procs, asynchronous, module = (median([r[k] for r in rounds]) for k in range(5))
@@ -149,5 +159,5 @@ if __name__ == "__main__":
             async_procs = median([r[3] / r[2] for r in rounds])
             print(f"{name:6s} {threads:2d} thread(s) {envs:2d} env(s): Python {py:8.0f} steps/s, C++ {cpp:8.0f} "
                   f"({py_cpp:4.2f}; the module's step alone {module:8.0f}, {module_cpp:4.2f}); {threads} single-thread Python process(es) {procs:8.0f} ({py_procs:4.2f}); "
-                  f"asynchronous, {async_envs} envs in batches of {threads}: {asynchronous:8.0f} "
+                  f"asynchronous, {async_envs} envs in batches of {max(1, async_envs // 2)}: {asynchronous:8.0f} "
                   f"({async_procs:4.2f}); medians of {args.repeats} rounds", flush=True)
