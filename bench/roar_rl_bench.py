@@ -3,7 +3,8 @@
 run here in the same session) and against N single-thread processes, for 1..N threads: the environment
 roar_bench times (Roar Sprint, config/rl/state.yaml, or that plus an 84x84 RGB camera; the car chases the
 waypoint 10 m ahead; one environment on one thread, --envs-per-thread a thread beyond, two by default: the
-C++ figure, roar_bench's two a thread, is compared only then and printed nan otherwise).
+C++ figure, roar_bench's two a thread, is compared only then and at one thread, where both step one
+environment; printed nan otherwise).
 The synchronous Python figure is given twice: the whole loop, and the module's step alone (the agent's numpy
 chase timed and taken out).
 
