@@ -60,6 +60,33 @@ def wait_for_bag(output_dir, since):
     return path if os.path.exists(path) and os.path.getmtime(path) > since else None
 
 
+class RaceStandings:
+    """The standings race_control last published on /race_status (none before the first)."""
+
+    def __init__(self):
+        self.status = None
+        rospy.Subscriber("/race_status", RaceStatus, self._on_status, queue_size=1)
+
+    def _on_status(self, msg):
+        self.status = msg
+
+    def laps_of(self, car):
+        """The laps race_control has counted for `car` (0 before it has said)."""
+        for standing in self.status.cars if self.status else []:
+            if standing.name == car:
+                return standing.laps_completed
+        return 0
+
+    def wait_for_laps(self, car, laps, wall_seconds):
+        """Whether race_control counted `laps` laps of `car` within wall_seconds."""
+        deadline = time.time() + wall_seconds
+        while self.laps_of(car) < laps:
+            if time.time() > deadline or rospy.is_shutdown():
+                return False
+            time.sleep(0.05)
+        return True
+
+
 class SimClock:
     """The simulated time /clock last gave (0 before the first tick)."""
 
