@@ -397,7 +397,8 @@ bool queryGraph(GraphState* graph) {
 }  // namespace
 
 std::string SimNode::notReadyToStart() const {
-  if (options_.wait_for_recorders.empty() && !options_.wait_for_drivers) return "";
+  if (options_.wait_for_recorders.empty() && options_.wait_for_listeners.empty() && !options_.wait_for_drivers)
+    return "";
   GraphState graph;
   if (!queryGraph(&graph)) return "the ROS master";
   auto& subscribers = graph.subscribers;
@@ -416,6 +417,14 @@ std::string SimNode::notReadyToStart() const {
     const auto sub = recorded_subs_.find(node);
     if (sub != recorded_subs_.end() && graph.publishers[progress].count(node) && sub->second.getNumPublishers() == 0) {
       return "the link to " + progress;
+    }
+  }
+  for (const auto& listener : options_.wait_for_listeners) {
+    const std::string node = ros::names::resolve(listener);
+    std::vector<std::string> heard = {ros::names::resolve("/clock")};
+    for (const auto& [name, io] : io_) heard.push_back(nh_.resolveName(name + "/odom"));
+    for (const auto& topic : heard) {
+      if (!subscribers[topic].count(node)) return "the listener " + node + " on " + topic;
     }
   }
   if (options_.wait_for_drivers) {

@@ -86,7 +86,8 @@ class SimNode {
   // every node on /roar_sim/map.
   void loadMap(const std::string& folder, const std::string& reason);
   void publishMapInfo(const std::string& reason);
-  // What the first tick still waits for (empty: nothing): ~wait_for_recorders and ~wait_for_drivers.
+  // What the first tick still waits for (empty: nothing): ~wait_for_recorders, ~wait_for_listeners and
+  // ~wait_for_drivers.
   std::string notReadyToStart() const;
   // Async and lockstep: no faster than real_time_factor (0: as fast as possible), measured from the last
   // change of pace (start, map load, stepping change).

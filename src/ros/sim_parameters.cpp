@@ -36,6 +36,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   o.lockstep_timeout = readDouble(nh, "lockstep_timeout", o.lockstep_timeout, 0.01, 3600.0);
   o.start_wait = readDouble(nh, "start_wait", o.start_wait, 0.0, 600.0);
   o.wait_for_recorders = readStringList(nh, "wait_for_recorders", {});
+  o.wait_for_listeners = readStringList(nh, "wait_for_listeners", {});
   o.wait_for_drivers = readBool(nh, "wait_for_drivers", o.wait_for_drivers);
   for (const auto& car : readRaceCars(nh, scenario, o.default_model)) {
     VehicleSpawn spawn;

@@ -43,6 +43,9 @@ struct SimNodeOptions {
   // Nodes (rosbag recorders) that must subscribe to /clock and every car's odom, vehicle_status and
   // control before the first tick, so a recording starts at tick 0.
   std::vector<std::string> wait_for_recorders;
+  // Nodes that must subscribe to /clock and every car's odom before the first tick (race_control), so that
+  // they see the race from its start: a node that came late began its race at the tick it first heard.
+  std::vector<std::string> wait_for_listeners;
   // Lockstep: before the first tick, wait for a driver of every driven car (a publisher on its control
   // topic) and for every subscriber of its odometry to connect, so a race starts alike every time: a
   // driver that came late missed the first tick and its car stood still until lockstep_timeout.
