@@ -19,9 +19,8 @@ from race_checker import RaceStandings, wait_for_results  # noqa: E402
 
 class SimKilled(unittest.TestCase):
     def test_a_killed_simulator_gives_an_aborted_race(self):
-        # race_control's own count, not the simulated time: until the stack's nodes are up, nobody holds the
-        # lockstep clock back (once it was at 70 s with 27 s of race behind it), and the lap to be kept is one
-        # race_control has counted.
+        # race_control's own count, not the simulated time (once the clock said 70 s with 27 s of race behind
+        # it: race_control had come up after the drivers): the lap to be kept is one race_control counted.
         standings = RaceStandings()
         self.assertTrue(standings.wait_for_laps("ego", 1, 150), "race_control counted ego's first lap")
         uri = rosgraph.Master("/sim_killed_checker").lookupNode("/roar_sim")
