@@ -60,6 +60,16 @@ def wait_for_bag(output_dir, since):
     return path if os.path.exists(path) and os.path.getmtime(path) > since else None
 
 
+def wait_for(condition, wall_seconds):
+    """Whether condition() came true within wall_seconds (polled; false at once when the node shuts down)."""
+    deadline = time.time() + wall_seconds
+    while not condition():
+        if time.time() > deadline or rospy.is_shutdown():
+            return False
+        time.sleep(0.05)
+    return True
+
+
 class RaceStandings:
     """The standings race_control last published on /race_status (none before the first)."""
 
@@ -79,12 +89,7 @@ class RaceStandings:
 
     def wait_for_laps(self, car, laps, wall_seconds):
         """Whether race_control counted `laps` laps of `car` within wall_seconds."""
-        deadline = time.time() + wall_seconds
-        while self.laps_of(car) < laps:
-            if time.time() > deadline or rospy.is_shutdown():
-                return False
-            time.sleep(0.05)
-        return True
+        return wait_for(lambda: self.laps_of(car) >= laps, wall_seconds)
 
 
 class SimClock:
@@ -99,12 +104,7 @@ class SimClock:
 
     def wait_until(self, t, wall_seconds):
         """Whether simulated time reached t within wall_seconds."""
-        deadline = time.time() + wall_seconds
-        while self.now < t:
-            if time.time() > deadline:
-                return False
-            time.sleep(0.05)
-        return True
+        return wait_for(lambda: self.now >= t, wall_seconds)
 
 
 class RaceResults(unittest.TestCase):
