@@ -125,6 +125,39 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
   EXPECT_GE(std::abs(at.offset - planning::sampleAt(f.line, s + 80.0).offset), o.car_width + o.lateral_margin - 1e-6);
 }
 
+// offline_grip is for moving across the line: a pass that holds a steady offset through a corner is a line
+// of its own, planned on all the grip; where it moves across, no faster than offline_grip allows there.
+TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesAcross) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::VehicleLimits offline = f.limits;
+  offline.friction *= o.offline_grip;
+  int steady_above_offline = 0, moving_checked = 0, passes = 0;
+  for (double s = 0.0; s < f.line.length; s += 20.0) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+    const double v = planning::sampleAt(f.line, s).speed;
+    const planning::TrafficCar slow{"slow", s + 25.0, 0.0, 0.5 * v};
+    const auto window = planner.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
+    if (planner.decision("ego").mode != RaceMode::kPass) continue;
+    ++passes;
+    const auto& pts = window.points;
+    auto across = [&](std::size_t k) { return pts[k].offset - planning::sampleAt(f.line, pts[k].s).offset; };
+    for (std::size_t k = 1; k + 1 < pts.size(); ++k) {
+      const double d = across(k);
+      const double slope = std::abs(across(k + 1) - across(k - 1)) / (pts[k + 1].s - pts[k - 1].s);
+      const double offline_limit = offline.corneringSpeed(std::abs(pts[k].curvature));
+      if (std::abs(d) > 0.05 && slope > 0.006) {
+        ++moving_checked;
+        EXPECT_LE(pts[k].speed, offline_limit + 1e-6) << "moving across the line at s = " << pts[k].s;
+      }
+      if (std::abs(d) > 1.0 && slope < 0.001 && pts[k].speed > offline_limit + 0.5) ++steady_above_offline;
+    }
+  }
+  EXPECT_GT(passes, 10);
+  EXPECT_GT(moving_checked, 100);
+  EXPECT_GT(steady_above_offline, 0) << "no pass held its offset through a corner faster than offline_grip allows";
+}
+
 TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   // The cut-in: a pass on the slow car's side is under way; the slow car starts moving across towards that
   // side. The passer falls in behind at the next plan (no plans of doubt), and starts no pass on that

@@ -63,7 +63,9 @@ struct OvertakeOptions {
   double guard_lateral = 0.4;    // m
   double guard_time = 0.25;      // s
   double max_pass_offset = 5.0;  // m from the racing line a pass may go
-  double offline_grip = 0.8;  // share of the plan's grip a path off the racing line is planned with where it is off it
+  // Share of the plan's grip a path off the racing line is planned with: a pass where it moves across the
+  // line (a steady offset is a line of its own, on all the grip), any other move wherever it is off it.
+  double offline_grip = 0.8;
   // s over which a car without a plan to go by is predicted to go on moving sideways as it is.
   double lateral_lookahead = 1.0;
   // m a car may be off its own last plan (sideways) for that plan to be taken as its prediction.
