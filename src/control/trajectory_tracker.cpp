@@ -16,7 +16,7 @@ void check(const TrackerOptions& o) {
     if (!(v > 0) || !std::isfinite(v))
       throw std::invalid_argument("trajectory tracker: lengths, angles and gains must be positive");
   }
-  for (double v : {o.lookahead_time, o.yaw_rate_gain, o.speed_preview, o.max_speed}) {
+  for (double v : {o.lookahead_time, o.yaw_rate_gain, o.speed_preview, o.max_speed, o.max_distance}) {
     if (!(v >= 0) || !std::isfinite(v))
       throw std::invalid_argument("trajectory tracker: times, damping and caps must not be negative");
   }
@@ -71,6 +71,12 @@ sim::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
   hint_ = static_cast<long>(projection.segment);
   progress_ = projection.s;
   lateral_error_ = projection.lateral;
+  distance_ = (planning::sampleAt(trajectory_, projection.s).position - in.position).norm();
+  if (tooFar()) {
+    target_speed_ = 0.0;
+    control.brake = 1.0;
+    return control;
+  }
   const double speed = std::max(0.0, in.speed);
 
   control.steer = std::clamp(steeringAngle(in, projection.s, speed) / options_.max_steer_angle, -1.0, 1.0);

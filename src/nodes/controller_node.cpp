@@ -159,6 +159,13 @@ class Driver {
     in.speed = odom.twist.twist.linear.x;
     in.yaw_rate = odom.twist.twist.angular.z;
     roar_ros::VehicleControl msg = ros_bridge::toMessage(tracker_.update(in));
+    if (tracker_.tooFar()) {
+      ROAR_WARN_WALL_THROTTLE(5.0,
+                              "controller: '%s' is %.1f m from its trajectory on %s (more than %.1f m: a window of "
+                              "another map, or of a car elsewhere): braking until one near it comes",
+                              car_.name.c_str(), tracker_.distance(), trajectory_sub_.getTopic().c_str(),
+                              tracker_.options().max_distance);
+    }
     msg.header.stamp = odom.header.stamp;
     control_pub_.publish(msg);
     pairing_.answered();

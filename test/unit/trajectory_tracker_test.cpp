@@ -103,6 +103,27 @@ TEST(TrajectoryTracker, BrakesWithoutATrajectoryAndKeepsTheOldOneOnBadInput) {
   EXPECT_TRUE(std::isfinite(c.steer));
 }
 
+// A trajectory somewhere else (a window of the map before a switch) is not steered at: the car brakes.
+TEST(TrajectoryTracker, BrakesRatherThanSteerAtATrajectoryFarFromTheCar) {
+  const auto car = test::sedan();
+  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  tracker.setTrajectory(
+      constantSpeed(200.0, 20.0, false, [](double s, planning::TrajectoryPoint* p) { p->position = {s, 0.0}; }));
+  const auto near = tracker.update({{10, 5}, 0, 10.0, 0});
+  EXPECT_FALSE(tracker.tooFar());
+  EXPECT_GT(near.throttle, 0.5) << "5 m beside the line: driven back to it";
+  const auto far = tracker.update({{10, 40}, 0, 10.0, 0});
+  EXPECT_TRUE(tracker.tooFar());
+  EXPECT_NEAR(tracker.distance(), 40.0, 1e-6);
+  EXPECT_EQ(far.brake, 1.0);
+  EXPECT_EQ(far.throttle, 0.0);
+  EXPECT_EQ(far.steer, 0.0);
+  auto options = tracker.options();
+  options.max_distance = 0.0;
+  tracker.setOptions(options);
+  EXPECT_GT(tracker.update({{10, 40}, 0, 10.0, 0}).throttle, 0.5) << "max_distance 0: no limit";
+}
+
 // Every shipped circuit, with either lateral controller: the whole stack (planner's line and profile,
 // tracker) drives clean flying laps within 3% of what the profile promises, on the road all the way.
 TEST(TimeTrial, EveryShippedCircuitIsRacedCleanCloseToThePromisedLap) {

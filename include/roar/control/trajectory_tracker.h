@@ -31,6 +31,10 @@ struct TrackerOptions {
   double speed_gain = 1.0;     // throttle or brake per m/s of speed error
   double speed_preview = 0.1;  // s: the profile is read this far ahead to cover the car's response
   double max_speed = 0.0;      // m/s cap on the profile; 0: none
+  // m: a car further than this from its trajectory is braked to a stop rather than steered at it (a window
+  // of the map before a switch, or of a car somewhere else); 0: never. Wider than any road, so that a car
+  // that has left the road is still brought back.
+  double max_distance = 15.0;
 };
 
 struct TrackerInput {
@@ -56,6 +60,10 @@ class TrajectoryTracker {
   double lateralError() const { return lateral_error_; }  // m, positive: the car is left of the line
   double targetSpeed() const { return target_speed_; }
   double progress() const { return progress_; }  // s on the trajectory
+  // m from the car to the nearest point of its trajectory at the last update; beyond max_distance the
+  // update braked.
+  double distance() const { return distance_; }
+  bool tooFar() const { return options_.max_distance > 0 && distance_ > options_.max_distance; }
 
   const TrackerOptions& options() const { return options_; }
   void setOptions(const TrackerOptions& options);
@@ -67,7 +75,7 @@ class TrajectoryTracker {
   planning::VehicleLimits limits_;
   planning::Trajectory trajectory_;
   long hint_ = -1;
-  double lateral_error_ = 0.0, target_speed_ = 0.0, progress_ = 0.0;
+  double lateral_error_ = 0.0, target_speed_ = 0.0, progress_ = 0.0, distance_ = 0.0;
 };
 
 }  // namespace roar::control
