@@ -133,8 +133,7 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   field.overtaking = true;
   stack::RaceOptions options;
   options.field = field;
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "ego");
   EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
@@ -252,8 +251,7 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   stack::RaceOptions options;
   options.laps = 1;
   options.field.overtaking = false;
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "pace");
   EXPECT_TRUE(r.overtakes.empty());
