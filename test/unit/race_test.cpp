@@ -133,7 +133,8 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   field.overtaking = true;
   stack::RaceOptions options;
   options.field = field;
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const auto r =
+      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "ego");
   EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
@@ -251,7 +252,8 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   stack::RaceOptions options;
   options.laps = 1;
   options.field.overtaking = false;
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const auto r =
+      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "pace");
   EXPECT_TRUE(r.overtakes.empty());
