@@ -133,8 +133,7 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   field.overtaking = true;
   stack::RaceOptions options;
   options.field = field;
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "ego");
   EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
@@ -221,8 +220,7 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
     ahead -= std::round(ahead / L) * L;
     runs[it->second].closest = std::min(runs[it->second].closest, ahead);
   };
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   const double well_behind = sprint().vehicle.chassis.box_size.x() + 1.0;
   int surely_given_up = 0;
   for (const auto& run : runs) surely_given_up += run.end >= 0.0 && run.closest > well_behind;
@@ -252,8 +250,7 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
   stack::RaceOptions options;
   options.laps = 1;
   options.field.overtaking = false;
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "pace");
   EXPECT_TRUE(r.overtakes.empty());
