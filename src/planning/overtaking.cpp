@@ -455,11 +455,6 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         c.clear = true;
       }
     }
-    // A new pass must at least draw alongside within the horizon: off the line and no nearer, it only
-    // loses time (and meets the next corner still behind the car).
-    if (c.clear && d.mode == RaceMode::kPass && leader && !passing_leader &&
-        !drawsAlongside(c.window, s, speed, leader_prediction))
-      c.clear = false;
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;

@@ -158,21 +158,6 @@ TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesA
   EXPECT_GT(steady_above_offline, 0) << "no pass held its offset through a corner faster than offline_grip allows";
 }
 
-// A pass is begun only if it draws alongside the car within the horizon: a car a little slower is
-// followed, not chased off the line without getting beside it; the same car much slower is passed.
-TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
-  auto& f = fixture();
-  const double s = straightStart(f.line);
-  const double v = planning::sampleAt(f.line, s).speed;
-  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
-  // 20 m ahead at 90% of the line's speed, gaining speed as this car does: not beside it within 6 s.
-  planner.plan("ego", s, 0.0, v, {{"slightly_slower", s + 20.0, 0.0, 0.9 * v, 0.9}}, 10.0, 250.0);
-  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kFollow) << planning::describe(planner.decision("ego"));
-  planning::OvertakePlanner fresh(f.track, f.line, f.limits, {});
-  fresh.plan("ego", s, 0.0, v, {{"much_slower", s + 20.0, 0.0, 0.7 * v, 0.7}}, 10.0, 250.0);
-  EXPECT_EQ(fresh.decision("ego").mode, RaceMode::kPass) << planning::describe(fresh.decision("ego"));
-}
-
 TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   // The cut-in: a pass on the slow car's side is under way; the slow car starts moving across towards that
   // side. The passer falls in behind at the next plan (no plans of doubt), and starts no pass on that
