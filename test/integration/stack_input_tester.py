@@ -86,12 +86,17 @@ class StackInputs(unittest.TestCase):
             msg.waypoints.append(w)
         return msg
 
+    # The car and the straight below lie on the test ring of test_1 (heading north at (100, 0)), where the
+    # planner's windows for ego are too: whichever window the controller answers with, the car is on it (a
+    # car far from its trajectory is braked, not steered at it).
     def odometry(self, stamp, x=0.0):
         msg = Odometry()
         msg.header.stamp = stamp
         msg.header.frame_id = "map"
-        msg.pose.pose.position.x = x
-        msg.pose.pose.orientation.w = 1.0
+        msg.pose.pose.position.x = 100.0
+        msg.pose.pose.position.y = x
+        msg.pose.pose.orientation.z = math.sin(math.pi / 4)
+        msg.pose.pose.orientation.w = math.cos(math.pi / 4)
         msg.twist.twist.linear.x = 10.0
         return msg
 
@@ -142,8 +147,9 @@ class StackInputs(unittest.TestCase):
     def straight(self, stamp=None):
         line = Trajectory(closed=False, length=200.0)
         for i in range(201):
-            line.points.append(TrajectoryPoint(s=float(i), speed=20.0))
-            line.points[-1].position.x = float(i)
+            line.points.append(TrajectoryPoint(s=float(i), speed=20.0, yaw=math.pi / 2))
+            line.points[-1].position.x = 100.0
+            line.points[-1].position.y = float(i) - 100.0
         if stamp is not None:
             line.header.stamp = stamp
         return line

@@ -107,8 +107,9 @@ TEST(TrajectoryTracker, BrakesWithoutATrajectoryAndKeepsTheOldOneOnBadInput) {
 TEST(TrajectoryTracker, BrakesRatherThanSteerAtATrajectoryFarFromTheCar) {
   const auto car = test::sedan();
   control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
-  tracker.setTrajectory(
-      constantSpeed(200.0, 20.0, false, [](double s, planning::TrajectoryPoint* p) { p->position = {s, 0.0}; }));
+  tracker.setTrajectory(constantSpeed(200.0, 20.0, false, [](double s, planning::TrajectoryPoint* p) {
+    p->position = {s, 0.0};
+  }));
   const auto near = tracker.update({{10, 5}, 0, 10.0, 0});
   EXPECT_FALSE(tracker.tooFar());
   EXPECT_GT(near.throttle, 0.5) << "5 m beside the line: driven back to it";
