@@ -419,10 +419,10 @@ std::string SimNode::notReadyToStart() const {
       return "the link to " + progress;
     }
   }
+  std::vector<std::string> heard = {ros::names::resolve("/clock")};  // what a listener must listen to
+  for (const auto& [name, io] : io_) heard.push_back(nh_.resolveName(name + "/odom"));
   for (const auto& listener : options_.wait_for_listeners) {
     const std::string node = ros::names::resolve(listener);
-    std::vector<std::string> heard = {ros::names::resolve("/clock")};
-    for (const auto& [name, io] : io_) heard.push_back(nh_.resolveName(name + "/odom"));
     for (const auto& topic : heard) {
       if (!subscribers[topic].count(node)) return "the listener " + node + " on " + topic;
     }
