@@ -116,12 +116,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.laps = laps;
     options.field.overtaking = true;
     options.field.overtake = overtake;
-    // Free air: the same car alone, for the passing speed's reference (a car at pace p: p times it).
-    stack::RaceOptions solo = options;
-    solo.laps = 2;
-    const auto alone = stack::runRace(track, vehicle, {{"alone", 0}}, solo).car("alone");
-    // And each car of a field alone, from its grid slot at its pace, for the lap time traffic costs it (the
-    // full-pace cars' runs serve every seed).
+    // Free air: each car of a field alone, from its grid slot at its pace, for the lap time traffic costs
+    // it and the passing speed's reference (the full-pace cars' runs serve every seed).
     std::map<std::pair<int, double>, stack::RaceCarResult> alone_at;
     auto aloneAs = [&](const stack::RaceCar& car) -> const stack::RaceCarResult& {
       const auto key = std::make_pair(car.grid_slot, car.pace);
@@ -156,9 +152,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         const auto r = stack::runRace(track, vehicle, field.cars, traced);
         ++t.races;
         t.race_seconds += r.sim_time;
-        std::map<std::string, double> pace, best_lap;
+        std::map<std::string, double> best_lap;
+        std::map<std::string, const stack::RaceCar*> spec_of;
         for (const auto& c : field.cars) {
-          pace[c.name] = c.pace;
+          spec_of[c.name] = &c;
           const double loss = stack::lapTimeLoss(r.car(c.name), aloneAs(c));
           if (std::isfinite(loss)) t.lap_loss.push_back(loss);
         }
@@ -182,9 +179,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
           } else {
             ++t.aborted;
           }
-          std::vector<double> free_air = alone.lap_speeds;
-          for (double& v : free_air) v *= pace[p.passer];
-          const double share = stack::passingSpeedShare(p, free_air, r.speed_bin);
+          const double share = stack::passingSpeedShare(p, aloneAs(*spec_of.at(p.passer)).round_speeds, r.speed_bin);
           if (std::isfinite(share)) t.passing_share.push_back(share);
           if (verbose) {
             std::printf("  %s seed %d: %s %s %s on the %s, caught %.1f, %.1f-%.1f s, speed %.0f%%\n", map.c_str(), seed,
@@ -226,7 +221,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "columns: passes attempted (the passer drawn alongside), completed and aborted; gave_up: passes begun and\n"
       "given up before drawing alongside (pulled out and back in: not attempts); rate_%% completed/attempted;\n"
       "catch_s median time from catching a car to completing the pass; speed_%% mean passing speed against the\n"
-      "passer's free-air speed at the same place; contacts between cars (at_fault: with a car at fault); limits:\n"
+      "passer's free-air speed at the same place on the same lap (the car alone from its grid slot); contacts\n"
+      "between cars (at_fault: with a car at fault); limits:\n"
       "track-limit excursions; late: passes completed more than a lap after catching; in_order: reverse-grid\n"
       "races finished in pace order;\n"
       "loss_s: seconds a lap a car lost in traffic, against the same car alone from its grid slot (mean of the cars).\n"

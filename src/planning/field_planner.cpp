@@ -37,7 +37,9 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   // moment is not taken for a slow one. A car gaining speed shows what its engine can do, not its pace:
   // it lowers no estimate (a car is taken for a full-pace one until it shows otherwise, so that a field
   // accelerating away from the grid is not taken for a slow one).
-  const double share = speed / std::max(1.0, sampleAt(line_, place.on_line.s).speed);
+  const double line_speed = sampleAt(line_, place.on_line.s).speed;
+  place.held.observe(speed, line_speed, time);
+  const double share = speed / std::max(1.0, line_speed);
   const bool gaining = speed > place.speed;
   place.speed = speed;
   if (place.line_share <= 0.0) {
@@ -62,7 +64,8 @@ Trajectory FieldPlanner::window(const std::string& car) {
     std::vector<TrafficCar> traffic;
     for (const auto& [name, other] : cars_)
       traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share,
-                         other.lateral_speed, line_.closed && other.progress - place.progress > 0.5 * line_.length});
+                         other.lateral_speed, line_.closed && other.progress - place.progress > 0.5 * line_.length,
+                         other.held.speed()});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

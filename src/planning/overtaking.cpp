@@ -216,6 +216,8 @@ Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) c
 namespace {
 constexpr double kPredictionStep = 0.1;       // s
 constexpr double kShownPredictionStep = 0.5;  // s between the predicted positions kept for rviz
+constexpr double kHeldSlack = 0.3;            // m/s a car held to a speed is predicted above it (its wobble)
+constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
@@ -260,6 +262,7 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   p.plan = trustedPlan(other);
   const double now = other.speed / std::max(1.0, sampleAt(line_, other.s).speed);
   const double share = std::clamp(other.line_share > 0 ? std::max(other.line_share, now) : now, 0.2, 1.1);
+  const double held_cap = other.held_speed > 0.0 ? other.held_speed + kHeldSlack : kInf;
   double along = aheadOnLap(other.s, s0, lapLength(line_));
   const int steps = static_cast<int>(std::ceil(options_.horizon / kPredictionStep)) + 1;
   p.ahead.reserve(static_cast<std::size_t>(steps) + 1);
@@ -267,7 +270,7 @@ OvertakePlanner::Prediction OvertakePlanner::predict(const TrafficCar& other, do
   // From the speed it has now, gaining speed no faster than an engine like ours gives.
   double v = other.speed;
   for (int k = 0; k < steps; ++k) {
-    const double cap = share * sampleAt(line_, s0 + along).speed;
+    const double cap = std::min(share * sampleAt(line_, s0 + along).speed, held_cap);
     const double v_next =
         std::min(cap, v + kPredictionStep * std::max(0.0, limits_.driveForce(v)) / limits_.effectiveMass());
     along += kPredictionStep * 0.5 * (v + std::max(v_next, 0.0));
@@ -455,6 +458,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         c.clear = true;
       }
     }
+    // A new pass must at least draw alongside within the horizon: off the line and no nearer, it only
+    // loses time (and meets the next corner still behind the car).
+    if (c.clear && d.mode == RaceMode::kPass && leader && !passing_leader &&
+        !drawsAlongside(c.window, s, speed, leader_prediction))
+      c.clear = false;
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;

@@ -23,6 +23,8 @@ struct Entrant {
   std::string engaged_with;  // the car it follows or passes
   double engaged_since = 0.0;
   PassAttempt moving_out;  // the planner's pass before the car is alongside (passer empty: none)
+  int round = 0;           // SpeedSample::round
+  double last_s = std::numeric_limits<double>::quiet_NaN();  // line s at the last tick
 };
 
 void checkCars(const std::vector<RaceCar>& cars) {
@@ -52,13 +54,16 @@ const RaceCarResult& RaceResult::car(const std::string& name) const {
   throw std::out_of_range("race result: no car '" + name + "'");
 }
 
-double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& free_air, double speed_bin) {
+double passingSpeedShare(const PassAttempt& pass, const std::vector<std::vector<double>>& free_air, double speed_bin) {
   double sum = 0.0;
   int n = 0;
-  for (const auto& [s, speed] : pass.samples) {
-    const auto bin = static_cast<std::size_t>(std::max(0.0, s) / speed_bin);
-    if (bin >= free_air.size() || !(free_air[bin] > 1.0)) continue;
-    sum += speed / free_air[bin];
+  for (const auto& sample : pass.samples) {
+    if (free_air.empty()) break;
+    const auto& round =
+        free_air[std::min<std::size_t>(static_cast<std::size_t>(std::max(0, sample.round)), free_air.size() - 1)];
+    const auto bin = static_cast<std::size_t>(std::max(0.0, sample.s) / speed_bin);
+    if (bin >= round.size() || !(round[bin] > 1.0)) continue;
+    sum += sample.speed / round[bin];
     ++n;
   }
   return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
@@ -96,8 +101,6 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     entrants.push_back({c, control::TrajectoryTracker(tracker_options, limits), {}, -1, "", 0.0, {}});
     entrants.back().result.name = c.name;
     entrants.back().result.pace = c.pace;
-    entrants.back().result.lap_speeds.assign(static_cast<std::size_t>(std::ceil(line.length / options.speed_bin)),
-                                             std::numeric_limits<double>::quiet_NaN());
     field.setPace(c.name, c.pace);
     world.spawnVehicle(c.name, vehicle, sim::poseOnTrack(grid.at(static_cast<std::size_t>(c.grid_slot))));
     names.push_back(c.name);
@@ -181,14 +184,22 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
         giveUp(e);
       }
       const double s_line = field.onLine(name).s;
+      if (std::isfinite(e.last_s) && e.last_s - s_line > 0.5 * line.length) ++e.round;
+      if (std::isfinite(e.last_s) && s_line - e.last_s > 0.5 * line.length) e.round = std::max(0, e.round - 1);
+      e.last_s = s_line;
+      const SpeedSample sample{e.round, s_line, state.forward_speed};
       if (options.on_tick)
         options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
-      if (e.open_pass >= 0)
-        result.passes[static_cast<std::size_t>(e.open_pass)].samples.emplace_back(s_line, state.forward_speed);
-      if (!e.moving_out.passer.empty()) e.moving_out.samples.emplace_back(s_line, state.forward_speed);
+      if (e.open_pass >= 0) result.passes[static_cast<std::size_t>(e.open_pass)].samples.push_back(sample);
+      if (!e.moving_out.passer.empty()) e.moving_out.samples.push_back(sample);
       if (!control.car(name).finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
+      auto& rounds = e.result.round_speeds;
+      while (rounds.size() <= static_cast<std::size_t>(e.round))
+        rounds.emplace_back(static_cast<std::size_t>(std::ceil(line.length / options.speed_bin)),
+                            std::numeric_limits<double>::quiet_NaN());
       const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
-      if (bin < e.result.lap_speeds.size()) e.result.lap_speeds[bin] = state.forward_speed;
+      if (bin < rounds[static_cast<std::size_t>(e.round)].size())
+        rounds[static_cast<std::size_t>(e.round)][bin] = state.forward_speed;
 
       world.setControl(name, e.tracker.update(trackerInputOf(state)));
     }

@@ -4,6 +4,7 @@
 // decisions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "roar/planning/overtaking.h"
@@ -156,6 +157,47 @@ TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesA
   EXPECT_GT(passes, 10);
   EXPECT_GT(moving_checked, 100);
   EXPECT_GT(steady_above_offline, 0) << "no pass held its offset through a corner faster than offline_grip allows";
+}
+
+// A pass is begun only if it draws alongside the car within the horizon: a car a little slower is
+// followed, not chased off the line without getting beside it; the same car much slower is passed.
+TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
+  auto& f = fixture();
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  // 20 m ahead at 90% of the line's speed, gaining speed as this car does: not beside it within 6 s.
+  planner.plan("ego", s, 0.0, v, {{"slightly_slower", s + 20.0, 0.0, 0.9 * v, 0.9}}, 10.0, 250.0);
+  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kFollow) << planning::describe(planner.decision("ego"));
+  planning::OvertakePlanner fresh(f.track, f.line, f.limits, {});
+  fresh.plan("ego", s, 0.0, v, {{"much_slower", s + 20.0, 0.0, 0.7 * v, 0.7}}, 10.0, 250.0);
+  EXPECT_EQ(fresh.decision("ego").mode, RaceMode::kPass) << planning::describe(fresh.decision("ego"));
+}
+
+// A car seen held to a speed (a pace car) is predicted at that speed out of a slow corner, not at its
+// share of the line's speed there (all of it, in the corner), which would have it pull away.
+TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
+  auto& f = fixture();
+  auto slowest = std::min_element(f.line.points.begin(), f.line.points.end(),
+                                  [](const auto& a, const auto& b) { return a.speed < b.speed; });
+  const double s = slowest->s, v = slowest->speed;
+  planning::OvertakeOptions options;
+  options.keep_predictions = true;
+  auto travelled = [&](double held_speed) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
+    planning::TrafficCar ahead{"ahead", s + 20.0, 0.0, v, 1.0};
+    ahead.held_speed = held_speed;
+    planner.plan("ego", s, 0.0, v, {ahead}, 10.0, 250.0);
+    const auto shown = planner.predictions("ego");
+    EXPECT_EQ(shown.size(), 1u);
+    if (shown.empty()) return 0.0;
+    double along = 0.0;
+    for (std::size_t k = 1; k < shown[0].positions.size(); ++k)
+      along += (shown[0].positions[k] - shown[0].positions[k - 1]).norm();
+    return along / (shown[0].step * static_cast<double>(shown[0].positions.size() - 1));
+  };
+  EXPECT_LE(travelled(v), v + 0.5) << "a car held to " << v << " m/s predicted faster on average";
+  EXPECT_GT(travelled(0.0), v + 3.0) << "a car at the line's speed in a slow corner predicted not to speed up";
 }
 
 TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {

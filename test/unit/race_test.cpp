@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <vector>
 
 #include "roar/planning/field_planner.h"
 #include "roar/race/contact_fault.h"
@@ -220,7 +221,9 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
     ahead -= std::round(ahead / L) * L;
     runs[it->second].closest = std::min(runs[it->second].closest, ahead);
   };
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  // Three cars: with two, the one pass on the pace car draws alongside once begun.
+  const auto r =
+      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
   const double well_behind = sprint().vehicle.chassis.box_size.x() + 1.0;
   int surely_given_up = 0;
   for (const auto& run : runs) surely_given_up += run.end >= 0.0 && run.closest > well_behind;
@@ -260,6 +263,28 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
 
 // What traffic costs a car: held behind a car at 15 m/s, a lap of Roar Sprint takes the stack's car far
 // longer than alone from the same grid slot; the car ahead, with nobody in front, loses nothing.
+// The passing speed is against the car alone at the same place on the same round of the line: on the
+// opening lap a car alone is still gaining speed from the grid. Past the last round run alone, the last.
+TEST(Race, PassingSpeedIsAgainstFreeAirOnTheSameRound) {
+  const double bin = 2.0;
+  const std::vector<std::vector<double>> free_air{{20.0, 20.0, std::nan("")}, {40.0, 40.0, 40.0}};
+  stack::PassAttempt pass;
+  pass.samples = {{0, 1.0, 18.0}, {1, 1.0, 36.0}};  // 90% of the grid lap's 20, 90% of the flying lap's 40
+  EXPECT_NEAR(stack::passingSpeedShare(pass, free_air, bin), 0.9, 1e-12);
+  pass.samples = {{3, 3.0, 30.0}};  // a round past those run alone: the last one's
+  EXPECT_NEAR(stack::passingSpeedShare(pass, free_air, bin), 0.75, 1e-12);
+  pass.samples = {{0, 5.0, 30.0}};  // no free-air speed there
+  EXPECT_TRUE(std::isnan(stack::passingSpeedShare(pass, free_air, bin)));
+  // And a race records its cars' speeds round by round: two laps from the grid are at least two rounds.
+  stack::RaceOptions options;
+  options.laps = 2;
+  const auto alone = stack::runRace(sprint().track, sprint().vehicle, {{"alone", 1}}, options).car("alone");
+  ASSERT_GE(alone.round_speeds.size(), 2u);
+  std::size_t seen = 0;
+  for (double v : alone.round_speeds[1]) seen += std::isfinite(v);
+  EXPECT_GT(seen, alone.round_speeds[1].size() * 9 / 10) << "a whole round should be through most bins";
+}
+
 TEST(Race, LapTimeLossIsTheTimeTrafficCostsAgainstTheSameCarAlone) {
   stack::RaceOptions options;
   options.laps = 1;

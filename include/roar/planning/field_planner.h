@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "roar/planning/held_speed.h"
 #include "roar/planning/overtaking.h"
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
@@ -64,6 +65,7 @@ class FieldPlanner {
     double time = std::numeric_limits<double>::quiet_NaN();  // s of the last position
     double lateral_speed = 0.0;                              // m/s leftwards across the line, smoothed
     double progress = 0.0;  // m round the laps since it was first seen (from the first car's place then)
+    HeldSpeed held;
   };
   // Without overtaking: the nearest car ahead on the line within the window, if one is in the way.
   void followCarAhead(const std::string& car, const Place& place, Trajectory* window, RaceDecision* decision) const;

@@ -32,6 +32,9 @@ struct TrafficCar {
   double line_share = 0.0;
   double lateral_speed = 0.0;  // m/s leftwards across the racing line (smoothed); 0: unknown or none
   bool lapping = false;        // a lap or more ahead of the car planned for in the race (a blue flag for it)
+  // m/s the car has been seen held to whatever the line's speed (a pace car, a scripted car): it is
+  // predicted no faster. 0: none seen.
+  double held_speed = 0.0;
 };
 
 struct OvertakeOptions {

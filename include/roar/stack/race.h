@@ -39,9 +39,17 @@ struct RaceOptions {
   control::TrackerOptions tracker;  // wheelbase and steering angle are taken from the vehicle
   planning::FieldOptions field;     // car length and width are taken from the vehicle
   race::RaceRules rules;            // laps are taken from `laps`
-  double speed_bin = 2.0;           // m of racing line per bin of RaceCarResult::lap_speeds
+  double speed_bin = 2.0;           // m of racing line per bin of RaceCarResult::round_speeds
   // Called for every car each tick, before it is stepped: for traces and plots.
   std::function<void(const RaceTick&)> on_tick;
+};
+
+// A car's speed at one tick, where it was: the round of the racing line (0 from the grid to the line's
+// s = 0, then one more at each crossing of it), line s (m, wrapped) and speed (m/s).
+struct SpeedSample {
+  int round = 0;
+  double s = 0.0;
+  double speed = 0.0;
 };
 
 // A pass attempt: the passer drew alongside (its nose past the other's tail) in a pass; completed when
@@ -54,8 +62,8 @@ struct PassAttempt {
   double start_time = 0.0;   // s the planner chose the pass
   double end_time = 0.0;     // s it was complete or aborted
   bool completed = false;
-  // The passer's speed during the pass, sampled each tick: line s (m, wrapped) and speed (m/s).
-  std::vector<std::pair<double, double>> samples;
+  // The passer's speed during the pass, sampled each tick.
+  std::vector<SpeedSample> samples;
 };
 
 struct CarContactRecord {
@@ -74,8 +82,9 @@ struct RaceCarResult {
   std::vector<double> lap_times;  // s
   int car_contacts = 0, barrier_contacts = 0, track_limit_violations = 0;
   double time_in_traffic = 0.0;  // s spent following a car or passing one
-  // The car's speed (m/s) in each speed_bin of the racing line, as it last went through it (NaN: never).
-  std::vector<double> lap_speeds;
+  // The car's speed (m/s) in each speed_bin of the racing line, round by round (SpeedSample::round), as it
+  // last went through the bin in that round (NaN: not in it).
+  std::vector<std::vector<double>> round_speeds;
 };
 
 struct RaceResult {
@@ -97,9 +106,11 @@ struct RaceResult {
 RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options);
 
-// The mean over a pass's samples of the passer's speed as a share of `free_air` (lap_speeds of the same car
-// alone) at the same place; NaN when no sample has a free-air speed.
-double passingSpeedShare(const PassAttempt& pass, const std::vector<double>& free_air, double speed_bin);
+// The mean over a pass's samples of the passer's speed as a share of its free-air speed at the same place
+// in the same round: `free_air`, the round_speeds of the same car alone (the same grid slot and pace: on
+// the opening lap it too is still gaining speed from the grid; past its last round, its last). NaN when no
+// sample has a free-air speed.
+double passingSpeedShare(const PassAttempt& pass, const std::vector<std::vector<double>>& free_air, double speed_bin);
 
 // The seconds a lap a car lost in traffic: the mean of its lap times less those of the same car alone (the
 // same grid slot, pace and options: `alone`), lap by lap; NaN when either did not finish every lap.
