@@ -97,7 +97,7 @@ double OvertakePlanner::roomRight(double s) const {
 }
 
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
-                                    double drag_share, bool for_pass) const {
+                                    double drag_share, bool for_pass, double settle_s) const {
   Trajectory out = window;
   // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
@@ -180,7 +180,8 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
     const double slope = std::abs(d[b] - d[a]) / std::max(1e-3, pts[b].s - pts[a].s);
     const bool moving_across = !for_pass || slope > kSteadyOffsetSlope;
-    const double off = std::abs(d[k]) > 0.05 && moving_across ? 1.0 : 0.0;
+    const bool settling = aheadOnLap(pts[k].s, settle_s, lapLength(line_)) < 0.0 && std::isfinite(settle_s);
+    const double off = (std::abs(d[k]) > 0.05 && moving_across) || settling ? 1.0 : 0.0;
     pts[k].speed = std::min(pts[k].speed, on_grip.speed[k] + off * (off_grip.speed[k] - on_grip.speed[k]));
   }
   for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the cap made
@@ -218,6 +219,8 @@ constexpr double kPredictionStep = 0.1;       // s
 constexpr double kShownPredictionStep = 0.5;  // s between the predicted positions kept for rviz
 constexpr double kHeldSlack = 0.3;            // m/s a car held to a speed is predicted above it (its wobble)
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kSettledLateralSpeed = 0.5;  // m/s sideways across the line a car is settled under
+constexpr double kSettleTime = 2.0;           // s at speed it is planned on offline_grip after that
 }  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
@@ -359,6 +362,27 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const double L = lapLength(line_);
   Trajectory base = windowAround(line_, s, behind, ahead_m);
   scaleSpeeds(&base, pace);
+  // A car still moving sideways after a move (back from a pass, say) is planned on offline_grip for the next
+  // kSettleTime at its speed on the line and on its way back to it: it has less grip to brake and turn with.
+  // Only after a move (a car alone on the line never settles: its own tracking is the line's business), and
+  // not a pass or any other move off the line (they plan their own moving across).
+  Trajectory line_base;  // the racing line's window as a car settling drives it; empty: `base`
+  auto settle_it = settle_.find(car);
+  const RaceDecision& last = decisions_[car];
+  const bool after_move = settle_it != settle_.end() || last.mode != RaceMode::kRacingLine || last.ramp_from != 0.0;
+  for (const auto& o : traffic) {
+    if (o.name == car && after_move && std::abs(o.lateral_speed) > kSettledLateralSpeed)
+      settle_it = settle_.insert_or_assign(car, s + kSettleTime * speed).first;
+  }
+  if (settle_it != settle_.end()) {
+    if (aheadOnLap(s, settle_it->second, L) >= 0.0) {
+      settle_.erase(settle_it);
+    } else {
+      line_base = shifted(base, s, 0.0, 0.0, std::numeric_limits<double>::infinity(), 1.0, false, settle_it->second);
+    }
+  }
+  const Trajectory& on_line_base = line_base.points.empty() ? base : line_base;
+
   // Cars that matter: alongside or ahead, within the window.
   std::vector<TrafficCar> others;
   const TrafficCar* leader = nullptr;
@@ -428,7 +452,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   };
   auto consider = [&](const RaceDecision& d) {
     const bool slingshot = d.mode == RaceMode::kPass && tow > 0.01;
-    const Trajectory& from = slingshot ? towed_base : base;
+    const Trajectory& from = slingshot ? towed_base : d.mode == RaceMode::kRacingLine ? on_line_base : base;
     const double drag_share = slingshot ? 1.0 - tow : 1.0;
     const bool pass = d.mode == RaceMode::kPass;
     Candidate c{
@@ -542,11 +566,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   if (others.empty() && memory.mode == RaceMode::kRacingLine && memory.ramp_from == 0.0) {
     memory = {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0};
     plans_.erase(car);  // on the racing line: its lateral place now predicts it
-    return base;
+    return on_line_base;
   }
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   if (on_line) {
-    Candidate c{base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
+    Candidate c{on_line_base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
     c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress);
     candidates.push_back(std::move(c));
   } else {
@@ -578,7 +602,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const RaceDecision fallback_path = alongside && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
                                      : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                : make(RaceMode::kRacingLine, 0, "", 0.0);
-  Candidate follow{on_line ? base : shifted(base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset),
+  Candidate follow{on_line ? on_line_base
+                           : shifted(on_line_base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset),
                    fallback_path, true};
   follow.decision.mode = RaceMode::kFollow;
   if (leader) {

@@ -200,6 +200,28 @@ TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
   EXPECT_GT(travelled(0.0), v + 3.0) << "a car at the line's speed in a slow corner predicted not to speed up";
 }
 
+// A car coming back to the line after a move, still moving sideways, is planned on offline_grip for the
+// next 2 s at its speed (it has less grip to brake and turn with: a car that crossed the line so and braked
+// into the next corner on all of it spun at Roar Speedway); a car alone on the line never is.
+TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
+  auto& f = fixture();
+  auto slowest = std::min_element(f.line.points.begin(), f.line.points.end(),
+                                  [](const auto& a, const auto& b) { return a.speed < b.speed; });
+  const double corner = slowest->s, s = corner - 20.0;  // within 2 s at its speed
+  const double v = planning::sampleAt(f.line, s).speed;
+  auto cornerSpeed = [&](double lateral_speed, bool after_move) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+    // A car alongside first, between it and the line: it stays off the line (a move), then the other is gone.
+    if (after_move) planner.plan("ego", s - 5.0, 1.0, v, {{"beside", s - 5.0, -1.2, v, 1.0}}, 10.0, 250.0);
+    planning::TrafficCar self{"ego", s, 1.0, v, 1.0, lateral_speed};
+    const auto window = planner.plan("ego", s, 1.0, v, {self}, 10.0, 250.0);
+    return planning::sampleAt(window, corner).speed;
+  };
+  const double settling = cornerSpeed(-1.5, true), settled = cornerSpeed(0.0, true);
+  EXPECT_LT(settling, settled - 0.3) << "moving sideways after a move, planned as fast into the corner";
+  EXPECT_DOUBLE_EQ(cornerSpeed(-1.5, false), cornerSpeed(0.0, false)) << "a car alone on the line settled";
+}
+
 TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   // The cut-in: a pass on the slow car's side is under way; the slow car starts moving across towards that
   // side. The passer falls in behind at the next plan (no plans of doubt), and starts no pass on that

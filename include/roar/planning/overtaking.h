@@ -154,9 +154,11 @@ class OvertakePlanner {
   // drag_share: of the free-air drag the speeds are planned with (below 1: in a car's slipstream).
   // for_pass: planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the
   // moved points differenced); otherwise exactly, and a path moved by nothing is the racing line.
+  // settle_s: up to this line s the path is planned on offline_grip wherever it is (a car still moving
+  // sideways from a move it has just made).
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
                      double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0,
-                     bool for_pass = false) const;
+                     bool for_pass = false, double settle_s = -std::numeric_limits<double>::infinity()) const;
   // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them: higher where the
   // engine, not the grip, sets them. Never lower (braking points are the free-air ones).
   Trajectory towed(const Trajectory& window, double drag_share) const;
@@ -206,7 +208,8 @@ class OvertakePlanner {
     int plans_left = 0;
   };
   std::map<std::string, Abort> aborts_;
-  std::map<std::string, double> holds_;  // the lateral place (m) a car holds while another is alongside
+  std::map<std::string, double> holds_;   // the lateral place (m) a car holds while another is alongside
+  std::map<std::string, double> settle_;  // line s up to which a car moving sideways is planned on offline_grip
   struct Headway {
     std::string other;      // the car being passed
     double best_gap = 0.0;  // m, the nearest the pass has come to it
