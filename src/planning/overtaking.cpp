@@ -378,7 +378,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     if (aheadOnLap(s, settle_it->second, L) >= 0.0) {
       settle_.erase(settle_it);
     } else {
-      line_base = shifted(base, s, 0.0, 0.0, std::numeric_limits<double>::infinity(), 1.0, false, settle_it->second);
+      line_base = shifted(base, s, 0.0, 0.0, kInf, 1.0, false, settle_it->second);
     }
   }
   const Trajectory& on_line_base = line_base.points.empty() ? base : line_base;

@@ -57,8 +57,8 @@ const RaceCarResult& RaceResult::car(const std::string& name) const {
 double passingSpeedShare(const PassAttempt& pass, const std::vector<std::vector<double>>& free_air, double speed_bin) {
   double sum = 0.0;
   int n = 0;
+  if (free_air.empty()) return std::numeric_limits<double>::quiet_NaN();
   for (const auto& sample : pass.samples) {
-    if (free_air.empty()) break;
     const auto& round =
         free_air[std::min<std::size_t>(static_cast<std::size_t>(std::max(0, sample.round)), free_air.size() - 1)];
     const auto bin = static_cast<std::size_t>(std::max(0.0, sample.s) / speed_bin);
@@ -197,9 +197,9 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       while (rounds.size() <= static_cast<std::size_t>(e.round))
         rounds.emplace_back(static_cast<std::size_t>(std::ceil(line.length / options.speed_bin)),
                             std::numeric_limits<double>::quiet_NaN());
+      auto& speeds = rounds[static_cast<std::size_t>(e.round)];
       const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
-      if (bin < rounds[static_cast<std::size_t>(e.round)].size())
-        rounds[static_cast<std::size_t>(e.round)][bin] = state.forward_speed;
+      if (bin < speeds.size()) speeds[bin] = state.forward_speed;
 
       world.setControl(name, e.tracker.update(trackerInputOf(state)));
     }
