@@ -65,6 +65,7 @@ void orderByPace(Field* f) {
 struct Totals {
   int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
   int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0, given_up = 0;
+  int pairs_out_of_order = 0;  // over the reverse-grid races: pairs of cars finishing against their pace
   std::vector<double> catch_to_pass, passing_share, lap_loss;
   double traffic_time = 0.0, race_seconds = 0.0;
 
@@ -72,6 +73,7 @@ struct Totals {
     races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
     contacts += t.contacts, at_fault += t.at_fault, track_limits += t.track_limits, barrier += t.barrier;
     pace_order += t.pace_order, pace_order_races += t.pace_order_races, late_passes += t.late_passes;
+    pairs_out_of_order += t.pairs_out_of_order;
     defences += t.defences, given_up += t.given_up;
     traffic_time += t.traffic_time, race_seconds += t.race_seconds;
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
@@ -82,12 +84,14 @@ struct Totals {
 
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
+  char pairs[16] = "-";
+  if (t.pace_order_races) std::snprintf(pairs, sizeof pairs, "%.1f", double(t.pairs_out_of_order) / t.pace_order_races);
   std::printf(
-      "%-14s %-13s %5d %8d %9d %7d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s %7.2f\n", circuit.c_str(), kind.c_str(),
-      t.races, t.attempts, t.completed, t.aborted, t.given_up, rate, median(t.catch_to_pass),
+      "%-14s %-13s %5d %8d %9d %7d %7d %7.1f %9.1f %8.1f %8d %8d %7d %8d %9s %9s %7.2f\n", circuit.c_str(),
+      kind.c_str(), t.races, t.attempts, t.completed, t.aborted, t.given_up, rate, median(t.catch_to_pass),
       100.0 * mean(t.passing_share), t.contacts, t.at_fault, t.track_limits, t.late_passes,
       t.pace_order_races ? (std::to_string(t.pace_order) + "/" + std::to_string(t.pace_order_races)).c_str() : "-",
-      mean(t.lap_loss));
+      pairs, mean(t.lap_loss));
 }
 
 }  // namespace
@@ -103,9 +107,9 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
       "lockstep, in one process\n",
       laps, seeds);
-  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %7s %9s %8s %8s %8s %7s %8s %9s %7s\n", "circuit", "field", "races",
+  std::printf("%-14s %-13s %5s %8s %9s %7s %7s %7s %9s %8s %8s %8s %7s %8s %9s %9s %7s\n", "circuit", "field", "races",
               "attempts", "completed", "aborted", "gave_up", "rate_%", "catch_s", "speed_%", "contacts", "at_fault",
-              "limits", "late", "in_order", "loss_s");
+              "limits", "late", "in_order", "pairs_out", "loss_s");
   Totals all;
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
@@ -208,6 +212,14 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
           bool in_order = r.finished;
           for (std::size_t k = 0; k < r.cars.size() && in_order; ++k) in_order = r.cars[k].name == field.pace_order[k];
           t.pace_order += in_order;
+          // How far from pace order (the grid has all 15 pairs the other way round).
+          const int out = stack::pairsOutOfOrder(r, field.pace_order);
+          t.pairs_out_of_order += out;
+          if (verbose) {
+            std::printf("  %s seed %d: finishing order", map.c_str(), seed);
+            for (const auto& c : r.cars) std::printf(" %s", c.name.c_str());
+            std::printf(" (%d pairs out of pace order)\n", out);
+          }
         }
       }
       printRow(map, kind, t);
@@ -224,7 +236,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "passer's free-air speed at the same place on the same lap (the car alone from its grid slot); contacts\n"
       "between cars (at_fault: with a car at fault); limits:\n"
       "track-limit excursions; late: passes completed more than a lap after catching; in_order: reverse-grid\n"
-      "races finished in pace order;\n"
+      "races finished in pace order; pairs_out: pairs of cars a reverse grid finished out of pace order (of 15;\n"
+      "the grid has all 15), mean of the races;\n"
       "loss_s: seconds a lap a car lost in traffic, against the same car alone from its grid slot (mean of the cars).\n"
       "%.0f simulated s in %.0f s wall; barrier contacts %d; defensive moves %d\n",
       all.race_seconds, wall, all.barrier, all.defences);

@@ -301,6 +301,19 @@ TEST(Race, LapTimeLossIsTheTimeTrafficCostsAgainstTheSameCarAlone) {
   EXPECT_TRUE(std::isnan(stack::lapTimeLoss(unfinished, ego_alone)));
 }
 
+// How far a reverse grid finished from pace order: the pairs that finished the other way round.
+TEST(Race, PairsOutOfOrderCountsThePairsFinishedTheOtherWayRound) {
+  stack::RaceResult race;
+  for (const char* name : {"c", "a", "b"}) {
+    race.cars.emplace_back();
+    race.cars.back().name = name;
+  }
+  EXPECT_EQ(stack::pairsOutOfOrder(race, {"a", "b", "c"}), 2);  // c ahead of a and of b
+  EXPECT_EQ(stack::pairsOutOfOrder(race, {"c", "a", "b"}), 0);
+  EXPECT_EQ(stack::pairsOutOfOrder(race, {"b", "a", "c"}), 3);
+  EXPECT_NE(test::errorOf([&] { stack::pairsOutOfOrder(race, {"a", "d"}); }).find("'d'"), std::string::npos);
+}
+
 TEST(Race, RefusesBadFields) {
   EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"),
             std::string::npos);

@@ -116,4 +116,8 @@ double passingSpeedShare(const PassAttempt& pass, const std::vector<std::vector<
 // same grid slot, pace and options: `alone`), lap by lap; NaN when either did not finish every lap.
 double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone);
 
+// How far a race finished from an order (names, first first): the pairs of its cars that finished the other
+// way round. A car of the order not in the race is refused (std::invalid_argument naming it).
+int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& order);
+
 }  // namespace roar::stack
