@@ -209,12 +209,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         }
         if (field.kind == "reverse_grid") {
           ++t.pace_order_races;
-          bool in_order = r.finished;
-          for (std::size_t k = 0; k < r.cars.size() && in_order; ++k) in_order = r.cars[k].name == field.pace_order[k];
-          t.pace_order += in_order;
-          // How far from pace order (the grid has all 15 pairs the other way round).
+          // How far from pace order (the grid has all 15 pairs the other way round); none out: in pace order.
           const int out = stack::pairsOutOfOrder(r, field.pace_order);
           t.pairs_out_of_order += out;
+          t.pace_order += r.finished && out == 0;
           if (verbose) {
             std::printf("  %s seed %d: finishing order", map.c_str(), seed);
             for (const auto& c : r.cars) std::printf(" %s", c.name.c_str());

@@ -81,11 +81,7 @@ double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone) 
 
 int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& order) {
   std::vector<std::size_t> finished_at;
-  for (const auto& name : order) {
-    const auto it = std::find_if(race.cars.begin(), race.cars.end(), [&](const auto& c) { return c.name == name; });
-    if (it == race.cars.end()) throw std::invalid_argument("pairsOutOfOrder: no car '" + name + "' in the race");
-    finished_at.push_back(static_cast<std::size_t>(it - race.cars.begin()));
-  }
+  for (const auto& name : order) finished_at.push_back(static_cast<std::size_t>(&race.car(name) - race.cars.data()));
   int out = 0;
   for (std::size_t a = 0; a < finished_at.size(); ++a)
     for (std::size_t b = a + 1; b < finished_at.size(); ++b) out += finished_at[a] > finished_at[b];

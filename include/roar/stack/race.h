@@ -117,7 +117,7 @@ double passingSpeedShare(const PassAttempt& pass, const std::vector<std::vector<
 double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone);
 
 // How far a race finished from an order (names, first first): the pairs of its cars that finished the other
-// way round. A car of the order not in the race is refused (std::invalid_argument naming it).
+// way round. A car of the order not in the race is refused (RaceResult::car's std::out_of_range naming it).
 int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& order);
 
 }  // namespace roar::stack
