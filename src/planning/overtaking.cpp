@@ -148,15 +148,30 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     // the line was planned up to 10 m/s slower than the line where it was already back on it.
     std::vector<double> heading(n, 0.0), path_per_line(n, 1.0);
     auto along = [&](std::size_t a, std::size_t b) { return std::max(1e-3, pts[b].s - pts[a].s); };
+    // The neighbours a derivative at k is taken between: the next points either side, but at least
+    // kMinSpan apart. A window begins at a point sampled anywhere on the line, often centimetres before the
+    // line's next point, and over those centimetres the offset's slope (and the heading's) differed enough
+    // to plan the window's first point as a hairpin and its start 12 m/s slow.
+    constexpr double kMinSpan = 1.0;  // m; the line's points are 2-3 m apart
+    auto span = [&](std::size_t k) {
+      std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
+      while (pts[b].s - pts[a].s < kMinSpan && (a > 0 || b + 1 < n)) {
+        if (b + 1 < n)
+          ++b;
+        else
+          --a;
+      }
+      return std::pair{a, b};
+    };
     for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
+      const auto [a, b] = span(k);
       const double d_prime = (d[b] - d[a]) / along(a, b);
       const double squeeze = 1.0 - pts[k].curvature * d[k];  // metres of moved path per metre of line, across
       heading[k] = std::atan2(d_prime, squeeze);
       path_per_line[k] = std::max(1e-3, std::hypot(squeeze, d_prime));
     }
     for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
+      const auto [a, b] = span(k);
       curvature[k] = (pts[k].curvature + (heading[b] - heading[a]) / along(a, b)) / path_per_line[k];
       pts[k].yaw = std::remainder(pts[k].yaw + heading[k], 2.0 * M_PI);
     }

@@ -174,6 +174,30 @@ TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
   EXPECT_EQ(fresh.decision("ego").mode, RaceMode::kPass) << planning::describe(fresh.decision("ego"));
 }
 
+// A window begins wherever the car is, often centimetres before one of the line's points. A car midway
+// through a move sideways is planned as fast there as a centimetre further on: the move's heading and
+// curvature are taken over metres, not over those centimetres (over which the window's first point was
+// planned as a hairpin and its start many m/s slow).
+TEST(Overtaking, AMoveIsPlannedTheSameWhereverItsWindowBegins) {
+  auto& f = fixture();
+  const planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double point_s = planning::sampleAt(f.line, straightStart(f.line) + 60.0).s;
+  const auto next = std::upper_bound(f.line.points.begin(), f.line.points.end(), point_s,
+                                     [](double v, const planning::TrajectoryPoint& p) { return v < p.s; });
+  ASSERT_NE(next, f.line.points.end());
+  const double ramp_s = next->s - 25.0;  // the move began 25 m back: the window begins midway through it
+  for (const double early : {0.02, 0.5}) {
+    const double s = next->s - early + 10.0;  // the window, 10 m behind the car, begins `early` before the point
+    for (const double to : {-2.5, 2.5}) {
+      const auto moving = planner.shifted(planning::windowAround(f.line, s, 10.0, 250.0), ramp_s, 0.0, to);
+      const auto later = planner.shifted(planning::windowAround(f.line, s + 0.3, 10.0, 250.0), ramp_s, 0.0, to);
+      const double v_here = planning::sampleAt(moving, s).speed, v_later = planning::sampleAt(later, s).speed;
+      EXPECT_NEAR(v_here, v_later, 0.2) << "window begun " << early << " m before a point, moving to " << to;
+      EXPECT_GT(v_here, 0.9 * planning::sampleAt(f.line, s).speed) << "begun " << early << " m before, to " << to;
+    }
+  }
+}
+
 // A car seen held to a speed (a pace car) is predicted at that speed out of a slow corner, not at its
 // share of the line's speed there (all of it, in the corner), which would have it pull away.
 TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {

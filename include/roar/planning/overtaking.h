@@ -142,12 +142,6 @@ class OvertakePlanner {
   double roomLeft(double s) const;
   double roomRight(double s) const;
 
- private:
-  struct Candidate {
-    Trajectory window;
-    RaceDecision decision;
-    bool clear = true;
-  };
   // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
   // back_s: where (window s) the move is undone again, back onto the racing line (infinite: never).
@@ -159,6 +153,13 @@ class OvertakePlanner {
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
                      double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0,
                      bool for_pass = false, double settle_s = -std::numeric_limits<double>::infinity()) const;
+
+ private:
+  struct Candidate {
+    Trajectory window;
+    RaceDecision decision;
+    bool clear = true;
+  };
   // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them: higher where the
   // engine, not the grip, sets them. Never lower (braking points are the free-air ones).
   Trajectory towed(const Trajectory& window, double drag_share) const;
