@@ -151,7 +151,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     // The neighbours a derivative at k is taken between: the next points either side, but at least
     // kMinSpan apart. A window begins at a point sampled anywhere on the line, often centimetres before the
     // line's next point, and over those centimetres the offset's slope (and the heading's) differed enough
-    // to plan the window's first point as a hairpin and its start 12 m/s slow.
+    // to plan the window's first point as a hairpin and the car at a third of the line's speed.
     constexpr double kMinSpan = 1.0;  // m; the line's points are 2-3 m apart
     auto span = [&](std::size_t k) {
       std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);

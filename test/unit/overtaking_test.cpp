@@ -175,7 +175,7 @@ TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
 }
 
 // A window begins wherever the car is, often centimetres before one of the line's points. A car midway
-// through a move sideways is planned as fast there as a centimetre further on: the move's heading and
+// through a move sideways is planned as fast there as 30 cm further on: the move's heading and
 // curvature are taken over metres, not over those centimetres (over which the window's first point was
 // planned as a hairpin and its start many m/s slow).
 TEST(Overtaking, AMoveIsPlannedTheSameWhereverItsWindowBegins) {
