@@ -271,6 +271,7 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
                                                  {"plan_period", number(&o->plan_period)},
                                                  {"guard_lateral", number(&o->guard_lateral)},
                                                  {"guard_time", number(&o->guard_time)},
+                                                 {"guard_predicted", flag(&o->guard_predicted)},
                                                  {"max_pass_offset", number(&o->max_pass_offset)},
                                                  {"offline_grip", number(&o->offline_grip)},
                                                  {"lateral_lookahead", number(&o->lateral_lookahead)},

@@ -67,6 +67,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.overtake.horizon = readDouble(nh, "pass_horizon", field.overtake.horizon, 1.0, 20.0);
   field.overtake.blue_flags = readBool(nh, "blue_flags", field.overtake.blue_flags);
   field.overtake.defend = readBool(nh, "defend", field.overtake.defend);
+  field.overtake.guard_predicted = readBool(nh, "guard_predicted", field.overtake.guard_predicted);
   field.overtake.keep_predictions = true;  // for /<vehicle>/manoeuvre
   return o;
 }

@@ -198,6 +198,31 @@ TEST(Overtaking, AMoveIsPlannedTheSameWhereverItsWindowBegins) {
   }
 }
 
+// guard_predicted: on a straight, a car a little faster than the one 30 m ahead closes up to the guard's
+// gap as that car goes on, rather than being held to its speed from the gap behind where it is now.
+TEST(Overtaking, ThePredictedGuardLetsACarCloseUpOnTheCarAheadAsItGoesOn) {
+  auto& f = fixture();
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s).speed;
+  auto speedAhead = [&](bool predicted, double metres) {
+    planning::OvertakeOptions options;
+    options.guard_predicted = predicted;
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
+    const auto window = planner.plan("ego", s, 0.0, v, {{"slow", s + 30.0, 0.0, 0.95 * v, 0.95}}, 10.0, 250.0);
+    EXPECT_NE(planner.decision("ego").mode, RaceMode::kPass) << planning::describe(planner.decision("ego"));
+    return planning::sampleAt(window, s + metres).speed;
+  };
+  // The guard's gap at this speed: a car's length, the margin and guard_time at speed.
+  const planning::OvertakeOptions defaults;
+  const double gap = defaults.car_length + defaults.longitudinal_margin + defaults.guard_time * v;
+  ASSERT_LT(gap, 30.0);
+  const double beyond = 30.0 - gap + 5.0;  // past the gap behind where the car ahead is now
+  std::printf("v %.1f, gap %.1f: %.2f m/s %.1f m on now, %.2f predicted\n", v, gap, speedAhead(false, beyond), beyond,
+              speedAhead(true, beyond));
+  EXPECT_LE(speedAhead(false, beyond), 0.95 * v + 1e-6);
+  EXPECT_GT(speedAhead(true, beyond), 0.95 * v + 1.0);
+}
+
 // A car seen held to a speed (a pace car) is predicted at that speed out of a slow corner, not at its
 // share of the line's speed there (all of it, in the corner), which would have it pull away.
 TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {

@@ -63,8 +63,12 @@ struct OvertakeOptions {
   int retry_plans = 60;         // plans (ticks) after an aborted pass before another on the same car
   // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
-  double guard_lateral = 0.4;    // m
-  double guard_time = 0.25;      // s
+  double guard_lateral = 0.4;  // m
+  double guard_time = 0.25;    // s
+  // The guard holds the car to the speed of the car ahead from where it would come within the gap of that
+  // car as it is predicted to go on, not from the gap behind where it is now (which, at speed, kept a car
+  // 5% faster tens of metres further back than the gap, never closing up). Off by default: see README.
+  bool guard_predicted = false;
   double max_pass_offset = 5.0;  // m from the racing line a pass may go
   // Share of the plan's grip a path off the racing line is planned with: a pass where it moves across the
   // line (a steady offset is a line of its own, on all the grip), any other move wherever it is off it.
