@@ -795,7 +795,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     nearest_rel = rel;
   }
   if (!nearest) return;
-  // Already nearer than the gap: held back from where it is now.
+  // Without guard_predicted, or already nearer than the gap: held from where the car ahead is now.
   if (!options_.guard_predicted || nearest_rel < gap) {
     followBehind(window, s, s + nearest_rel, nearest->speed, gap, limits_);
     return;
