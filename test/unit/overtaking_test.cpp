@@ -217,10 +217,10 @@ TEST(Overtaking, ThePredictedGuardLetsACarCloseUpOnTheCarAheadAsItGoesOn) {
   const double gap = defaults.car_length + defaults.longitudinal_margin + defaults.guard_time * v;
   ASSERT_LT(gap, 30.0);
   const double beyond = 30.0 - gap + 5.0;  // past the gap behind where the car ahead is now
-  std::printf("v %.1f, gap %.1f: %.2f m/s %.1f m on now, %.2f predicted\n", v, gap, speedAhead(false, beyond), beyond,
-              speedAhead(true, beyond));
-  EXPECT_LE(speedAhead(false, beyond), 0.95 * v + 1e-6);
-  EXPECT_GT(speedAhead(true, beyond), 0.95 * v + 1.0);
+  const double held_now = speedAhead(false, beyond), predicted = speedAhead(true, beyond);
+  std::printf("v %.1f, gap %.1f: %.2f m/s %.1f m on now, %.2f predicted\n", v, gap, held_now, beyond, predicted);
+  EXPECT_LE(held_now, 0.95 * v + 1e-6);
+  EXPECT_GT(predicted, 0.95 * v + 1.0);
 }
 
 // A car seen held to a speed (a pace car) is predicted at that speed out of a slow corner, not at its
