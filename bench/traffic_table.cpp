@@ -268,6 +268,7 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
                                                  {"engage_time", number(&o->engage_time)},
                                                  {"min_pass_speed", number(&o->min_pass_speed)},
                                                  {"stall_time", number(&o->stall_time)},
+                                                 {"abort_time", number(&o->abort_time)},
                                                  {"plan_period", number(&o->plan_period)},
                                                  {"guard_lateral", number(&o->guard_lateral)},
                                                  {"guard_time", number(&o->guard_time)},

@@ -65,6 +65,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.overtake.car_width = o.vehicle.chassis.box_size.y();
   field.overtake.lateral_margin = readDouble(nh, "pass_lateral_margin", field.overtake.lateral_margin, 0.2, 5.0);
   field.overtake.horizon = readDouble(nh, "pass_horizon", field.overtake.horizon, 1.0, 20.0);
+  field.overtake.abort_time = readDouble(nh, "pass_abort_time", field.overtake.abort_time, 0.3, 20.0);
   field.overtake.blue_flags = readBool(nh, "blue_flags", field.overtake.blue_flags);
   field.overtake.defend = readBool(nh, "defend", field.overtake.defend);
   field.overtake.guard_predicted = readBool(nh, "guard_predicted", field.overtake.guard_predicted);

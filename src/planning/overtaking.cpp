@@ -317,7 +317,7 @@ double OvertakePlanner::driveAlong(const Trajectory& plan, double s0, double v0,
 }
 
 bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, const std::vector<Prediction>& others,
-                              double* progress, double margin_share) const {
+                              double* progress, double margin_share, double within) const {
   const auto& pts = plan.points;
   double last_check = -1e9;
   bool clear = true;
@@ -328,7 +328,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, cons
   const double s = driveAlong(plan, s0, v0, [&](std::size_t k, double t, double s_now, double v) {
     if (s_now - last_check < options_.sample_step) return true;
     last_check = s_now;
-    if (t < 0.3) return true;  // too soon to change anything
+    if (t < 0.3 || t > within) return true;  // too soon to change anything, or for later plans to see to
     const double d = pts[k].offset - sampleAt(line_, s_now).offset;
     for (std::size_t i = 0; i < others.size(); ++i) {
       const auto& o = others[i];
@@ -485,13 +485,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
     const bool under_way = memory.mode == d.mode && memory.side == d.side && memory.other == d.other;
     const double margin_share = under_way ? 0.5 : 1.0;
-    c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress, margin_share);
+    // Alongside the car passed, a pass is given up only for what it could not drop back from later.
+    const bool level = leader && leader_gap < options_.car_length + options_.longitudinal_margin;
+    const double within = under_way && d.mode == RaceMode::kPass && level ? options_.abort_time : kInf;
+    c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress, margin_share, within);
     if (!c.clear && !staying_out.points.empty()) {
       // Coming back is planned where the car passed is cleared at the speeds of the path staying out; the
       // way back (a curve, slower) may not clear it yet. Then the pass stays out beside the line for now:
       // a pass is not given up for the way back in.
       double progress = 0.0;
-      if (clearOf(staying_out, s, speed, predicted, &progress, margin_share)) {
+      if (clearOf(staying_out, s, speed, predicted, &progress, margin_share, within)) {
         c.window = std::move(staying_out);
         c.decision.progress = progress;
         c.clear = true;
@@ -515,7 +518,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       }
       // Waiting behind the car off the line is following it there: only worth it if it then draws
       // alongside within the horizon.
-      patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share) &&
+      patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share, within) &&
                       drawsAlongside(patient.window, s, speed, leader_prediction);
       if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
     }
