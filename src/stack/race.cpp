@@ -175,7 +175,10 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
         const std::string& passed = result.passes[static_cast<std::size_t>(e.open_pass)].passed;
         if (std::abs(gapAhead(name, passed)) > car_length + 1.0) closePass(e, now);
       }
-      if (passing && e.open_pass < 0) {
+      // Only a pass between two cars still racing is one: after the flag a car drives on and may go by a
+      // car still racing (or be gone by), which is no pass of the race (once, 2 of the 23 aborted).
+      const bool racing = !control.car(name).finished && !(passing && control.car(d.other).finished);
+      if (passing && e.open_pass < 0 && racing) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
           giveUp(e);
           e.moving_out.passer = name;
@@ -189,7 +192,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
           e.moving_out = PassAttempt{};
           e.open_pass = static_cast<long>(result.passes.size()) - 1;
         }
-      } else if (!passing) {
+      } else if (!passing || !racing) {
         giveUp(e);
       }
       const double s_line = field.onLine(name).s;

@@ -155,6 +155,28 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   EXPECT_GT(r.car("ego").time_in_traffic, 0.0);
 }
 
+// Only cars still racing pass each other: after the flag the winner drives on and laps the slow car still
+// racing, which is no pass of the race (the traffic benchmark counted such passes, and their aborts).
+TEST(Race, NoPassIsCountedOnceEitherCarHasFinished) {
+  stack::RaceOptions options;
+  options.field.overtaking = true;
+  options.laps = 1;
+  // At 35% of the planned speeds the pace car is still on its lap when ego, done with its own, comes round
+  // to it again (at about 134 s here, ego finished at 78 s).
+  const auto eight = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  const auto r = stack::runRace(eight, sprint().vehicle, {{"pace", 0, 0.35}, {"ego", 1}}, options);
+  ASSERT_TRUE(r.finished);
+  const double ego_done = r.car("ego").race_time, pace_done = r.car("pace").race_time;
+  ASSERT_LT(ego_done + 40.0, pace_done) << "ego finished long before the pace car";
+  ASSERT_FALSE(r.passes.empty());
+  for (const auto& pass : r.passes) {
+    EXPECT_LT(pass.start_time, ego_done) << pass.passer << " on " << pass.passed;
+  }
+  for (const auto& pass : r.given_up_before_alongside) {
+    EXPECT_LT(pass.start_time, ego_done) << pass.passer << " on " << pass.passed << ", given up";
+  }
+}
+
 // Every pass begins from behind the car passed. A car being passed, the other beside it and going by, once
 // took staying beside it for a pass of its own, given up as the other completed: a third of the traffic
 // benchmark's aborted attempts (Monza, cars 5% of pace apart, at 14 s).
