@@ -176,7 +176,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
         if (std::abs(gapAhead(name, passed)) > car_length + 1.0) closePass(e, now);
       }
       // Only a pass between two cars still racing is one: after the flag a car drives on and may go by a
-      // car still racing (or be gone by), which is no pass of the race (once, 2 of the 23 aborted).
+      // car still racing (or be gone by), which is no pass of the race (the traffic table counted them).
       const bool racing = !control.car(name).finished && !(passing && control.car(d.other).finished);
       if (passing && e.open_pass < 0 && racing) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {

@@ -177,10 +177,10 @@ TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
 // Alongside the car it passes, a pass is given up for a conflict predicted within abort_time, not for one
 // the horizon only just reaches (which later plans can still drop back from, and often never comes: the
 // squeeze 6 s on was a 2 cm shortfall at Monza, given up from level at 38 m/s and braked to 31 on the
-// straight). A car stopped in the passer's lane far ahead: the pass goes on; near, it is given up.
+// straight). Cars stopped across the road 3 s on: the pass goes on; 1.5 s on, it is given up.
 TEST(Overtaking, APassAlongsideIsGivenUpOnlyForAConflictWithinTheAbortTime) {
   auto& f = wideFixture();
-  // Ego (80% of the line's speed) passes a car at 70%; once level with it, a car stands in ego's lane
+  // Ego (80% of the line's speed) passes a car at 70%; once level with it, cars stand across the road
   // `seconds_ahead` on at ego's speed. The decision a few plans later (more than abort_plans).
   auto shiftAt = [&](const planning::Trajectory& plan, double at) {
     return planning::sampleAt(plan, at).offset - planning::sampleAt(f.line, at).offset;
