@@ -449,6 +449,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool can_pass = leader && leader_gap < (passing_leader ? 1.5 * engage : engage) &&
                         (passing_leader || (speed >= options_.min_pass_speed && leader_gap >= options_.car_length)) &&
                         !(abort.plans_left > 0 && abort.other == leader->name);
+  const bool level_with_leader = leader && leader_gap < options_.car_length + options_.longitudinal_margin;
   std::vector<Candidate> candidates;
   // A move the car is already making goes on from where it began; a new one starts here.
   auto make = [&](RaceMode mode, int side, const std::string& other, double to) {
@@ -485,9 +486,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
     const bool under_way = memory.mode == d.mode && memory.side == d.side && memory.other == d.other;
     const double margin_share = under_way ? 0.5 : 1.0;
-    // Alongside the car passed, a pass is given up only for what it could not drop back from later.
-    const bool level = leader && leader_gap < options_.car_length + options_.longitudinal_margin;
-    const double within = under_way && d.mode == RaceMode::kPass && level ? options_.abort_time : kInf;
+    // Level with the car passed, a pass is given up only for what it could not drop back from later.
+    const double within = under_way && d.mode == RaceMode::kPass && level_with_leader ? options_.abort_time : kInf;
     c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress, margin_share, within);
     if (!c.clear && !staying_out.points.empty()) {
       // Coming back is planned where the car passed is cleared at the speeds of the path staying out; the

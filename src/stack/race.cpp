@@ -177,7 +177,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       }
       // Only a pass between two cars still racing is one: after the flag a car drives on and may go by a
       // car still racing (or be gone by), which is no pass of the race (the traffic table counted them).
-      const bool racing = !control.car(name).finished && !(passing && control.car(d.other).finished);
+      const bool finished = control.car(name).finished;
+      const bool racing = !finished && !(passing && control.car(d.other).finished);
       if (passing && e.open_pass < 0 && racing) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
           giveUp(e);
@@ -204,7 +205,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
         options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
       if (e.open_pass >= 0) result.passes[static_cast<std::size_t>(e.open_pass)].samples.push_back(sample);
       if (!e.moving_out.passer.empty()) e.moving_out.samples.push_back(sample);
-      if (!control.car(name).finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
+      if (!finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
       auto& rounds = e.result.round_speeds;
       while (rounds.size() <= static_cast<std::size_t>(e.round))
         rounds.emplace_back(static_cast<std::size_t>(std::ceil(line.length / options.speed_bin)),

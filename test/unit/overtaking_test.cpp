@@ -45,6 +45,11 @@ double straightStart(const planning::Trajectory& line) {
   return best_s - 150.0;
 }
 
+// How far left of the racing line a plan runs at line s.
+double shiftAt(const planning::Trajectory& line, const planning::Trajectory& plan, double s) {
+  return planning::sampleAt(plan, s).offset - planning::sampleAt(line, s).offset;
+}
+
 double wrapAhead(double a, double b, double length) {
   double d = a - b;
   return d - std::floor(d / length + 0.5) * length;
@@ -182,9 +187,6 @@ TEST(Overtaking, APassAlongsideIsGivenUpOnlyForAConflictWithinTheAbortTime) {
   auto& f = wideFixture();
   // Ego (80% of the line's speed) passes a car at 70%; once level with it, cars stand across the road
   // `seconds_ahead` on at ego's speed. The decision a few plans later (more than abort_plans).
-  auto shiftAt = [&](const planning::Trajectory& plan, double at) {
-    return planning::sampleAt(plan, at).offset - planning::sampleAt(f.line, at).offset;
-  };
   auto decisionAfterSeeingIt = [&](double abort_time, double seconds_ahead) {
     planning::OvertakeOptions o;
     o.abort_time = abort_time;
@@ -209,7 +211,7 @@ TEST(Overtaking, APassAlongsideIsGivenUpOnlyForAConflictWithinTheAbortTime) {
       if (plans_seeing_it > 0 && ++plans_seeing_it > o.abort_plans + 2) return planner.decision("ego");
       v = std::min(planning::sampleAt(plan, s).speed, v + 8.0 * dt);
       s += v * dt;
-      lateral = shiftAt(plan, s);
+      lateral = shiftAt(f.line, plan, s);
       slow_s += slow_v * dt;
     }
     ADD_FAILURE() << "ego never drew level with the slow car in a pass";
@@ -402,7 +404,7 @@ TEST(Overtaking, ACarAlongsideIsNotSqueezed) {
   const auto decision = planner.decision("ego");
   EXPECT_NE(decision.mode, RaceMode::kRacingLine) << "not back onto the line into the car beside";
   for (double ahead : {5.0, 10.0, 20.0}) {
-    const double shift = planning::sampleAt(plan, s + ahead).offset - planning::sampleAt(f.line, s + ahead).offset;
+    const double shift = shiftAt(f.line, plan, s + ahead);
     const double room = side > 0 ? planner.roomLeft(s + ahead) : planner.roomRight(s + ahead);
     EXPECT_GE(side * shift, std::min(3.0, room - 0.5 * 1.85 - 1.0) - 1e-6) << "holds its place " << ahead << " m on";
   }
@@ -469,33 +471,32 @@ TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
   }
   ASSERT_GE(s, 0.0) << "Roar Sprint has 250 m with room for a defensive move";
   const double v = 0.9 * planning::sampleAt(f.line, s).speed;
-  auto shiftAt = [&](const planning::Trajectory& plan, double at) {
-    return planning::sampleAt(plan, at).offset - planning::sampleAt(f.line, at).offset;
-  };
   planning::TrafficCar attacker{"attacker", s - 20.0, side * 2.0, v + 2.0};
   auto plan = planner.plan("defender", s, 0.0, v, {attacker}, 10.0, 250.0);
   auto d = planner.decision("defender");
   ASSERT_EQ(d.mode, RaceMode::kDefend) << planning::raceModeName(d.mode);
   EXPECT_EQ(d.side, side);
   EXPECT_EQ(d.other, "attacker");
-  EXPECT_GE(side * shiftAt(plan, s + 120.0), 1.5) << "across towards the attacker's side by most of a car's width";
-  EXPECT_LE(side * shiftAt(plan, s + 120.0), o.defend_shift + 1e-6) << "no further than defend_shift";
+  EXPECT_GE(side * shiftAt(f.line, plan, s + 120.0), 1.5)
+      << "across towards the attacker's side by most of a car's width";
+  EXPECT_LE(side * shiftAt(f.line, plan, s + 120.0), o.defend_shift + 1e-6) << "no further than defend_shift";
   // The attacker switches sides: the defender does not follow it across (one move).
-  const double lateral = shiftAt(plan, s + 30.0);
+  const double lateral = shiftAt(f.line, plan, s + 30.0);
   attacker = {"attacker", s + 30.0 - 12.0, -side * 2.0, v + 2.0};
   plan = planner.plan("defender", s + 30.0, lateral, v, {attacker}, 10.0, 250.0);
   d = planner.decision("defender");
   EXPECT_EQ(d.mode, RaceMode::kDefend);
   EXPECT_EQ(d.side, side) << "no second move";
   for (double ahead : {0.0, 20.0, 60.0, 120.0})
-    EXPECT_GE(side * shiftAt(plan, s + 30.0 + ahead), side * lateral - 0.05) << ahead;
+    EXPECT_GE(side * shiftAt(f.line, plan, s + 30.0 + ahead), side * lateral - 0.05) << ahead;
   // Alongside now on the other side: the defender holds its place, leaving it the room.
   attacker = {"attacker", s + 60.0 - 2.0, -side * 2.0, v + 2.0};
-  const double held = shiftAt(plan, s + 60.0);
+  const double held = shiftAt(f.line, plan, s + 60.0);
   plan = planner.plan("defender", s + 60.0, held, v, {attacker}, 10.0, 250.0);
   d = planner.decision("defender");
   EXPECT_EQ(d.mode, RaceMode::kHold) << planning::raceModeName(d.mode);
-  for (double ahead : {5.0, 10.0, 20.0}) EXPECT_GE(side * shiftAt(plan, s + 60.0 + ahead), side * held - 0.05) << ahead;
+  for (double ahead : {5.0, 10.0, 20.0})
+    EXPECT_GE(side * shiftAt(f.line, plan, s + 60.0 + ahead), side * held - 0.05) << ahead;
   // A car alone behind on the racing line, or a car falling back, is no threat; and off by default.
   planning::OvertakePlanner calm(f.track, f.line, f.limits, o);
   calm.plan("defender", s, 0.0, v, {{"behind", s - 20.0, 0.0, v + 2.0}}, 10.0, 250.0);
@@ -527,7 +528,7 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
   auto drive = [&](Car* c, const planning::Trajectory& plan) {
     c->v = std::min(planning::sampleAt(plan, c->s).speed, c->v + 8.0 * dt);
     c->s += c->v * dt;
-    c->lateral = planning::sampleAt(plan, c->s).offset - planning::sampleAt(f.line, c->s).offset;
+    c->lateral = shiftAt(f.line, plan, c->s);
   };
   int defences = 0;
   bool defending = false;
