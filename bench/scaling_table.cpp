@@ -1,5 +1,6 @@
 #include "scaling_table.h"
 
+#include <sched.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -132,6 +133,55 @@ double processesRate(const Work& w, int processes) {
   return total;
 }
 
+// One environment's steps per second alone on each core the process may use, each measured in a child pinned
+// to it, one core at a time. On a virtual machine the cores need not be alike (on the 2-core CI machine one
+// ran 30% slower than the other for minutes, then as fast): a column that lands on the slow one reads low,
+// whatever its design. Printed beside the table so that its ratios can be read against them.
+void printCoreSpeeds(const Work& w, const char* when) {
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof allowed, &allowed) != 0) return;
+  std::printf("one environment alone on each core (%s):", when);
+  double slowest = 0.0, fastest = 0.0;
+  for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+    if (!CPU_ISSET(cpu, &allowed)) continue;
+    int fds[2];
+    if (pipe(fds) != 0) return;
+    const pid_t child = fork();
+    if (child == 0) {
+      close(fds[0]);
+      cpu_set_t one;
+      CPU_ZERO(&one);
+      CPU_SET(cpu, &one);
+      double rate = 0.0;
+      if (sched_setaffinity(0, sizeof one, &one) == 0) {
+        auto env = w.make_env(w.camera);
+        rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
+        rl::StepResult result;
+        long steps = 0;
+        const auto start = Clock::now();
+        while (secondsSince(start) < 1.0) {
+          stepAlone(w, *env, &action, &result);
+          ++steps;
+        }
+        rate = static_cast<double>(steps) / secondsSince(start);
+      }
+      const ssize_t written = write(fds[1], &rate, sizeof rate);
+      _exit(written == sizeof rate ? 0 : 1);
+    }
+    close(fds[1]);
+    double rate = 0.0;
+    if (read(fds[0], &rate, sizeof rate) != sizeof rate) rate = 0.0;
+    close(fds[0]);
+    waitpid(child, nullptr, 0);
+    std::printf(" cpu%d %.0f", cpu, rate);
+    slowest = slowest == 0.0 ? rate : std::min(slowest, rate);
+    fastest = std::max(fastest, rate);
+  }
+  std::printf(" steps/s (slowest / fastest %.2f)\n", fastest > 0.0 ? slowest / fastest : 0.0);
+  std::fflush(stdout);
+}
+
 // Steps per environment for about `seconds` of a thread's work: one environment's rate over half a second.
 long stepsPerEnv(const Work& w, double seconds) {
   auto env = w.make_env(w.camera);
@@ -155,6 +205,8 @@ void printScalingTable(const EnvFactory& make_env, const Policy& policy, const S
       options.seconds, options.envs_per_thread, options.repeats);
   std::printf("%-7s %7s %9s %12s %12s %12s %10s %10s %12s %12s\n", "obs", "threads", "steps/env", "sync", "async",
               "processes", "sync/proc", "async/proc", "sync range", "async range");
+  const Work state_work{make_env, policy, false, options.envs_per_thread, 0};
+  printCoreSpeeds(state_work, "state observations, before");
   for (bool camera : {false, true}) {
     Work work{make_env, policy, camera, options.envs_per_thread, 0};
     work.steps_per_env = stepsPerEnv(work, options.seconds);
@@ -176,6 +228,7 @@ void printScalingTable(const EnvFactory& make_env, const Policy& policy, const S
       std::fflush(stdout);
     }
   }
+  printCoreSpeeds(state_work, "state observations, after");
   std::printf(
       "sync: VectorEnv, every thread stepping each step; async: AsyncVectorEnv (the caller's thread one of\n"
       "them), batches of one a thread; processes: forked, one thread each, their rates summed. Every column\n"
