@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <vector>
 
 #include "roar/rl/async_vector_env.h"
@@ -90,18 +91,44 @@ double asynchronousRate(const Work& w, int threads) {
   return rate;
 }
 
+// A measurement made in a forked child (its own process: nothing shared with this one but the pages it was
+// forked with). Its result is read by finishChild; started children run at the same time.
+struct Child {
+  pid_t pid = -1;
+  int result_fd = -1;
+};
+
+Child startChild(const std::function<double()>& measure) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const double rate = measure();
+    const ssize_t written = write(fds[1], &rate, sizeof rate);
+    _exit(written == sizeof rate ? 0 : 1);
+  }
+  close(fds[1]);
+  return {pid, fds[0]};
+}
+
+// The child's result (0 if it gave none), once it has finished.
+double finishChild(const Child& child) {
+  if (child.pid < 0) return 0.0;
+  double rate = 0.0;
+  if (read(child.result_fd, &rate, sizeof rate) != sizeof rate) rate = 0.0;
+  close(child.result_fd);
+  waitpid(child.pid, nullptr, 0);
+  return rate;
+}
+
 // `processes` forked processes, each one thread stepping its envs_per_thread environments in turn (process
 // p's being the environments p * envs_per_thread.. of the pools): the reference a process per core gives,
 // the sum of the processes' rates.
 double processesRate(const Work& w, int processes) {
-  std::vector<int> reads;
-  std::vector<pid_t> children;
+  std::vector<Child> children;
   for (int p = 0; p < processes; ++p) {
-    int fds[2];
-    if (pipe(fds) != 0) return 0.0;
-    const pid_t child = fork();
-    if (child == 0) {
-      close(fds[0]);
+    children.push_back(startChild([&w, p] {
       std::vector<std::unique_ptr<rl::RacingEnv>> envs = makeEnvs(w, w.envs_per_thread);
       std::vector<rl::Value> actions;
       for (int e = 0; e < w.envs_per_thread; ++e) {
@@ -115,21 +142,11 @@ double processesRate(const Work& w, int processes) {
           stepAlone(w, *envs[e], &actions[e], &result);
         }
       }
-      const double rate = static_cast<double>(w.steps_per_env) * static_cast<double>(envs.size()) / secondsSince(start);
-      const ssize_t written = write(fds[1], &rate, sizeof rate);
-      _exit(written == sizeof rate ? 0 : 1);
-    }
-    close(fds[1]);
-    reads.push_back(fds[0]);
-    children.push_back(child);
+      return static_cast<double>(w.steps_per_env) * static_cast<double>(envs.size()) / secondsSince(start);
+    }));
   }
   double total = 0.0;
-  for (std::size_t p = 0; p < children.size(); ++p) {
-    double rate = 0.0;
-    if (read(reads[p], &rate, sizeof rate) == sizeof rate) total += rate;
-    close(reads[p]);
-    waitpid(children[p], nullptr, 0);
-  }
+  for (const Child& child : children) total += finishChild(child);
   return total;
 }
 
@@ -145,35 +162,22 @@ void printCoreSpeeds(const Work& w, const char* when) {
   double slowest = 0.0, fastest = 0.0;
   for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
     if (!CPU_ISSET(cpu, &allowed)) continue;
-    int fds[2];
-    if (pipe(fds) != 0) return;
-    const pid_t child = fork();
-    if (child == 0) {
-      close(fds[0]);
+    const double rate = finishChild(startChild([&w, cpu] {
       cpu_set_t one;
       CPU_ZERO(&one);
       CPU_SET(cpu, &one);
-      double rate = 0.0;
-      if (sched_setaffinity(0, sizeof one, &one) == 0) {
-        auto env = w.make_env(w.camera);
-        rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
-        rl::StepResult result;
-        long steps = 0;
-        const auto start = Clock::now();
-        while (secondsSince(start) < 1.0) {
-          stepAlone(w, *env, &action, &result);
-          ++steps;
-        }
-        rate = static_cast<double>(steps) / secondsSince(start);
+      if (sched_setaffinity(0, sizeof one, &one) != 0) return 0.0;
+      auto env = w.make_env(w.camera);
+      rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
+      rl::StepResult result;
+      long steps = 0;
+      const auto start = Clock::now();
+      while (secondsSince(start) < 1.0) {
+        stepAlone(w, *env, &action, &result);
+        ++steps;
       }
-      const ssize_t written = write(fds[1], &rate, sizeof rate);
-      _exit(written == sizeof rate ? 0 : 1);
-    }
-    close(fds[1]);
-    double rate = 0.0;
-    if (read(fds[0], &rate, sizeof rate) != sizeof rate) rate = 0.0;
-    close(fds[0]);
-    waitpid(child, nullptr, 0);
+      return static_cast<double>(steps) / secondsSince(start);
+    }));
     std::printf(" cpu%d %.0f", cpu, rate);
     slowest = slowest == 0.0 ? rate : std::min(slowest, rate);
     fastest = std::max(fastest, rate);
