@@ -47,6 +47,20 @@ void stepAlone(const Work& w, rl::RacingEnv& env, rl::Value* action, rl::StepRes
   *action = w.policy(env.actionSpace(), result->observation);
 }
 
+// One environment's steps per second, stepped alone (reset with seed 1) for `seconds`.
+double aloneRate(const Work& w, double seconds) {
+  auto env = w.make_env(w.camera);
+  rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
+  rl::StepResult result;
+  long steps = 0;
+  const auto start = Clock::now();
+  while (secondsSince(start) < seconds) {
+    stepAlone(w, *env, &action, &result);
+    ++steps;
+  }
+  return static_cast<double>(steps) / secondsSince(start);
+}
+
 // One process, `threads` threads, envs_per_thread environments each, stepped in lockstep.
 double synchronousRate(const Work& w, int threads) {
   rl::VectorEnv vec(makeEnvs(w, w.envs_per_thread * threads), threads);
@@ -166,17 +180,7 @@ void printCoreSpeeds(const Work& w, const char* when) {
       cpu_set_t one;
       CPU_ZERO(&one);
       CPU_SET(cpu, &one);
-      if (sched_setaffinity(0, sizeof one, &one) != 0) return 0.0;
-      auto env = w.make_env(w.camera);
-      rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
-      rl::StepResult result;
-      long steps = 0;
-      const auto start = Clock::now();
-      while (secondsSince(start) < 1.0) {
-        stepAlone(w, *env, &action, &result);
-        ++steps;
-      }
-      return static_cast<double>(steps) / secondsSince(start);
+      return sched_setaffinity(0, sizeof one, &one) == 0 ? aloneRate(w, 1.0) : 0.0;
     }));
     std::printf(" cpu%d %.0f", cpu, rate);
     slowest = slowest == 0.0 ? rate : std::min(slowest, rate);
@@ -188,16 +192,7 @@ void printCoreSpeeds(const Work& w, const char* when) {
 
 // Steps per environment for about `seconds` of a thread's work: one environment's rate over half a second.
 long stepsPerEnv(const Work& w, double seconds) {
-  auto env = w.make_env(w.camera);
-  rl::Value action = w.policy(env->actionSpace(), env->reset(1).observation);
-  rl::StepResult result;
-  long steps = 0;
-  const auto start = Clock::now();
-  while (secondsSince(start) < 0.5) {
-    stepAlone(w, *env, &action, &result);
-    ++steps;
-  }
-  return std::max(1L, static_cast<long>(steps / secondsSince(start) * seconds / w.envs_per_thread));
+  return std::max(1L, static_cast<long>(aloneRate(w, 0.5) * seconds / w.envs_per_thread));
 }
 
 }  // namespace
