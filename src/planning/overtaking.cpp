@@ -398,18 +398,23 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
   const Trajectory& on_line_base = line_base.points.empty() ? base : line_base;
 
-  // Cars that matter: alongside or ahead, within the window.
+  // Cars that matter: alongside or ahead, within the window; behind, those near enough to need room, and
+  // those closing fast enough to be level within a move's time (a car slow off the line, say after a spin,
+  // must not move back onto it in front of them: at its own low speed, "near" is a few metres).
   std::vector<TrafficCar> others;
   const TrafficCar* leader = nullptr;
   double leader_gap = ahead_m;
   bool alongside = false;
+  bool closing_behind = false;  // a car closing from behind within a move's time: keep the place, as alongside
   for (const auto& o : traffic) {
     if (o.name == car) continue;
     const double rel = aheadOnLap(o.s, s, L);
-    if (rel < -(options_.car_length + options_.longitudinal_margin + options_.rejoin_time * speed) || rel > ahead_m)
-      continue;
+    const double near = options_.car_length + options_.longitudinal_margin;
+    const double closing_in = std::max(0.0, o.speed - speed) * options_.shift_time;
+    if (rel < -(near + std::max(options_.rejoin_time * speed, closing_in)) || rel > ahead_m) continue;
     others.push_back(o);
-    if (std::abs(rel) < options_.car_length + options_.longitudinal_margin) alongside = true;
+    if (std::abs(rel) < near) alongside = true;
+    if (rel <= -near && -rel < near + closing_in) closing_behind = true;
     if (rel > 0 && rel < leader_gap &&
         std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
       leader_gap = rel;
@@ -563,7 +568,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       const RaceDecision d =
           make(RaceMode::kYield, side, blue->name, side * (options_.car_width + options_.lateral_margin + 0.3));
       Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
-      if (clearOf(c.window, s, speed, predicted, &c.decision.progress, yielding ? 0.5 : 1.0)) {
+      // Clear of everyone but the car it makes room for: that one goes by wherever it is.
+      std::vector<Prediction> but_blue;
+      for (std::size_t i = 0; i < others.size(); ++i)
+        if (others[i].name != blue->name) but_blue.push_back(predicted[i]);
+      if (clearOf(c.window, s, speed, but_blue, &c.decision.progress, yielding ? 0.5 : 1.0)) {
         holds_.erase(car);
         return commit(std::move(c.window), c.decision);
       }
@@ -597,12 +606,13 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
   // target that followed the car's tracking error would walk it into the car alongside.
   auto held = holds_.find(car);
-  if (held != holds_.end() && !alongside) {
+  const bool keep_place = alongside || closing_behind;  // the place held while a car is beside or closing
+  if (held != holds_.end() && !keep_place) {
     holds_.erase(held);
     held = holds_.end();
   }
   const double hold_at = held != holds_.end() ? held->second : lateral;
-  if (alongside && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
+  if (keep_place && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
   if (can_pass) {
     // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
     const bool close = leader_gap < 2.0 * options_.car_length;
@@ -615,9 +625,9 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       consider(make(RaceMode::kPass, side, leader->name, to));
     }
   }
-  // The fallback: behind the leader at its speed; beside a car, holding the lateral place (never squeezing
-  // it), otherwise on or back to the racing line.
-  const RaceDecision fallback_path = alongside && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
+  // The fallback: behind the leader at its speed; beside a car or with one closing from behind, holding the
+  // lateral place (never squeezing it nor crossing its way), otherwise on or back to the racing line.
+  const RaceDecision fallback_path = keep_place && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
                                      : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                : make(RaceMode::kRacingLine, 0, "", 0.0);
   Candidate follow{on_line ? on_line_base
@@ -703,7 +713,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   if (!chosen) chosen = &follow;
   if (memory.mode == RaceMode::kPass && chosen->decision.mode == RaceMode::kFollow)
     abort = {memory.other, options_.retry_plans};
-  const bool holding = alongside && (chosen->decision.mode == RaceMode::kHold || (chosen == &follow && !on_line));
+  const bool holding = keep_place && (chosen->decision.mode == RaceMode::kHold || (chosen == &follow && !on_line));
   if (holding) {
     holds_[car] = hold_at;
   } else {

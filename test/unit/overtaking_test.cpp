@@ -363,6 +363,32 @@ TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
   EXPECT_LE(planning::sampleAt(window, slow_off_plan.s - 6.0).speed, slow_off_plan.speed + 3.0);
 }
 
+// A car slow and off the line (after a spin, say) with a fast car closing on the line behind it holds its
+// place until that car has gone by, so that the other can go round it where it is: at its own 5 m/s, "close
+// behind" was a few metres, and a car closing at 20 m/s from 23 m back is level with it in about a second
+// (traced: a spun car 1.1 m off the line drove back onto it in front of one and was hit). With the road
+// clear behind, it heads back to the line.
+TEST(Overtaking, ACarSlowOffTheLineGivesWayToACarClosingFromBehind) {
+  auto& f = fixture();
+  const double s = straightStart(f.line);
+  const double v = planning::sampleAt(f.line, s - 23.0).speed;
+  planning::OvertakePlanner probe(f.track, f.line, f.limits, {});
+  const double off = probe.roomLeft(s) > probe.roomRight(s) ? 1.1 : -1.1;
+  const planning::TrafficCar spun{"spun", s, off, 5.0};
+  auto nearestToTheLine = [&](const std::vector<planning::TrafficCar>& traffic) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+    const auto plan = planner.plan("spun", s, off, 5.0, traffic, 10.0, 250.0);
+    double nearest = std::abs(off);  // over the next 15 m
+    for (double ahead = 1.0; ahead <= 15.0; ahead += 1.0)
+      nearest = std::min(nearest, std::abs(shiftAt(f.line, plan, s + ahead)));
+    return nearest;
+  };
+  EXPECT_NEAR(nearestToTheLine({spun, {"fast", s - 23.0, 0.0, v}}), std::abs(off), 0.05)
+      << "moved back onto the line in front of a car closing at " << v - 5.0 << " m/s";
+  EXPECT_LT(nearestToTheLine({spun, {"fast", s + 60.0, 0.0, v}}), 0.5) << "with the car gone by, not back on the line";
+  EXPECT_LT(nearestToTheLine({spun}), 0.5) << "alone, not back on the line";
+}
+
 TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   auto& f = fixture();
   const double s = straightStart(f.line);
