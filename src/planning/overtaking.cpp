@@ -406,10 +406,10 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   double leader_gap = ahead_m;
   bool alongside = false;
   bool closing_behind = false;  // a car closing from behind within a move's time: keep the place, as alongside
+  const double near = options_.car_length + options_.longitudinal_margin;  // within it, a car is level
   for (const auto& o : traffic) {
     if (o.name == car) continue;
     const double rel = aheadOnLap(o.s, s, L);
-    const double near = options_.car_length + options_.longitudinal_margin;
     const double closing_in = std::max(0.0, o.speed - speed) * options_.shift_time;
     if (rel < -(near + std::max(options_.rejoin_time * speed, closing_in)) || rel > ahead_m) continue;
     others.push_back(o);
@@ -454,7 +454,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool can_pass = leader && leader_gap < (passing_leader ? 1.5 * engage : engage) &&
                         (passing_leader || (speed >= options_.min_pass_speed && leader_gap >= options_.car_length)) &&
                         !(abort.plans_left > 0 && abort.other == leader->name);
-  const bool level_with_leader = leader && leader_gap < options_.car_length + options_.longitudinal_margin;
+  const bool level_with_leader = leader && leader_gap < near;
   std::vector<Candidate> candidates;
   // A move the car is already making goes on from where it began; a new one starts here.
   auto make = [&](RaceMode mode, int side, const std::string& other, double to) {
@@ -548,8 +548,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       const bool closing = rel < 0 && -rel < options_.car_length + options_.blue_flag_time * std::max(o.speed, 1.0);
       // Let by means clear ahead: aside until the car is as far ahead as a pass leaves the car passed.
       const bool going_by = yielding_to != yields_.end() && yielding_to->second.first == o.name && rel >= 0 &&
-                            rel < options_.car_length + options_.longitudinal_margin + 2.0 +
-                                      options_.rejoin_time * std::max(speed, o.speed);
+                            rel < near + 2.0 + options_.rejoin_time * std::max(speed, o.speed);
       if ((closing || going_by) && rel > blue_rel) {
         blue = &o;
         blue_rel = rel;
