@@ -12,7 +12,8 @@ AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int
       slots_(envs_.size()),
       busy_(envs_.size(), 0),
       done_ids_(envs_.size(), 0),
-      done_ready_flags_(envs_.size(), 0) {
+      done_ready_flags_(new std::atomic<bool>[envs_.size()]) {
+  for (std::size_t i = 0; i < envs_.size(); ++i) done_ready_flags_[i].store(false, std::memory_order_relaxed);
   if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
   if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
   for (const auto& e : envs_) {
@@ -41,47 +42,58 @@ AsyncVectorEnv::~AsyncVectorEnv() {
   for (auto& t : threads_) t.join();
 }
 
-std::size_t AsyncVectorEnv::inFlight() const {
-  std::lock_guard<std::mutex> lock(done_mutex_);
-  return in_flight_;
+std::size_t AsyncVectorEnv::inFlight() const { return in_flight_; }
+
+bool AsyncVectorEnv::readyAt(std::size_t number) const {
+  return done_ready_flags_[number % envs_.size()].load(std::memory_order_seq_cst);
+}
+
+std::size_t AsyncVectorEnv::readyFromReceived() const {
+  std::size_t ready = 0;
+  while (ready < in_flight_ && readyAt(received_ + ready)) ++ready;
+  return ready;
 }
 
 bool AsyncVectorEnv::anyQueued() const {
   for (const auto& inbox : inboxes_) {
-    if (inbox->queued.load(std::memory_order_acquire) > 0) return true;
+    if (inbox->queued.load(std::memory_order_seq_cst) > 0) return true;
   }
   return false;
 }
 
 bool AsyncVectorEnv::takeJob(std::size_t thread, std::size_t* env_id) {
   const std::size_t n = inboxes_.size();
+  const bool caller = thread == 0;
   for (std::size_t k = 0; k < n; ++k) {
     Inbox& inbox = *inboxes_[(thread + k) % n];
     if (inbox.queued.load(std::memory_order_acquire) == 0) continue;
     std::lock_guard<std::mutex> lock(inbox.mutex);
-    if (inbox.jobs.empty()) continue;  // taken meanwhile
-    *env_id = inbox.jobs.front();
-    inbox.jobs.pop_front();
+    // A worker takes resets first: their environments have been stepped already, and the caller waits.
+    std::deque<std::size_t>& from = !caller && !inbox.resets.empty() ? inbox.resets : inbox.jobs;
+    if (from.empty()) continue;  // taken meanwhile, or only resets (which the caller leaves to the workers)
+    *env_id = from.front();
+    from.pop_front();
     inbox.queued.fetch_sub(1, std::memory_order_acq_rel);
     return true;
   }
   return false;
 }
 
-void AsyncVectorEnv::push(std::size_t env_id) {
-  Inbox& inbox = *inboxes_[env_id % inboxes_.size()];
+void AsyncVectorEnv::push(std::size_t env_id) { pushTo(*inboxes_[env_id % inboxes_.size()], env_id, false); }
+
+void AsyncVectorEnv::pushTo(Inbox& inbox, std::size_t env_id, bool reset) {
   {
     std::lock_guard<std::mutex> lock(inbox.mutex);
-    inbox.jobs.push_back(env_id);
-    inbox.queued.fetch_add(1, std::memory_order_acq_rel);
+    (reset ? inbox.resets : inbox.jobs).push_back(env_id);
+    inbox.queued.fetch_add(1, std::memory_order_seq_cst);
   }
-  // Checked under the lock a sleeper takes before it sleeps, so a job queued just before it sleeps wakes it.
-  bool wake = false;
-  {
-    std::lock_guard<std::mutex> lock(idle_mutex_);
-    wake = sleeping_ > 0;
+  // A sleeper counts itself in sleeping_ and then looks for a job; this queued the job and then reads
+  // sleeping_ (both sequentially consistent), so one of the two sees the other. The lock waits until a
+  // sleeper counted here is in its wait, so the notification reaches it.
+  if (sleeping_.load(std::memory_order_seq_cst) > 0) {
+    { std::lock_guard<std::mutex> lock(idle_mutex_); }
+    idle_.notify_one();
   }
-  if (wake) idle_.notify_one();
 }
 
 void AsyncVectorEnv::work(int thread) {
@@ -89,54 +101,69 @@ void AsyncVectorEnv::work(int thread) {
   for (;;) {
     std::size_t env_id = 0;
     if (takeJob(self, &env_id)) {
-      run(env_id);
+      run(env_id, self);
       continue;
     }
     if (spin_ && spinFor([&] { return anyQueued() || stopping_; }) && !stopping_) continue;
     std::unique_lock<std::mutex> lock(idle_mutex_);
-    ++sleeping_;
+    sleeping_.fetch_add(1, std::memory_order_seq_cst);
     idle_.wait(lock, [&] { return stopping_ || anyQueued(); });
-    --sleeping_;
+    sleeping_.fetch_sub(1, std::memory_order_seq_cst);
     if (stopping_) return;
   }
 }
 
-void AsyncVectorEnv::run(std::size_t env_id) {
+void AsyncVectorEnv::run(std::size_t env_id, std::size_t thread) {
   Slot& slot = slots_[env_id];
   AsyncResult& result = slot.result;
-  result.env_id = env_id;
-  result.final_observation.reset();
   std::exception_ptr error;
   try {
     RacingEnv& env = *envs_[env_id];
-    if (slot.reset_seed) {
+    if (slot.resetting) {
+      slot.resetting = false;
+      result.step.observation = env.reset().observation;
+    } else if (slot.reset_seed) {
+      result.env_id = env_id;
+      result.final_observation.reset();
       ResetResult r = env.reset(*slot.reset_seed);
       result.step = StepResult{};
       result.step.observation = std::move(r.observation);
       result.step.info = r.info;
     } else {
+      result.env_id = env_id;
+      result.final_observation.reset();
       env.step(slot.action, &result.step);
       if (result.step.done()) {
         result.final_observation = std::move(result.step.observation);
+        // An auto-reset takes as long as seven steps (the car settles, 280 us): on the caller's thread it
+        // kept the results it holds from the learner, and a worker that had stepped what was queued idled
+        // for want of the actions that follow them (5% of its time at 2 environments a thread). A worker
+        // does it instead.
+        if (thread == 0 && inboxes_.size() > 1) {
+          slot.resetting = true;
+          pushTo(*inboxes_[1 + env_id % (inboxes_.size() - 1)], env_id, true);
+          return;
+        }
         result.step.observation = env.reset().observation;
       }
     }
   } catch (...) {
     error = std::current_exception();
   }
+  if (error) {
+    std::lock_guard<std::mutex> lock(error_mutex_);
+    if (!error_) error_ = error;
+  }
   const std::size_t number = next_number_.fetch_add(1, std::memory_order_acq_rel);
   if (sink_ && !error) sink_(number, result);
-  {
-    std::lock_guard<std::mutex> lock(done_mutex_);
-    if (error && !error_) error_ = error;
-    const std::size_t n = envs_.size();
-    done_ids_[number % n] = env_id;
-    done_ready_flags_[number % n] = 1;
-    std::size_t ready = done_count_.load(std::memory_order_relaxed);
-    while (ready < n && done_ready_flags_[(received_ + ready) % n]) ++ready;
-    done_count_.store(ready, std::memory_order_release);
+  done_ids_[number % envs_.size()] = env_id;
+  // Published by the flag (the caller reads the id after it); then, as push() does with sleeping threads,
+  // the caller is woken only if it has said it sleeps.
+  done_ready_flags_[number % envs_.size()].store(true, std::memory_order_seq_cst);
+  if (caller_asleep_.load(std::memory_order_seq_cst)) {
+    { std::lock_guard<std::mutex> lock(done_mutex_); }
+    done_ready_.notify_one();
   }
-  done_ready_.notify_one();
 }
 
 void AsyncVectorEnv::setResultSink(ResultSink sink) {
@@ -144,17 +171,11 @@ void AsyncVectorEnv::setResultSink(ResultSink sink) {
   sink_ = std::move(sink);
 }
 
-std::size_t AsyncVectorEnv::received() const {
-  std::lock_guard<std::mutex> lock(done_mutex_);
-  return received_;
-}
+std::size_t AsyncVectorEnv::received() const { return received_; }
 
 void AsyncVectorEnv::reset(std::uint64_t seed) {
   if (inFlight() > 0) throw std::logic_error("AsyncVectorEnv::reset: environments are in flight; recv() them first");
-  {
-    std::lock_guard<std::mutex> lock(done_mutex_);
-    in_flight_ += envs_.size();
-  }
+  in_flight_ += envs_.size();
   for (std::size_t i = 0; i < envs_.size(); ++i) {
     busy_[i] = 1;
     slots_[i].reset_seed = seed + i;
@@ -181,10 +202,7 @@ void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<s
     listed[id] = 1;
     check(actionSpace(), actions[k], "actions[" + std::to_string(k) + "]");
   }
-  {
-    std::lock_guard<std::mutex> lock(done_mutex_);
-    in_flight_ += env_ids.size();
-  }
+  in_flight_ += env_ids.size();
   for (std::size_t k = 0; k < env_ids.size(); ++k) {
     Slot& slot = slots_[env_ids[k]];
     slot.action = actions[k];  // assigned into the last action's storage
@@ -195,39 +213,41 @@ void AsyncVectorEnv::send(const std::vector<Value>& actions, const std::vector<s
 }
 
 std::vector<std::size_t> AsyncVectorEnv::recv(std::size_t batch_size) {
-  std::vector<std::size_t> out;
-  out.reserve(batch_size);
-  {
-    std::lock_guard<std::mutex> lock(done_mutex_);
-    if (batch_size == 0 || batch_size > in_flight_) {
-      throw std::invalid_argument("AsyncVectorEnv::recv: batch_size " + std::to_string(batch_size) + " with " +
-                                  std::to_string(in_flight_) + " environment(s) in flight");
-    }
+  if (batch_size == 0 || batch_size > in_flight_) {
+    throw std::invalid_argument("AsyncVectorEnv::recv: batch_size " + std::to_string(batch_size) + " with " +
+                                std::to_string(in_flight_) + " environment(s) in flight");
   }
+  const auto batchReady = [&] { return readyAt(received_ + batch_size - 1) && readyFromReceived() >= batch_size; };
   // The caller's thread steps jobs (its own environments' first) while the batch is not complete.
-  while (done_count_.load(std::memory_order_acquire) < batch_size) {
+  while (!batchReady()) {
     std::size_t env_id = 0;
     if (!takeJob(0, &env_id)) break;
-    run(env_id);
+    run(env_id, 0);
   }
-  if (spin_) spinFor([&] { return done_count_.load(std::memory_order_acquire) >= batch_size; });
-  std::unique_lock<std::mutex> lock(done_mutex_);
-  done_ready_.wait(lock, [&] { return done_count_.load(std::memory_order_relaxed) >= batch_size; });
+  if (spin_) spinFor(batchReady);
+  if (!batchReady()) {
+    std::unique_lock<std::mutex> lock(done_mutex_);
+    caller_asleep_.store(true, std::memory_order_seq_cst);
+    done_ready_.wait(lock, batchReady);
+    caller_asleep_.store(false, std::memory_order_relaxed);
+  }
+  std::vector<std::size_t> out;
+  out.reserve(batch_size);
   const std::size_t n = envs_.size();
   for (std::size_t k = 0; k < batch_size; ++k) {
     const std::size_t at = (received_ + k) % n;
     out.push_back(done_ids_[at]);
-    done_ready_flags_[at] = 0;
+    done_ready_flags_[at].store(false, std::memory_order_relaxed);
     busy_[out.back()] = 0;
   }
   received_ += batch_size;
-  done_count_.store(done_count_.load(std::memory_order_relaxed) - batch_size, std::memory_order_release);
   in_flight_ -= batch_size;
-  if (error_) {
-    std::exception_ptr e = error_;
-    error_ = nullptr;
-    std::rethrow_exception(e);
+  std::exception_ptr error;
+  {
+    std::lock_guard<std::mutex> lock(error_mutex_);
+    std::swap(error, error_);
   }
+  if (error) std::rethrow_exception(error);
   return out;
 }
 

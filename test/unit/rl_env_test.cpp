@@ -2,9 +2,11 @@
 // rejected actions and the vectorised environment.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <mutex>
 #include <regex>
 #include <thread>
 
@@ -461,4 +463,66 @@ TEST(RlEnv, EveryNumberOfTheOptionsAtEveryExtremeIsRefusedByNameOrStepsFinite) {
       });
   std::printf("rl options property test: %d numbers x 7 extremes: %d refused by name, %d stepped finite\n", fields,
               refused, stepped);
+}
+
+// The hand-back of results takes no lock: with more threads than cores (so waiting threads sleep and are
+// woken rather than spin) and batches of every size, each environment sent comes back exactly once, numbered
+// in order without a gap, and none is lost or waits for ever.
+TEST(RlAsyncVectorEnv, ManyThreadsOnFewCoresHandEachResultBackOnce) {
+  rl::EnvOptions options = stateOptions();
+  options.termination.time_limit = 0.5;  // auto-resets along the way
+  const std::size_t count = 12;
+  std::vector<std::unique_ptr<rl::RacingEnv>> envs;
+  for (std::size_t i = 0; i < count; ++i)
+    envs.push_back(std::make_unique<rl::RacingEnv>(sprint(), test::sedan(), options));
+  const int threads = static_cast<int>(std::thread::hardware_concurrency()) * 4;
+  rl::AsyncVectorEnv async(std::move(envs), threads);
+  std::vector<std::size_t> numbers_seen;
+  std::mutex numbers_mutex;
+  async.setResultSink([&](std::size_t number, const rl::AsyncResult&) {
+    std::lock_guard<std::mutex> lock(numbers_mutex);
+    numbers_seen.push_back(number);
+  });
+  async.reset(5);
+  std::vector<int> in_flight(count, 1), sent(count, 1), returned(count, 0);
+  auto receive = [&](std::size_t batch, std::vector<Value>* actions) {
+    const std::size_t before = async.received();
+    const std::vector<std::size_t> ids = async.recv(batch);
+    EXPECT_EQ(ids.size(), batch);
+    EXPECT_EQ(async.received(), before + batch);
+    for (const std::size_t id : ids) {
+      EXPECT_LT(id, count);
+      if (id >= count) continue;
+      EXPECT_EQ(in_flight[id], 1) << "environment " << id << " came back without being sent";
+      in_flight[id] = 0;
+      ++returned[id];
+      EXPECT_EQ(async.result(id).env_id, id);
+      if (actions) actions->push_back(chase(async.actionSpace(), async.result(id).step.observation));
+    }
+    return ids;
+  };
+  auto sendBack = [&](const std::vector<Value>& actions, const std::vector<std::size_t>& ids) {
+    async.send(actions, ids);
+    for (const std::size_t id : ids) in_flight[id] = 1, ++sent[id];
+  };
+  std::size_t batch = 1;
+  std::vector<Value> held_action;
+  std::vector<std::size_t> held;  // one environment kept back a round, so fewer are in flight for a while
+  for (int round = 0; round < 400 && !HasFailure(); ++round) {
+    batch = batch % async.inFlight() + 1;  // 1, 2, ... up to all in flight
+    std::vector<Value> actions;
+    std::vector<std::size_t> ids = receive(batch, &actions);
+    if (!held.empty()) sendBack(held_action, held), held.clear(), held_action.clear();
+    if (round % 2 == 1 && async.inFlight() + ids.size() >= 2) {
+      held = {ids.back()}, held_action = {actions.back()};
+      ids.pop_back(), actions.pop_back();
+    }
+    if (!ids.empty()) sendBack(actions, ids);
+  }
+  if (!held.empty()) sendBack(held_action, held);
+  receive(async.inFlight(), nullptr);
+  for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(returned[i], sent[i]) << "environment " << i;
+  std::sort(numbers_seen.begin(), numbers_seen.end());
+  for (std::size_t k = 0; k < numbers_seen.size(); ++k) ASSERT_EQ(numbers_seen[k], k) << "result numbers have a gap";
+  EXPECT_EQ(numbers_seen.size(), async.received());
 }

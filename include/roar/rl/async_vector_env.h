@@ -9,7 +9,8 @@
 // slot of its own, reused step after step, so nothing on the way is allocated by one thread and freed by
 // another. An environment whose episode ended resets at once (auto-reset, as VectorEnv): its result holds the
 // new episode's first observation and the old one's last observation in final_observation. The synchronous
-// step is send to every environment then recv of all of them.
+// step is send to every environment then recv of all of them. The caller's side (send, recv, reset and the
+// counts) is for one thread at a time.
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -47,7 +48,7 @@ class AsyncVectorEnv {
   // Environments sent an action (or reset) whose result has not been received yet.
   std::size_t inFlight() const;
   // Results done and waiting for recv(), counted without waiting.
-  std::size_t ready() const { return done_count_.load(std::memory_order_acquire); }
+  std::size_t ready() const { return readyFromReceived(); }
 
   // Resets every idle environment (environment i with seed + i); each comes back through recv(). Throws
   // std::logic_error while any environment is in flight.
@@ -80,12 +81,14 @@ class AsyncVectorEnv {
   struct alignas(64) Slot {
     Value action;
     std::optional<std::uint64_t> reset_seed;  // a reset instead of a step
+    bool resetting = false;                   // stepped, its episode ended: the auto-reset is still to do
     AsyncResult result;
   };
   struct alignas(64) Inbox {  // one per thread, on cache lines of its own
     std::mutex mutex;
     std::deque<std::size_t> jobs;        // environment ids
-    std::atomic<std::size_t> queued{0};  // jobs.size(), read without the lock by threads looking for work
+    std::deque<std::size_t> resets;      // auto-resets of episodes the caller's thread ended; for workers
+    std::atomic<std::size_t> queued{0};  // both sizes, read without the lock by threads looking for work
   };
   void work(int thread);
   // The next job for `thread`: its own inbox's first, else one taken from another inbox; false when every
@@ -93,7 +96,14 @@ class AsyncVectorEnv {
   bool takeJob(std::size_t thread, std::size_t* env_id);
   bool anyQueued() const;
   void push(std::size_t env_id);  // to the inbox of the environment's owner; wakes a sleeping thread
-  void run(std::size_t env_id);   // steps (or resets) the environment into its slot; its id joins the done queue
+  void pushTo(Inbox& inbox, std::size_t env_id, bool reset);
+  // Steps (or resets) the environment into its slot on `thread`; its id joins the done queue.
+  void run(std::size_t env_id, std::size_t thread);
+
+  // Whether result number `number` is in its slot of the ring (set by the thread that stepped it, cleared
+  // by recv()).
+  bool readyAt(std::size_t number) const;
+  std::size_t readyFromReceived() const;  // results ready from received_ on without a gap
 
   std::vector<std::unique_ptr<RacingEnv>> envs_;
   std::vector<std::unique_ptr<Inbox>> inboxes_;
@@ -101,22 +111,26 @@ class AsyncVectorEnv {
   std::vector<Slot> slots_;
   std::vector<char> busy_;  // per environment, touched by the caller's thread only
   ResultSink sink_;
-  mutable std::mutex done_mutex_;
-  std::condition_variable done_ready_;
-  // Results by number, a ring of one per environment (no more are ever done and not yet received): the
-  // environment's id and whether it is ready (in its slot, through the sink).
-  std::atomic<std::size_t> next_number_{0};
-  std::vector<std::size_t> done_ids_;
-  std::vector<char> done_ready_flags_;
-  std::size_t received_ = 0;                // numbers received, guarded by done_mutex_
-  std::atomic<std::size_t> done_count_{0};  // results ready from received_ on without a gap, read without the lock
-  std::exception_ptr error_;
+  // The handover of a result takes no lock: its number comes from next_number_, its id goes into a ring of one
+  // per environment (no more are ever done and not yet received) and a flag says it is there; recv() reads
+  // them in number order. A lock (and a wake-up) only for a caller asleep waiting for results.
+  alignas(64) std::atomic<std::size_t> next_number_{0};
+  alignas(64) std::vector<std::size_t> done_ids_;
+  std::unique_ptr<std::atomic<bool>[]> done_ready_flags_;
+  // Touched by the caller's thread only (and read by inFlight(), received() and ready(), which it calls).
+  alignas(64) std::size_t received_ = 0;  // numbers received
   std::size_t in_flight_ = 0;
+  std::atomic<bool> caller_asleep_{false};
+  std::mutex done_mutex_;
+  std::condition_variable done_ready_;
+  std::mutex error_mutex_;
+  std::exception_ptr error_;  // guarded by error_mutex_
   std::atomic<bool> stopping_{false};
   // Threads asleep for want of a job, woken by any job sent: a job in one inbox is every idle thread's work.
+  // A sender locks idle_mutex_ only when one is asleep.
+  alignas(64) std::atomic<int> sleeping_{0};
   std::mutex idle_mutex_;
   std::condition_variable idle_;
-  int sleeping_ = 0;   // guarded by idle_mutex_
   bool spin_ = false;  // waiting threads spin before they sleep (a core for each of them)
 };
 
