@@ -135,7 +135,8 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
 // of its own, planned on all the grip; where it moves across, no faster than offline_grip allows there.
 TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesAcross) {
   auto& f = fixture();
-  const planning::OvertakeOptions o;
+  planning::OvertakeOptions o;
+  o.offline_grip = 0.8;  // far enough below the whole grip for the two to differ by more than 0.5 m/s
   planning::VehicleLimits offline = f.limits;
   offline.friction *= o.offline_grip;
   int steady_above_offline = 0, moving_checked = 0, passes = 0;
@@ -309,8 +310,10 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
                                   [](const auto& a, const auto& b) { return a.speed < b.speed; });
   const double corner = slowest->s, s = corner - 20.0;  // within 2 s at its speed
   const double v = planning::sampleAt(f.line, s).speed;
+  planning::OvertakeOptions o;
+  o.offline_grip = 0.8;  // far enough below the whole grip for the corner speeds to differ by more than 0.3 m/s
   auto cornerSpeed = [&](double lateral_speed, bool after_move) {
-    planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
     // A car alongside first, between it and the line: it stays off the line (a move), then the other is gone.
     if (after_move) planner.plan("ego", s - 5.0, 1.0, v, {{"beside", s - 5.0, -1.2, v, 1.0}}, 10.0, 250.0);
     planning::TrafficCar self{"ego", s, 1.0, v, 1.0, lateral_speed};
