@@ -12,8 +12,7 @@ AsyncVectorEnv::AsyncVectorEnv(std::vector<std::unique_ptr<RacingEnv>> envs, int
       slots_(envs_.size()),
       busy_(envs_.size(), 0),
       done_ids_(envs_.size(), 0),
-      done_ready_flags_(new std::atomic<bool>[envs_.size()]) {
-  for (std::size_t i = 0; i < envs_.size(); ++i) done_ready_flags_[i].store(false, std::memory_order_relaxed);
+      done_ready_flags_(envs_.size()) {
   if (envs_.empty()) throw std::invalid_argument("AsyncVectorEnv needs at least one environment");
   if (threads < 1) throw std::invalid_argument("AsyncVectorEnv: threads must be at least 1");
   for (const auto& e : envs_) {

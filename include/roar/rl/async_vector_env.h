@@ -116,7 +116,7 @@ class AsyncVectorEnv {
   // them in number order. A lock (and a wake-up) only for a caller asleep waiting for results.
   alignas(64) std::atomic<std::size_t> next_number_{0};
   alignas(64) std::vector<std::size_t> done_ids_;
-  std::unique_ptr<std::atomic<bool>[]> done_ready_flags_;
+  std::vector<std::atomic<bool>> done_ready_flags_;  // value-initialised: all false
   // Touched by the caller's thread only (and read by inFlight(), received() and ready(), which it calls).
   alignas(64) std::size_t received_ = 0;  // numbers received
   std::size_t in_flight_ = 0;
