@@ -34,13 +34,20 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   place.time = time;
   place.hint = static_cast<long>(place.on_line.segment);
   // Smoothed over about 20 odometry messages (a second at 20 Hz): a car braking behind another for a
-  // moment is not taken for a slow one. A car gaining speed shows what its engine can do, not its pace:
-  // it lowers no estimate (a car is taken for a full-pace one until it shows otherwise, so that a field
-  // accelerating away from the grid is not taken for a slow one).
+  // moment is not taken for a slow one. A car gaining speed as hard as it can shows what its engine (or
+  // its grip) can do, not its pace: it lowers no estimate (a car is taken for a full-pace one until it
+  // shows otherwise, so that a field accelerating away from the grid is not taken for a slow one). One
+  // gaining at under half of that is driving its pace: a slow car on a long straight, whose line speeds
+  // rise there, was otherwise taken all the way down it for as fast as it had last been seen (the pace car
+  // on its opening lap at Roar Speedway: 79% of the line's speed predicted, 63% driven), so no pass of it
+  // there drew alongside within the horizon.
   const double line_speed = sampleAt(line_, place.on_line.s).speed;
   place.held.observe(speed, line_speed, time);
   const double share = speed / std::max(1.0, line_speed);
-  const bool gaining = speed > place.speed;
+  const double hardest = (std::min(limits_.driveForce(speed), limits_.traction_share * limits_.gripForce(speed)) -
+                          limits_.resistance(speed)) /
+                         limits_.effectiveMass();
+  const bool gaining = speed > place.speed && !(dt > 1e-6 && dt < 1.0 && (speed - place.speed) / dt < 0.5 * hardest);
   place.speed = speed;
   if (place.line_share <= 0.0) {
     place.line_share = speed > 5.0 ? share : 1.0;  // at rest (on the grid): not yet known, taken as full pace

@@ -14,6 +14,10 @@ namespace {
 // m across per m along: a pass path changing its offset from the line less than this holds it steady.
 constexpr double kSteadyOffsetSlope = 0.005;
 
+// w log(1 + e^(x / w)): x for x well above 0, 0 well below, and a bend of about 2w between.
+double softPlus(double x, double w) { return x > 20.0 * w ? x : w * std::log1p(std::exp(x / w)); }
+constexpr double kMarginBend = 0.3;  // m: a pass path bends onto a road margin over about 2 x this
+
 double smoothStep(double u) {
   u = std::clamp(u, 0.0, 1.0);
   return u * u * u * (10.0 + u * (-15.0 + 6.0 * u));
@@ -107,6 +111,11 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
       std::max(options_.min_shift_length, stretch * options_.shift_time * sampleAt(line_, ramp_s).speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
+  // A pass keeps the edge margin, so where the racing line runs nearer the edge than that (along an edge
+  // before and after a corner) the car is pushed off it at once. The move starts from there: a ramp from
+  // the car's place on the line would be held flat on that bound and then leave it, a kink the pass's
+  // speeds brake for (44 m/s on a straight the line does at 72, at Roar Speedway).
+  if (for_pass) from = std::clamp(from, half - roomRight(ramp_s), roomLeft(ramp_s) - half);
   const std::size_t n = pts.size();
   std::vector<double> d(n, 0.0);  // m each point is moved left off the racing line
   for (std::size_t k = 0; k < n; ++k) {
@@ -116,8 +125,15 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     // Inside the road by the margin. Any move but a pass comes no nearer the edge than the racing line
     // itself does (at an apex it runs nearer): a path moved by nothing is the racing line. A pass keeps
     // the margin even there, pushed off the line (see below).
-    d[k] = for_pass ? std::clamp(shift, half - roomRight(p.s), roomLeft(p.s) - half)
-                    : std::clamp(shift, std::min(0.0, half - roomRight(p.s)), std::max(0.0, roomLeft(p.s) - half));
+    if (for_pass) {
+      // Bent onto the margins smoothly, not clamped: where the line runs to an edge (an apex, a straight
+      // along it) a clamped pass meets the margin at an angle and leaves it again, kinks its speeds brake for.
+      const double lo = half - roomRight(p.s), hi = roomLeft(p.s) - half;
+      const double above = lo + softPlus(shift - lo, kMarginBend);
+      d[k] = std::clamp(hi - softPlus(hi - above, kMarginBend), lo, std::max(lo, hi));
+    } else {
+      d[k] = std::clamp(shift, std::min(0.0, half - roomRight(p.s)), std::max(0.0, roomLeft(p.s) - half));
+    }
     p.position += d[k] * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
     p.offset += d[k];
   }
@@ -179,8 +195,8 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   SpeedProfileOptions profile_options;
   profile_options.start_speed = -1.0;
   profile_options.grade = slopes(out);
-  // Off the racing line the car is moving sideways as well: it is planned there with a share of the grip
-  // (the whole grip back where the path is on the line again: a pass's window after it).
+  // Where the path moves across the line the car is moving sideways as well: it is planned there with a
+  // share of the grip (the whole grip at a steady offset and back on the line: a pass's window after it).
   VehicleLimits limits = limits_;
   limits.drag_coefficient *= drag_share;
   VehicleLimits offline = limits;
@@ -189,12 +205,14 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   const SpeedProfile off_grip = computeSpeedProfile(step, curvature, offline, false, profile_options);
   for (std::size_t k = 0; k < n; ++k) {
     pts[k].curvature = curvature[k];
-    // A pass moving across the line is planned on offline_grip (sideways motion takes grip); at a steady
+    // A path moving across the line is planned on offline_grip (sideways motion takes grip); at a steady
     // offset it is a line of its own and has all of it. roar_bench --traffic over 90 races (--seeds=6):
-    // 343 of 363 passes completed (94.5%) this way, 318 of 344 (92.4%) on offline_grip all the way.
+    // 343 of 363 passes completed (94.5%) this way, 318 of 344 (92.4%) on offline_grip all the way. The
+    // same for every move, not only a pass: a car holding its place at the offset it passed at is on the
+    // same path and grip as the pass was (within the seeds' swing on the traffic benchmark either way).
     const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
     const double slope = std::abs(d[b] - d[a]) / std::max(1e-3, pts[b].s - pts[a].s);
-    const bool moving_across = !for_pass || slope > kSteadyOffsetSlope;
+    const bool moving_across = slope > kSteadyOffsetSlope;
     const bool settling = aheadOnLap(pts[k].s, settle_s, lapLength(line_)) < 0.0 && std::isfinite(settle_s);
     const double off = (std::abs(d[k]) > 0.05 && moving_across) || settling ? 1.0 : 0.0;
     pts[k].speed = std::min(pts[k].speed, on_grip.speed[k] + off * (off_grip.speed[k] - on_grip.speed[k]));
@@ -605,13 +623,21 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
   // target that followed the car's tracking error would walk it into the car alongside.
   auto held = holds_.find(car);
-  const bool keep_place = alongside || closing_behind;  // the place held while a car is beside or closing
+  // Off the line and closing on the car ahead fast enough to reach it within a move's time: the way back
+  // onto the line runs into its back (a pass given up in a braking zone, 18 m behind at 10 m/s more, went
+  // back towards the line while braking and touched it). The fallback keeps the car's lane until it has
+  // the other's speed.
+  const bool closing_ahead = leader && std::abs(lateral) >= 0.5 &&
+                             std::abs(lateral - leader->lateral) >= options_.car_width + options_.guard_lateral &&
+                             leader_gap < near + std::max(0.0, speed - leader->speed) * options_.shift_time;
+  const bool keep_place =
+      alongside || closing_behind || closing_ahead;  // the place held while a car is beside or closing
   if (held != holds_.end() && !keep_place) {
     holds_.erase(held);
     held = holds_.end();
   }
   const double hold_at = held != holds_.end() ? held->second : lateral;
-  if (keep_place && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
+  if ((alongside || closing_behind) && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
   if (can_pass) {
     // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
     const bool close = leader_gap < 2.0 * options_.car_length;

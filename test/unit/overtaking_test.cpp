@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "roar/planning/overtaking.h"
 #include "roar/track/map_folder.h"
@@ -163,6 +164,44 @@ TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesA
   EXPECT_GT(passes, 10);
   EXPECT_GT(moving_checked, 100);
   EXPECT_GT(steady_above_offline, 0) << "no pass held its offset through a corner faster than offline_grip allows";
+}
+
+// Where the racing line runs along the road's edge on a straight (nearer it than a pass keeps), a pass
+// begun there is pushed off the line at once and moves across from that place: as fast as the line.
+// Ramped from the car's place on the line instead, the path was held flat on the edge margin and then
+// left it, a kink planned at 43 m/s where the line does 72 (Roar Speedway), and no pass of a slow car on
+// that straight drew alongside.
+TEST(Overtaking, APassBegunWhereTheLineRunsAlongTheEdgeIsAsFastAsTheLine) {
+  auto& f = wideFixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const double half = 0.5 * o.car_width + o.edge_margin;  // how near the edge a pass comes
+  const double top = std::max_element(f.line.points.begin(), f.line.points.end(), [](const auto& a, const auto& b) {
+                       return a.speed < b.speed;
+                     })->speed;
+  int checked = 0;
+  for (double s = 0.0; s < f.line.length; s += 10.0) {
+    const bool right_edge = planner.roomRight(s) < half - 0.2, left_edge = planner.roomLeft(s) < half - 0.2;
+    if (right_edge == left_edge) continue;
+    const auto window = planning::windowAround(f.line, s, 10.0, 250.0);
+    double slowest_line = 1e9, sharpest = 0.0;
+    for (const auto& p : window.points) {
+      if (p.s < s || p.s > s + 120.0) continue;
+      slowest_line = std::min(slowest_line, p.speed);
+      sharpest = std::max(sharpest, std::abs(p.curvature));
+    }
+    if (slowest_line < 0.8 * top || sharpest > 5e-4)
+      continue;  // a straight, fast all the way (in a bend, a
+                 // move to its inside is rightly slower)
+    ++checked;
+    const double to = right_edge ? 3.05 : -3.05;  // away from the edge
+    const auto pass = planner.shifted(window, s, 0.0, to, std::numeric_limits<double>::infinity(), 1.0, true);
+    for (const auto& p : pass.points) {
+      if (p.s < s || p.s > s + 120.0) continue;  // the move across
+      EXPECT_GT(p.speed, 0.97 * planning::sampleAt(f.line, p.s).speed) << "a pass from s = " << s << " at " << p.s;
+    }
+  }
+  EXPECT_GT(checked, 3) << "no fast straight where the line runs along the edge";
 }
 
 // A pass is begun only if it draws alongside the car within the horizon: a car a little slower is
@@ -325,17 +364,33 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
   EXPECT_DOUBLE_EQ(cornerSpeed(-1.5, false), cornerSpeed(0.0, false)) << "a car alone on the line settled";
 }
 
+namespace {
+
+// "ego" at the line's speed begins a pass of a car 25 m ahead at 60% of it, on Roar Sprint's longest straight.
+struct PassBegun {
+  double s = 0.0, v = 0.0;
+  planning::TrafficCar slow;
+  planning::RaceDecision pass;
+};
+PassBegun beginPassOnTheStraight(planning::OvertakePlanner* planner) {
+  PassBegun b;
+  b.s = straightStart(fixture().line);
+  b.v = planning::sampleAt(fixture().line, b.s).speed;
+  b.slow = {"slow", b.s + 25.0, 0.0, 0.6 * b.v};
+  planner->plan("ego", b.s, 0.0, b.v, {b.slow}, 10.0, 250.0);
+  b.pass = planner->decision("ego");
+  return b;
+}
+
+}  // namespace
+
 TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   // The cut-in: a pass on the slow car's side is under way; the slow car starts moving across towards that
   // side. The passer falls in behind at the next plan (no plans of doubt), and starts no pass on that
   // side while the car is moving across.
   auto& f = fixture();
   planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
-  const double s = straightStart(f.line);
-  const double v = planning::sampleAt(f.line, s).speed;
-  planning::TrafficCar slow{"slow", s + 25.0, 0.0, 0.6 * v};
-  planner.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
-  const auto pass = planner.decision("ego");
+  auto [s, v, slow, pass] = beginPassOnTheStraight(&planner);
   ASSERT_EQ(pass.mode, RaceMode::kPass);
   slow.lateral_speed = 3.0 * pass.side;  // m/s towards the passer's side
   slow.s += 0.05 * slow.speed;
@@ -347,6 +402,31 @@ TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   if (fresh.decision("ego").mode == RaceMode::kPass) {
     EXPECT_EQ(fresh.decision("ego").side, -pass.side);
   }
+}
+
+// A car off the line behind a much slower one it may not pass (a pass on it just given up) falls in
+// behind it in its own lane, not on the way back to the line: closing at 40% of its speed, it would meet
+// the other's back while still moving across into its lane. Traced at Monza: a pass given up in a braking
+// zone 18 m behind at 10 m/s more went back towards the line while braking and touched the car.
+TEST(Overtaking, ACarClosingFastOnOneAheadKeepsItsLaneUntilItHasItsSpeed) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  auto [s, v, slow, pass] = beginPassOnTheStraight(&planner);
+  const int side = pass.side;
+  ASSERT_EQ(pass.mode, RaceMode::kPass);
+  slow.lateral_speed = 3.0 * side;  // the door closes: the pass is given up, and not begun again for a while
+  planner.plan("ego", s + 1.0, 0.1 * side, v, {slow}, 10.0, 250.0);
+  ASSERT_EQ(planner.decision("ego").mode, RaceMode::kFollow);
+  // A little later: the slow car back on its line, 18 m ahead; this one out in the lane it had moved to.
+  const double lane = 3.0 * side, at = s + 2.0;
+  slow = {"slow", at + 18.0, 0.0, 0.6 * v};
+  const auto window = planner.plan("ego", at, lane, v, {slow}, 10.0, 250.0);
+  EXPECT_EQ(planner.decision("ego").mode, RaceMode::kFollow);
+  for (double ahead : {18.0, 40.0, 60.0})
+    EXPECT_NEAR(shiftAt(f.line, window, at + ahead), lane, 0.3) << ahead << " m on: back towards the slow car's lane";
+  // With the other's speed (nothing to close), it heads back to the line.
+  const auto matched = planner.plan("ego", at + 1.0, lane, 0.6 * v, {{"slow", at + 19.0, 0.0, 0.6 * v}}, 10.0, 250.0);
+  EXPECT_LT(std::abs(shiftAt(f.line, matched, at + 1.0 + 120.0)), std::abs(lane) - 1.0);
 }
 
 TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {

@@ -129,6 +129,72 @@ TEST(FieldPlanner, APaceBelowOneScalesTheWindowsSpeeds) {
   EXPECT_THROW(field.window("nobody"), std::out_of_range);
 }
 
+namespace {
+
+// Metres along Roar Sprint's line a car's view of `other` has it cover in its first `seconds`.
+double predictedTravel(const planning::FieldPlanner& field, const std::string& car, const std::string& other,
+                       double seconds) {
+  for (const auto& path : field.predictions(car)) {
+    if (path.name != other) continue;
+    const auto k = static_cast<std::size_t>(std::lround(seconds / path.step));
+    const double from = planning::project(sprint().line, path.positions.at(0)).s;
+    return planning::project(sprint().line, path.positions.at(k)).s - from;
+  }
+  ADD_FAILURE() << car << " predicted nothing of " << other;
+  return 0.0;
+}
+
+}  // namespace
+
+// A slow car where the line's speeds rise (out of a corner, down a straight) gains speed too, gently: it
+// is driving its pace, and is predicted at it. Only a car gaining as hard as it can (off the grid) shows
+// its engine rather than its pace. Until then any car gaining speed kept the estimate it had: the pace car
+// on its opening lap at Roar Speedway was predicted at 79% of the line's speed while it drove 63%.
+TEST(FieldPlanner, ACarGainingSpeedGentlyIsPredictedAtThePaceItDrives) {
+  planning::FieldOptions options;
+  options.overtake.keep_predictions = true;
+  const auto& line = sprint().line;
+  auto drive = [&](planning::FieldPlanner* field, const std::string& name, double share, double from, double to) {
+    // From rest (taken for a full-pace car), then 20 odometry messages a second along the line from `from`
+    // (75-153 m: the line's speeds rise from 35.7 to 42.2 m/s) at `share` of its speed.
+    field->locate(name, onLineAt(from - 15.0), 0.0, 0.0);
+    double t = 0.0, s = from;
+    while (s < to) {
+      const double v = share * planning::sampleAt(line, s).speed;
+      field->locate(name, onLineAt(s), v, t += 0.05);
+      s += 0.05 * v;
+    }
+    return std::pair{s, t};
+  };
+  planning::FieldPlanner field(sprint().track, line, sprint().limits, options);
+  const auto [slow_s, slow_t] = drive(&field, "slow", 0.6, 75.0, 150.0);
+  field.locate("ego", onLineAt(slow_s - 40.0), 25.0, slow_t);
+  field.window("ego");
+  double at_line_speed = 0.0;
+  for (double t = 0.0; t < 2.0; t += 0.01)
+    at_line_speed += 0.01 * planning::sampleAt(line, slow_s + at_line_speed).speed;
+  EXPECT_LT(predictedTravel(field, "ego", "slow", 2.0), 0.7 * at_line_speed)
+      << "its 60% of the line's speed, not the full pace it was taken for at rest";
+
+  // Gaining as hard as the engine lets it from 10 m/s: taken for a full-pace car still, and predicted to
+  // go on gaining (not held at the share of the line's speed it has while it is still slow).
+  planning::FieldPlanner launch(sprint().track, line, sprint().limits, options);
+  launch.locate("launching", onLineAt(60.0), 0.0, 0.0);
+  double t = 0.0, s = 75.0, v = 10.0;
+  const auto& limits = sprint().limits;
+  while (s < 150.0) {
+    launch.locate("launching", onLineAt(s), v, t += 0.05);
+    const double hardest =
+        (std::min(limits.driveForce(v), limits.traction_share * limits.gripForce(v)) - limits.resistance(v)) /
+        limits.effectiveMass();
+    s += 0.05 * v;
+    v += 0.05 * hardest;
+  }
+  launch.locate("ego", onLineAt(s - 40.0), v, t);
+  launch.window("ego");
+  EXPECT_GT(predictedTravel(launch, "ego", "launching", 2.0), 2.0 * v) << "predicted to go on gaining, from " << v;
+}
+
 TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   planning::FieldOptions field;
   field.overtaking = true;

@@ -74,8 +74,8 @@ struct OvertakeOptions {
   // 5% faster tens of metres further back than the gap, never closing up). Off by default: see README.
   bool guard_predicted = false;
   double max_pass_offset = 5.0;  // m from the racing line a pass may go
-  // Share of the plan's grip a path off the racing line is planned with: a pass where it moves across the
-  // line (a steady offset is a line of its own, on all the grip), any other move wherever it is off it.
+  // Share of the plan's grip a path off the racing line is planned with where it moves across the line (a
+  // steady offset is a line of its own, on all the grip).
   // 0.8 held the passer back while pulling out behind a slow car (README, traffic benchmark: 0.92 and 0.95
   // complete more passes at more speed; at 0.97-1.0 cars spin or leave the road at Roar Sprint).
   double offline_grip = 0.92;
