@@ -20,7 +20,10 @@
 namespace roar::planning {
 
 struct FieldOptions {
-  double window_ahead = 250.0;  // m of the line each window covers ahead of the car
+  // m of the line each window covers ahead of the car: at least the 6 s the overtaking planner compares
+  // candidates over at the speeds of a straight (250 m: every candidate there reached the window's end, and a
+  // pass on a straight could show no gain; README, traffic benchmark).
+  double window_ahead = 400.0;
   double window_behind = 10.0;  // m behind it
   double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
   double follow_lateral = 3.5;  // m: without overtaking, a car this close to the line is in the way
