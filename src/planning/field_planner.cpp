@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "roar/planning/speed_profile.h"
+
 namespace roar::planning {
 
 FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const VehicleLimits& limits,
@@ -25,7 +27,8 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
                          : place.progress + aheadOnLap(place.on_line.s, s_before, lapLength(line_));
   // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in).
   const double dt = time - place.time;
-  if (dt > 1e-6 && dt < 1.0) {
+  const bool since_last = dt > 1e-6 && dt < 1.0;  // a message after the last one, not after a gap
+  if (since_last) {
     const double moving = (place.on_line.lateral - lateral_before) / dt;
     place.lateral_speed += 0.3 * (moving - place.lateral_speed);
   } else {
@@ -44,10 +47,8 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   const double line_speed = sampleAt(line_, place.on_line.s).speed;
   place.held.observe(speed, line_speed, time);
   const double share = speed / std::max(1.0, line_speed);
-  const double hardest = (std::min(limits_.driveForce(speed), limits_.traction_share * limits_.gripForce(speed)) -
-                          limits_.resistance(speed)) /
-                         limits_.effectiveMass();
-  const bool gaining = speed > place.speed && !(dt > 1e-6 && dt < 1.0 && (speed - place.speed) / dt < 0.5 * hardest);
+  const bool gaining =
+      speed > place.speed && !(since_last && (speed - place.speed) / dt < 0.5 * accelerationAt(limits_, speed, 0.0));
   place.speed = speed;
   if (place.line_share <= 0.0) {
     place.line_share = speed > 5.0 ? share : 1.0;  // at rest (on the grid): not yet known, taken as full pace

@@ -111,11 +111,20 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
       std::max(options_.min_shift_length, stretch * options_.shift_time * sampleAt(line_, ramp_s).speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
+  // Where a pass may run at line s (m left of the line): the edge margin from either edge (the right one
+  // where the road is narrower than both margins).
+  auto passBounds = [&](double at) {
+    const double lo = half - roomRight(at);
+    return std::pair{lo, std::max(lo, roomLeft(at) - half)};
+  };
   // A pass keeps the edge margin, so where the racing line runs nearer the edge than that (along an edge
   // before and after a corner) the car is pushed off it at once. The move starts from there: a ramp from
   // the car's place on the line would be held flat on that bound and then leave it, a kink the pass's
   // speeds brake for (44 m/s on a straight the line does at 72, at Roar Speedway).
-  if (for_pass) from = std::clamp(from, half - roomRight(ramp_s), roomLeft(ramp_s) - half);
+  if (for_pass) {
+    const auto [lo, hi] = passBounds(ramp_s);
+    from = std::clamp(from, lo, hi);
+  }
   const std::size_t n = pts.size();
   std::vector<double> d(n, 0.0);  // m each point is moved left off the racing line
   for (std::size_t k = 0; k < n; ++k) {
@@ -128,9 +137,9 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     if (for_pass) {
       // Bent onto the margins smoothly, not clamped: where the line runs to an edge (an apex, a straight
       // along it) a clamped pass meets the margin at an angle and leaves it again, kinks its speeds brake for.
-      const double lo = half - roomRight(p.s), hi = roomLeft(p.s) - half;
+      const auto [lo, hi] = passBounds(p.s);
       const double above = lo + softPlus(shift - lo, kMarginBend);
-      d[k] = std::clamp(hi - softPlus(hi - above, kMarginBend), lo, std::max(lo, hi));
+      d[k] = std::clamp(hi - softPlus(hi - above, kMarginBend), lo, hi);
     } else {
       d[k] = std::clamp(shift, std::min(0.0, half - roomRight(p.s)), std::max(0.0, roomLeft(p.s) - half));
     }
@@ -630,14 +639,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const bool closing_ahead = leader && std::abs(lateral) >= 0.5 &&
                              std::abs(lateral - leader->lateral) >= options_.car_width + options_.guard_lateral &&
                              leader_gap < near + std::max(0.0, speed - leader->speed) * options_.shift_time;
-  const bool keep_place =
-      alongside || closing_behind || closing_ahead;  // the place held while a car is beside or closing
+  // The place is held while a car is beside or closing from behind (holding it is then a candidate of its
+  // own), and as the fallback while closing on the car ahead.
+  const bool beside_or_closing_behind = alongside || closing_behind;
+  const bool keep_place = beside_or_closing_behind || closing_ahead;
   if (held != holds_.end() && !keep_place) {
     holds_.erase(held);
     held = holds_.end();
   }
   const double hold_at = held != holds_.end() ? held->second : lateral;
-  if ((alongside || closing_behind) && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
+  if (beside_or_closing_behind && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
   if (can_pass) {
     // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
     const bool close = leader_gap < 2.0 * options_.car_length;

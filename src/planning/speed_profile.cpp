@@ -7,15 +7,11 @@
 
 namespace roar::planning {
 
-namespace {
-
 double accelerationAt(const VehicleLimits& limits, double v, double kappa, bool shifting) {
   const double drive =
       shifting ? 0.0 : std::min(limits.driveForce(v), limits.traction_share * limits.longitudinalGrip(v, kappa));
   return (drive - limits.resistance(v)) / limits.effectiveMass();
 }
-
-}  // namespace
 
 double decelerationAt(const VehicleLimits& limits, double v, double kappa) {
   const double brake = std::min(limits.max_brake_force, limits.longitudinalGrip(v, kappa));

@@ -190,9 +190,8 @@ TEST(Overtaking, APassBegunWhereTheLineRunsAlongTheEdgeIsAsFastAsTheLine) {
       slowest_line = std::min(slowest_line, p.speed);
       sharpest = std::max(sharpest, std::abs(p.curvature));
     }
-    if (slowest_line < 0.8 * top || sharpest > 5e-4)
-      continue;  // a straight, fast all the way (in a bend, a
-                 // move to its inside is rightly slower)
+    // A straight, fast all the way (in a bend, a move to its inside is rightly slower).
+    if (slowest_line < 0.8 * top || sharpest > 5e-4) continue;
     ++checked;
     const double to = right_edge ? 3.05 : -3.05;  // away from the edge
     const auto pass = planner.shifted(window, s, 0.0, to, std::numeric_limits<double>::infinity(), 1.0, true);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "roar/planning/field_planner.h"
+#include "roar/planning/speed_profile.h"
 #include "roar/race/contact_fault.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
@@ -184,11 +185,8 @@ TEST(FieldPlanner, ACarGainingSpeedGentlyIsPredictedAtThePaceItDrives) {
   const auto& limits = sprint().limits;
   while (s < 150.0) {
     launch.locate("launching", onLineAt(s), v, t += 0.05);
-    const double hardest =
-        (std::min(limits.driveForce(v), limits.traction_share * limits.gripForce(v)) - limits.resistance(v)) /
-        limits.effectiveMass();
     s += 0.05 * v;
-    v += 0.05 * hardest;
+    v += 0.05 * planning::accelerationAt(limits, v, 0.0);
   }
   launch.locate("ego", onLineAt(s - 40.0), v, t);
   launch.window("ego");

@@ -25,6 +25,9 @@ struct SpeedProfileOptions {
   std::vector<double> grade;
 };
 
+// The hardest a car gains speed at speed v on curvature kappa: the engine or the grip the corner leaves
+// the driven wheels, less drag and rolling resistance (none while the gearbox is `shifting`).
+double accelerationAt(const VehicleLimits& limits, double v, double kappa, bool shifting = false);
 // The hardest braking at speed v on curvature kappa: brakes or the grip the corner leaves, plus drag.
 double decelerationAt(const VehicleLimits& limits, double v, double kappa);
 // The same on a slope (`grade`: its sine, positive uphill): gravity along the road helps uphill, takes
