@@ -101,14 +101,18 @@ double OvertakePlanner::roomRight(double s) const {
 }
 
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
-                                    double drag_share, bool for_pass, double settle_s) const {
+                                    double drag_share, bool for_pass, double settle_s, double ramp_speed) const {
   Trajectory out = window;
   // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
   const double move = std::max(std::abs(to - from), std::abs(to));
   const double stretch = std::sqrt(std::max(1.0, move / (options_.car_width + options_.lateral_margin + 0.3)));
-  const double shift_length =
-      std::max(options_.min_shift_length, stretch * options_.shift_time * sampleAt(line_, ramp_s).speed);
+  // At the car's speed, not the line's: behind a slow car the line's is far above it (72 m/s on Roar
+  // Speedway's straight, 45 behind the pace car), and a move sized for the line took 180 m, 4 s, the guard
+  // holding the passer to the slow car's speed until it was clear of it sideways.
+  const double line_speed = sampleAt(line_, ramp_s).speed;
+  const double move_speed = ramp_speed > 0.0 ? std::min(ramp_speed, line_speed) : line_speed;
+  const double shift_length = std::max(options_.min_shift_length, stretch * options_.shift_time * move_speed);
   auto& pts = out.points;
   const double half = 0.5 * options_.car_width + options_.edge_margin;
   // Where a pass may run at line s (m left of the line): the edge margin from either edge (the right one
@@ -263,6 +267,7 @@ constexpr double kHeldSlack = 0.3;            // m/s a car held to a speed is pr
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kSettledLateralSpeed = 0.5;  // m/s sideways across the line a car is settled under
 constexpr double kSettleTime = 2.0;           // s at speed it is planned on offline_grip after that
+constexpr double kMoveBrakeSlack = 1.5;       // m/s a move's window may ask the car to shed at once
 }  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
@@ -485,7 +490,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   std::vector<Candidate> candidates;
   // A move the car is already making goes on from where it began; a new one starts here.
   auto make = [&](RaceMode mode, int side, const std::string& other, double to) {
-    RaceDecision d{mode, side, other, to, 0.0, s, lateral};
+    RaceDecision d{mode, side, other, to, 0.0, s, lateral, speed};
     const bool same_move = mode == RaceMode::kPass || mode == RaceMode::kYield
                                ? memory.mode == mode && memory.side == side && memory.other == other
                                : (memory.mode == mode || memory.mode == RaceMode::kFollow) && memory.side == 0;
@@ -494,6 +499,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     if (same_move && (mode == RaceMode::kPass || std::abs(memory.offset - to) < 0.5)) {
       d.ramp_s = memory.ramp_s;
       d.ramp_from = memory.ramp_from;
+      d.ramp_speed = memory.ramp_speed;
       if (mode != RaceMode::kPass) d.offset = memory.offset;
     }
     return d;
@@ -503,16 +509,14 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     const Trajectory& from = slingshot ? towed_base : d.mode == RaceMode::kRacingLine ? on_line_base : base;
     const double drag_share = slingshot ? 1.0 - tow : 1.0;
     const bool pass = d.mode == RaceMode::kPass;
-    Candidate c{
-        shifted(from, d.ramp_s, d.ramp_from, d.offset, std::numeric_limits<double>::infinity(), drag_share, pass), d,
-        true};
+    Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, drag_share, pass, -kInf, d.ramp_speed), d, true};
     Trajectory staying_out;  // a pass's window that does not come back onto the line within it
     if (d.mode == RaceMode::kPass && leader) {
       // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
       const double back_s = passCompleteAt(c.window, s, speed, leader_prediction);
       if (std::isfinite(back_s)) {
         staying_out = std::move(c.window);
-        c.window = shifted(from, d.ramp_s, d.ramp_from, d.offset, back_s, drag_share, pass);
+        c.window = shifted(from, d.ramp_s, d.ramp_from, d.offset, back_s, drag_share, pass, -kInf, d.ramp_speed);
       }
     }
     // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
@@ -593,7 +597,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       const bool yielding = memory.mode == RaceMode::kYield && memory.other == blue->name && memory.side == side;
       const RaceDecision d =
           make(RaceMode::kYield, side, blue->name, side * (options_.car_width + options_.lateral_margin + 0.3));
-      Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
+      Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset, kInf, 1.0, false, -kInf, d.ramp_speed), d, true};
       // Clear of everyone but the car it makes room for: that one goes by wherever it is.
       std::vector<Prediction> but_blue;
       for (std::size_t i = 0; i < others.size(); ++i)
@@ -622,16 +626,29 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     return on_line_base;
   }
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
+  // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
+  // target that followed the car's tracking error would walk it into the car alongside.
+  auto held = holds_.find(car);
+  // Off the line in a fast curve, the way back onto it turns harder than the curve does, and a car at the
+  // curve's speed would have to brake while turning harder: it slides (Roar Speedway, a pass given up 4.5 m
+  // outside the line at 57 m/s on a 435 m curve planned its way back at 52 m/s from where the car was, and the
+  // car spun). It keeps its lane until the way back is drivable at the speed it has.
+  bool way_back_brakes = false;
+  if (!on_line) {
+    auto brakesAtOnce = [&](const RaceDecision& d, const Trajectory& from) {
+      const Trajectory moved = shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, 1.0, false, -kInf, d.ramp_speed);
+      return sampleAt(moved, s).speed < speed - kMoveBrakeSlack;
+    };
+    way_back_brakes = brakesAtOnce(make(RaceMode::kRacingLine, 0, "", 0.0), on_line_base) &&
+                      !brakesAtOnce(make(RaceMode::kHold, 0, "", held != holds_.end() ? held->second : lateral), base);
+  }
   if (on_line) {
     Candidate c{on_line_base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
     c.clear = clearOf(c.window, s, speed, predicted, &c.decision.progress);
     candidates.push_back(std::move(c));
-  } else {
+  } else if (!way_back_brakes) {
     consider(make(RaceMode::kRacingLine, 0, "", 0.0));  // back to the line
   }
-  // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
-  // target that followed the car's tracking error would walk it into the car alongside.
-  auto held = holds_.find(car);
   // Off the line and closing on the car ahead fast enough to reach it within a move's time: the way back
   // onto the line runs into its back (a pass given up in a braking zone, 18 m behind at 10 m/s more, went
   // back towards the line while braking and touched it). The fallback keeps the car's lane until it has
@@ -642,13 +659,13 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // The place is held while a car is beside or closing from behind (holding it is then a candidate of its
   // own), and as the fallback while closing on the car ahead.
   const bool beside_or_closing_behind = alongside || closing_behind;
-  const bool keep_place = beside_or_closing_behind || closing_ahead;
+  const bool keep_place = beside_or_closing_behind || closing_ahead || way_back_brakes;
   if (held != holds_.end() && !keep_place) {
     holds_.erase(held);
     held = holds_.end();
   }
   const double hold_at = held != holds_.end() ? held->second : lateral;
-  if (beside_or_closing_behind && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
+  if ((beside_or_closing_behind || way_back_brakes) && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
   if (can_pass) {
     // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
     const bool close = leader_gap < 2.0 * options_.car_length;
@@ -667,7 +684,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
                                      : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                : make(RaceMode::kRacingLine, 0, "", 0.0);
   Candidate follow{on_line ? on_line_base
-                           : shifted(on_line_base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset),
+                           : shifted(on_line_base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset,
+                                     kInf, 1.0, false, -kInf, fallback_path.ramp_speed),
                    fallback_path, true};
   follow.decision.mode = RaceMode::kFollow;
   if (leader) {

@@ -203,6 +203,82 @@ TEST(Overtaking, APassBegunWhereTheLineRunsAlongTheEdgeIsAsFastAsTheLine) {
   EXPECT_GT(checked, 3) << "no fast straight where the line runs along the edge";
 }
 
+// A move is made in shift_time at the speed the car has where it begins, not the racing line's: behind a
+// slow car the line's speed is far above the car's (Roar Speedway's straight: 72 m/s on the line, 45 behind
+// the pace car), and a move sized for the line took 180 m, 4 s at 45 m/s, the guard holding the passer to
+// the slow car's speed until it was clear of it sideways.
+TEST(Overtaking, APassPullingOutFromBehindASlowCarMovesAcrossInShiftTimeAtItsOwnSpeed) {
+  auto& f = wideFixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const double s = straightStart(f.line);
+  const double line_speed = planning::sampleAt(f.line, s).speed;
+  const double v = 0.62 * line_speed;
+  const planning::TrafficCar slow{"slow", s + 20.0, 0.0, 0.6 * line_speed, 0.6};
+  const auto window = planner.plan("ego", s, 0.0, v, {slow}, 10.0, 400.0);
+  const auto pass = planner.decision("ego");
+  ASSERT_EQ(pass.mode, RaceMode::kPass) << planning::describe(pass);
+  // The move is a car's width and air across: shift_time at the car's speed on, it is there.
+  const double across = o.shift_time * v;
+  EXPECT_NEAR(shiftAt(f.line, window, pass.ramp_s + across), pass.offset, 0.1)
+      << "the move still under way " << across << " m on";
+  // A car at or above the line's speed moves over as it always did: in shift_time at the line's speed.
+  const auto straight = planning::windowAround(f.line, s, 10.0, 400.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  const auto at_line = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true);
+  const auto faster = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true, -inf, 1.2 * line_speed);
+  const auto slower = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true, -inf, v);
+  ASSERT_EQ(at_line.points.size(), faster.points.size());
+  for (std::size_t k = 0; k < at_line.points.size(); ++k) EXPECT_EQ(at_line.points[k].offset, faster.points[k].offset);
+  EXPECT_LT(shiftAt(f.line, at_line, s + across), shiftAt(f.line, slower, s + across) - 0.3);
+}
+
+// Off the line in a fast curve, on its outside, the way back onto the line turns harder than the curve
+// does: a car at the curve's speed would have to brake while turning harder, and slides. Traced at Roar
+// Speedway: a pass given up 4.5 m outside the line at 57 m/s on a 435 m curve planned its way back at
+// 52 m/s from where the car was; the car slid wide, weaved and left the road. It keeps its lane until the
+// way back is drivable at the speed it has; slower, it heads back at once.
+TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtItsSpeed) {
+  auto& f = wideFixture();
+  const planning::OvertakeOptions o;
+  const double half = 0.5 * o.car_width + o.edge_margin;
+  const planning::OvertakePlanner road(f.track, f.line, f.limits, o);
+  // Curves the line takes near the grip (sideways acceleration within 15% of the most it uses anywhere).
+  double most = 0.0;
+  for (const auto& p : f.line.points) most = std::max(most, p.speed * p.speed * std::abs(p.curvature));
+  int checked = 0;
+  for (double s = 0.0; s < f.line.length && checked < 3; s += 25.0) {
+    const auto here = planning::sampleAt(f.line, s);
+    if (here.speed < 40.0) continue;  // fast curves, not slow corners
+    const double outside = here.curvature > 0 ? -1.0 : 1.0, lane = 4.5 * outside;
+    bool fits = true;
+    for (double a = 0.0; a <= 100.0 && fits; a += 5.0) {
+      const auto p = planning::sampleAt(f.line, s + a);
+      const double room = outside < 0 ? road.roomRight(s + a) : road.roomLeft(s + a);
+      fits = p.curvature * here.curvature > 0 && p.speed * p.speed * std::abs(p.curvature) > 0.85 * most &&
+             room > std::abs(lane) + half + 0.5;
+    }
+    if (!fits) continue;
+    ++checked;
+    const double v = 0.95 * here.speed;
+    // Beside a car on the line on its inside, it holds its lane; then that car is gone, far ahead.
+    auto offLineAfterHolding = [&](planning::OvertakePlanner* planner, double speed) {
+      planner->plan("ego", s - 1.0, lane, speed, {{"beside", s - 1.0, 0.0, speed}}, 10.0, 400.0);
+      EXPECT_EQ(planner->decision("ego").mode, RaceMode::kHold) << planning::describe(planner->decision("ego"));
+      return planner->plan("ego", s, lane, speed, {{"other", s + 200.0, 0.0, speed}}, 10.0, 400.0);
+    };
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+    const auto window = offLineAfterHolding(&planner, v);
+    EXPECT_GT(planning::sampleAt(window, s).speed, v - 1.5) << "braking at once in the curve at s = " << s;
+    EXPECT_NEAR(shiftAt(f.line, window, s + 40.0), lane, 0.3) << "turning back in the curve at s = " << s;
+    // Slower, the way back is drivable: it heads back onto the line.
+    planning::OvertakePlanner slower(f.track, f.line, f.limits, o);
+    const auto back = offLineAfterHolding(&slower, 0.6 * v);
+    EXPECT_LT(std::abs(shiftAt(f.line, back, s + 60.0)), std::abs(lane) - 0.5) << "staying out when slow at s = " << s;
+  }
+  EXPECT_GT(checked, 0) << "no fast curve near the grip with room outside the line";
+}
+
 // A pass is begun only if it draws alongside the car within the horizon: a car a little slower is
 // followed, not chased off the line without getting beside it; the same car much slower is passed.
 TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {

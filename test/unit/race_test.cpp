@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -307,15 +308,21 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
     ahead -= std::round(ahead / L) * L;
     runs[it->second].closest = std::min(runs[it->second].closest, ahead);
   };
-  // Three cars: with two, the one pass on the pace car draws alongside once begun.
-  const auto r =
-      stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}, {"rival", 2}}, options);
+  // A car 5% faster behind another on Roar Sprint: passes begun there are given up (the road too narrow
+  // beside a line that swings across it) before the passer is beside the car it passes.
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"slow", 0, 0.75}, {"fast", 1, 0.8}}, options);
+  // Once either car has finished, a pass under way is given up with the race, whatever the decision
+  // (NoPassIsCountedOnceEitherCarHasFinished): only what was given up before that is matched here.
+  double first_flag = std::numeric_limits<double>::infinity();
+  for (const auto& c : r.cars)
+    if (c.finished) first_flag = std::min(first_flag, c.race_time);
   const double well_behind = sprint().vehicle.chassis.box_size.x() + 1.0;
   int surely_given_up = 0;
-  for (const auto& run : runs) surely_given_up += run.end >= 0.0 && run.closest > well_behind;
+  for (const auto& run : runs) surely_given_up += run.end >= 0.0 && run.end < first_flag && run.closest > well_behind;
   EXPECT_GT(surely_given_up, 0) << "no pass given up before alongside in this race: nothing tested";
   EXPECT_GE(static_cast<int>(r.given_up_before_alongside.size()), surely_given_up);
   for (const auto& g : r.given_up_before_alongside) {
+    if (g.end_time >= first_flag) continue;
     bool matched = false;
     for (const auto& run : runs) {
       // (A run may hold an attempt and, once that has closed, a pass given up: that one begins within it.)

@@ -126,6 +126,8 @@ struct RaceDecision {
   // shift_length later. Kept from tick to tick, so that the move is made rather than restarted.
   double ramp_s = 0.0;
   double ramp_from = 0.0;
+  // m/s the car had where the move began: the move takes shift_time at that speed (0: the racing line's).
+  double ramp_speed = 0.0;
 };
 
 // The decision in words, for logs and rviz: "pass pace on the left", "follow rival", "racing line", ...
@@ -159,10 +161,12 @@ class OvertakePlanner {
   // for_pass: planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the
   // moved points differenced); otherwise exactly, and a path moved by nothing is the racing line.
   // settle_s: up to this line s the path is planned on offline_grip wherever it is (a car still moving
-  // sideways from a move it has just made).
+  // sideways from a move it has just made). ramp_speed: m/s the car had at ramp_s, the move made in
+  // shift_time at that speed where it is below the racing line's there (0: at the line's).
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
                      double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0,
-                     bool for_pass = false, double settle_s = -std::numeric_limits<double>::infinity()) const;
+                     bool for_pass = false, double settle_s = -std::numeric_limits<double>::infinity(),
+                     double ramp_speed = 0.0) const;
 
  private:
   struct Candidate {
