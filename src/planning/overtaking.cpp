@@ -627,8 +627,10 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   }
   const bool on_line = std::abs(lateral) < 0.5 && memory.mode != RaceMode::kPass;
   // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
-  // target that followed the car's tracking error would walk it into the car alongside.
-  auto held = holds_.find(car);
+  // target that followed the car's tracking error would walk it into the car alongside. (Only a car keeping
+  // its place, below, holds it; its planned place is forgotten once it no longer does.)
+  const auto held = holds_.find(car);
+  const double hold_at = held != holds_.end() ? held->second : lateral;
   // Off the line in a fast curve, the way back onto it turns harder than the curve does, and a car at the
   // curve's speed would have to brake while turning harder: it slides (Roar Speedway, a pass given up 4.5 m
   // outside the line at 57 m/s on a 435 m curve planned its way back at 52 m/s from where the car was, and the
@@ -640,7 +642,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       return sampleAt(moved, s).speed < speed - kMoveBrakeSlack;
     };
     way_back_brakes = brakesAtOnce(make(RaceMode::kRacingLine, 0, "", 0.0), on_line_base) &&
-                      !brakesAtOnce(make(RaceMode::kHold, 0, "", held != holds_.end() ? held->second : lateral), base);
+                      !brakesAtOnce(make(RaceMode::kHold, 0, "", hold_at), base);
   }
   if (on_line) {
     Candidate c{on_line_base, {RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}, true};
@@ -660,11 +662,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // own), and as the fallback while closing on the car ahead.
   const bool beside_or_closing_behind = alongside || closing_behind;
   const bool keep_place = beside_or_closing_behind || closing_ahead || way_back_brakes;
-  if (held != holds_.end() && !keep_place) {
-    holds_.erase(held);
-    held = holds_.end();
-  }
-  const double hold_at = held != holds_.end() ? held->second : lateral;
+  if (held != holds_.end() && !keep_place) holds_.erase(held);
   if ((beside_or_closing_behind || way_back_brakes) && !on_line) consider(make(RaceMode::kHold, 0, "", hold_at));
   if (can_pass) {
     // Close behind a car, a pass goes by on the side the car is already on: never across its tail.
