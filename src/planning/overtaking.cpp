@@ -244,6 +244,11 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   return out;
 }
 
+Trajectory OvertakePlanner::shifted(const Trajectory& window, const RaceDecision& move) const {
+  return shifted(window, move.ramp_s, move.ramp_from, move.offset, std::numeric_limits<double>::infinity(), 1.0, false,
+                 -std::numeric_limits<double>::infinity(), move.ramp_speed);
+}
+
 Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) const {
   Trajectory out = window;
   auto& pts = out.points;
@@ -597,7 +602,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       const bool yielding = memory.mode == RaceMode::kYield && memory.other == blue->name && memory.side == side;
       const RaceDecision d =
           make(RaceMode::kYield, side, blue->name, side * (options_.car_width + options_.lateral_margin + 0.3));
-      Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset, kInf, 1.0, false, -kInf, d.ramp_speed), d, true};
+      Candidate c{shifted(base, d), d, true};
       // Clear of everyone but the car it makes room for: that one goes by wherever it is.
       std::vector<Prediction> but_blue;
       for (std::size_t i = 0; i < others.size(); ++i)
@@ -638,8 +643,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   bool way_back_brakes = false;
   if (!on_line) {
     auto brakesAtOnce = [&](const RaceDecision& d, const Trajectory& from) {
-      const Trajectory moved = shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, 1.0, false, -kInf, d.ramp_speed);
-      return sampleAt(moved, s).speed < speed - kMoveBrakeSlack;
+      return sampleAt(shifted(from, d), s).speed < speed - kMoveBrakeSlack;
     };
     way_back_brakes = brakesAtOnce(make(RaceMode::kRacingLine, 0, "", 0.0), on_line_base) &&
                       !brakesAtOnce(make(RaceMode::kHold, 0, "", hold_at), base);
@@ -681,10 +685,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const RaceDecision fallback_path = keep_place && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
                                      : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                : make(RaceMode::kRacingLine, 0, "", 0.0);
-  Candidate follow{on_line ? on_line_base
-                           : shifted(on_line_base, fallback_path.ramp_s, fallback_path.ramp_from, fallback_path.offset,
-                                     kInf, 1.0, false, -kInf, fallback_path.ramp_speed),
-                   fallback_path, true};
+  Candidate follow{on_line ? on_line_base : shifted(on_line_base, fallback_path), fallback_path, true};
   follow.decision.mode = RaceMode::kFollow;
   if (leader) {
     follow.decision.other = leader->name;
@@ -821,7 +822,7 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
     d.ramp_s = memory.ramp_s;
     d.ramp_from = memory.ramp_from;
   }
-  Candidate c{shifted(base, d.ramp_s, d.ramp_from, d.offset), d, true};
+  Candidate c{shifted(base, d), d, true};
   // Never across in front of a car that could not brake for it: the move is begun only while the car
   // behind, closing at the speed it has, stays a car's length and margin behind until the move is made
   // and rejoin_time after. The cars ahead and beside are checked as any plan is.
