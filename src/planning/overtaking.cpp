@@ -499,13 +499,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     const bool same_move = mode == RaceMode::kPass || mode == RaceMode::kYield
                                ? memory.mode == mode && memory.side == side && memory.other == other
                                : (memory.mode == mode || memory.mode == RaceMode::kFollow) && memory.side == 0;
-    // A pass goes on to wherever the car passed now is (the ramp is never restarted: a ramp begun afresh
-    // each tick never moves the car); any other move keeps its target unless that changed.
+    // A pass goes out to wherever the car passed now is, but never back towards it (the ramp is never
+    // restarted: a ramp begun afresh each tick never moves the car); any other move keeps its target unless
+    // that changed. Following the car passed as it moved away took a pass across the road towards it: at
+    // Roar Ring, closing at 9 m/s from 9 m behind a car that moved 3 m the other way, into its lane, where
+    // the pass was given up and touched it.
     if (same_move && (mode == RaceMode::kPass || std::abs(memory.offset - to) < 0.5)) {
       d.ramp_s = memory.ramp_s;
       d.ramp_from = memory.ramp_from;
       d.ramp_speed = memory.ramp_speed;
-      if (mode != RaceMode::kPass) d.offset = memory.offset;
+      if (mode != RaceMode::kPass || side * (memory.offset - to) > 0.0) d.offset = memory.offset;
     }
     return d;
   };

@@ -479,6 +479,35 @@ TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   }
 }
 
+// A pass goes out to wherever the car it passes is, but never back towards it: when that car moves away
+// from the passer's side, the passer keeps its lane. Traced at Roar Ring (reverse grid, guard_time 0.15 s):
+// the car passed moved 3 m the other way to pass a car of its own, the pass followed it across, closing at
+// 9 m/s from 9 m behind, was given up in that car's lane and touched it.
+TEST(Overtaking, APassUnderWayKeepsItsLaneWhenTheCarItPassesMovesAway) {
+  auto& f = fixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  auto [s, v, slow, pass] = beginPassOnTheStraight(&planner);
+  ASSERT_EQ(pass.mode, RaceMode::kPass);
+  const int side = pass.side;
+  // Moving away from the passer's side: 2 m across and still going.
+  slow.s += 0.5 * slow.speed;
+  slow.lateral = -2.0 * side;
+  slow.lateral_speed = -1.0 * side;
+  const double at = s + 0.5 * v;
+  const auto window = planner.plan("ego", at, 0.5 * side, v, {slow}, 10.0, 250.0);
+  const auto decision = planner.decision("ego");
+  ASSERT_EQ(decision.mode, RaceMode::kPass) << planning::describe(decision);
+  EXPECT_EQ(decision.side, side);
+  EXPECT_GE(side * decision.offset, side * pass.offset - 1e-9) << "the pass's lane moved towards the car passed";
+  EXPECT_GT(side * shiftAt(f.line, window, at + 60.0), side * pass.offset - 0.3);
+  // Towards the passer's side the lane goes out with the car (a car's width and air beside it).
+  slow.lateral = 0.5 * side;
+  slow.lateral_speed = 0.0;
+  planner.plan("ego", at + 0.05 * v, 0.6 * side, v, {slow}, 10.0, 250.0);
+  ASSERT_EQ(planner.decision("ego").mode, RaceMode::kPass) << planning::describe(planner.decision("ego"));
+  EXPECT_GT(side * planner.decision("ego").offset, side * pass.offset + 0.4);
+}
+
 // A car off the line behind a much slower one it may not pass (a pass on it just given up) falls in
 // behind it in its own lane, not on the way back to the line: closing at 40% of its speed, it would meet
 // the other's back while still moving across into its lane. Traced at Monza: a pass given up in a braking
