@@ -244,9 +244,9 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   return out;
 }
 
-Trajectory OvertakePlanner::shifted(const Trajectory& window, const RaceDecision& move) const {
+Trajectory OvertakePlanner::shifted(const Trajectory& window, const RaceDecision& move, double settle_s) const {
   return shifted(window, move.ramp_s, move.ramp_from, move.offset, std::numeric_limits<double>::infinity(), 1.0, false,
-                 -std::numeric_limits<double>::infinity(), move.ramp_speed);
+                 settle_s, move.ramp_speed);
 }
 
 Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) const {
@@ -415,10 +415,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   Trajectory base = windowAround(line_, s, behind, ahead_m);
   scaleSpeeds(&base, pace);
   // A car still moving sideways after a move (back from a pass, say) is planned on offline_grip for the next
-  // kSettleTime at its speed on the line and on its way back to it: it has less grip to brake and turn with.
-  // Only after a move (a car alone on the line never settles: its own tracking is the line's business), and
-  // not a pass or any other move off the line (they plan their own moving across).
-  Trajectory line_base;  // the racing line's window as a car settling drives it; empty: `base`
+  // kSettleTime at its speed on the line, on its way back to it and in a lane it holds: it has less grip to
+  // brake and turn with. Only after a move (a car alone on the line never settles: its own tracking is the
+  // line's business), and not a pass or any other move across the road (they plan their own moving across).
+  Trajectory line_base;     // the racing line's window as a car settling drives it; empty: `base`
+  double settle_s = -kInf;  // line s up to which the car is settling
   auto settle_it = settle_.find(car);
   const RaceDecision& last = decisions_[car];
   const bool after_move = settle_it != settle_.end() || last.mode != RaceMode::kRacingLine || last.ramp_from != 0.0;
@@ -430,7 +431,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     if (aheadOnLap(s, settle_it->second, L) >= 0.0) {
       settle_.erase(settle_it);
     } else {
-      line_base = shifted(base, s, 0.0, 0.0, kInf, 1.0, false, settle_it->second);
+      settle_s = settle_it->second;
+      line_base = shifted(base, s, 0.0, 0.0, kInf, 1.0, false, settle_s);
     }
   }
   const Trajectory& on_line_base = line_base.points.empty() ? base : line_base;
@@ -517,7 +519,11 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     const Trajectory& from = slingshot ? towed_base : d.mode == RaceMode::kRacingLine ? on_line_base : base;
     const double drag_share = slingshot ? 1.0 - tow : 1.0;
     const bool pass = d.mode == RaceMode::kPass;
-    Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, drag_share, pass, -kInf, d.ramp_speed), d, true};
+    // Holding a lane while still drifting from the move before: settling there as on the line (a car that
+    // gave up a pass outside a fast curve at Roar Speedway, drifting out at 1.6 m/s, held its lane on all the
+    // grip at 59 m/s, slid 3.7 m wide of it and into the barrier).
+    const double settle = d.mode == RaceMode::kHold ? settle_s : -kInf;
+    Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, drag_share, pass, settle, d.ramp_speed), d, true};
     Trajectory staying_out;  // a pass's window that does not come back onto the line within it
     if (d.mode == RaceMode::kPass && leader) {
       // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
@@ -552,7 +558,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     if (d.mode == RaceMode::kPass && leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;
-      followBehind(&patient.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_);
+      followBehind(&patient.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
       const double wide = options_.car_width + options_.lateral_margin;
       bool beside = false;
       for (std::size_t k = 0; k < c.window.points.size(); ++k) {
@@ -688,11 +694,14 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const RaceDecision fallback_path = keep_place && !on_line ? make(RaceMode::kHold, 0, "", hold_at)
                                      : on_line ? RaceDecision{RaceMode::kRacingLine, 0, "", 0.0, 0.0, s, 0.0}
                                                : make(RaceMode::kRacingLine, 0, "", 0.0);
-  Candidate follow{on_line ? on_line_base : shifted(on_line_base, fallback_path), fallback_path, true};
+  Candidate follow{on_line                                 ? on_line_base
+                   : fallback_path.mode == RaceMode::kHold ? shifted(base, fallback_path, settle_s)
+                                                           : shifted(on_line_base, fallback_path),
+                   fallback_path, true};
   follow.decision.mode = RaceMode::kFollow;
   if (leader) {
     follow.decision.other = leader->name;
-    followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_);
+    followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
   }
   clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {
@@ -866,7 +875,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
   if (!nearest) return;
   // Without guard_predicted, or already nearer than the gap: held from where the car ahead is now.
   if (!options_.guard_predicted || nearest_rel < gap) {
-    followBehind(window, s, s + nearest_rel, nearest->speed, gap, limits_);
+    followBehind(window, s, s + nearest_rel, nearest->speed, gap, limits_, speed);
     return;
   }
   // guard_predicted: held to that car's speed from where, driving the window, the car would first come

@@ -272,10 +272,20 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 
 namespace roar::planning {
 
+namespace {
+// m/s below a speed held within which a car has reached it (its speed loop's wobble).
+constexpr double kHeldSpeedReach = 0.3;
+}  // namespace
+
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
-                  const VehicleLimits& limits) {
+                  const VehicleLimits& limits, double car_speed) {
   auto& pts = window->points;
   if (pts.size() < 2) return;
+  std::vector<double> own;  // the window's accelerations before the cap, for a car still below it
+  if (car_speed >= 0.0) {
+    own.reserve(pts.size());
+    for (const auto& p : pts) own.push_back(p.acceleration);
+  }
   const double stop_at = leader_s - gap;
   const double too_close = std::max(0.0, car_s - stop_at);
   const double cap = std::max(0.0, leader_speed - too_close);
@@ -293,6 +303,15 @@ void followBehind(Trajectory* window, double car_s, double leader_s, double lead
     pts[k].acceleration = (pts[k + 1].speed * pts[k + 1].speed - pts[k].speed * pts[k].speed) / (2.0 * ds);
   }
   pts.back().acceleration = 0.0;
+  if (car_speed < 0.0) return;
+  double v = car_speed;  // the car's speed at point k, gaining at the window's own acceleration
+  for (std::size_t k = 0; k + 1 < pts.size(); ++k) {
+    if (pts[k + 1].s <= car_s) continue;
+    if (v > pts[k].speed - kHeldSpeedReach) break;
+    pts[k].acceleration = std::max(pts[k].acceleration, own[k]);
+    const double ds = pts[k + 1].s - std::max(pts[k].s, car_s);
+    v = std::sqrt(std::max(0.0, v * v + 2.0 * std::max(0.0, own[k]) * ds));
+  }
 }
 
 std::vector<double> slopes(const Trajectory& t) {

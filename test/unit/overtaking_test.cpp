@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "roar/planning/overtaking.h"
 #include "roar/track/map_folder.h"
@@ -238,29 +239,47 @@ TEST(Overtaking, APassPullingOutFromBehindASlowCarMovesAcrossInShiftTimeAtItsOwn
 // Speedway: a pass given up 4.5 m outside the line at 57 m/s on a 435 m curve planned its way back at
 // 52 m/s from where the car was; the car slid wide, weaved and left the road. It keeps its lane until the
 // way back is drivable at the speed it has; slower, it heads back at once.
-TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtItsSpeed) {
-  auto& f = wideFixture();
+namespace {
+
+// Line s of the first `count` fast curves the line takes near the grip (sideways acceleration within 15% of
+// the most it uses anywhere) with room for a lane `lane` m outside the line for 100 m.
+std::vector<double> fastCurvesWithRoomOutside(const Fixture& f, double lane, std::size_t count) {
   const planning::OvertakeOptions o;
   const double half = 0.5 * o.car_width + o.edge_margin;
   const planning::OvertakePlanner road(f.track, f.line, f.limits, o);
-  // Curves the line takes near the grip (sideways acceleration within 15% of the most it uses anywhere).
   double most = 0.0;
   for (const auto& p : f.line.points) most = std::max(most, p.speed * p.speed * std::abs(p.curvature));
-  int checked = 0;
-  for (double s = 0.0; s < f.line.length && checked < 3; s += 25.0) {
+  std::vector<double> found;
+  for (double s = 0.0; s < f.line.length && found.size() < count; s += 25.0) {
     const auto here = planning::sampleAt(f.line, s);
     if (here.speed < 40.0) continue;  // fast curves, not slow corners
-    const double outside = here.curvature > 0 ? -1.0 : 1.0, lane = 4.5 * outside;
+    const bool outside_right = here.curvature > 0;
     bool fits = true;
     for (double a = 0.0; a <= 100.0 && fits; a += 5.0) {
       const auto p = planning::sampleAt(f.line, s + a);
-      const double room = outside < 0 ? road.roomRight(s + a) : road.roomLeft(s + a);
+      const double room = outside_right ? road.roomRight(s + a) : road.roomLeft(s + a);
       fits = p.curvature * here.curvature > 0 && p.speed * p.speed * std::abs(p.curvature) > 0.85 * most &&
-             room > std::abs(lane) + half + 0.5;
+             room > lane + half + 0.5;
     }
-    if (!fits) continue;
-    ++checked;
-    const double v = 0.95 * here.speed;
+    if (fits) found.push_back(s);
+  }
+  return found;
+}
+
+// m left of the line of a lane `lane` m outside the curve at line s.
+double outsideLane(const Fixture& f, double s, double lane) {
+  return planning::sampleAt(f.line, s).curvature > 0 ? -lane : lane;
+}
+
+}  // namespace
+
+TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtItsSpeed) {
+  auto& f = wideFixture();
+  const planning::OvertakeOptions o;
+  const auto curves = fastCurvesWithRoomOutside(f, 4.5, 3);
+  for (const double s : curves) {
+    const double lane = outsideLane(f, s, 4.5);
+    const double v = 0.95 * planning::sampleAt(f.line, s).speed;
     // Beside a car on the line on its inside, it holds its lane; then that car is gone, far ahead.
     auto offLineAfterHolding = [&](planning::OvertakePlanner* planner, double speed) {
       planner->plan("ego", s - 1.0, lane, speed, {{"beside", s - 1.0, 0.0, speed}}, 10.0, 400.0);
@@ -276,7 +295,38 @@ TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtI
     const auto back = offLineAfterHolding(&slower, 0.6 * v);
     EXPECT_LT(std::abs(shiftAt(f.line, back, s + 60.0)), std::abs(lane) - 0.5) << "staying out when slow at s = " << s;
   }
-  EXPECT_GT(checked, 0) << "no fast curve near the grip with room outside the line";
+  EXPECT_FALSE(curves.empty()) << "no fast curve near the grip with room outside the line";
+}
+
+// A car holding its lane outside a fast curve while still moving sideways (a pass given up there, the car
+// still drifting out from it) holds it on offline_grip for the next 2 s at its speed, as a car settling back
+// on the line is planned: on all the grip, a car at Roar Speedway drifting out at 1.6 m/s at 59 m/s kept its
+// throttle to its lane's speed, slid 3.7 m wide of the lane and into the barrier.
+TEST(Overtaking, ACarHoldingItsLaneWhileStillMovingSidewaysIsPlannedOnLessGrip) {
+  auto& f = wideFixture();
+  const auto curves = fastCurvesWithRoomOutside(f, 2.0, 1);
+  ASSERT_FALSE(curves.empty()) << "no fast curve near the grip with room outside the line";
+  const double s = curves.front(), lane = outsideLane(f, s, 2.0);
+  const double v = 0.95 * planning::sampleAt(f.line, s).speed;
+  const double inside = lane > 0 ? lane - 3.0 : lane + 3.0;  // the car it holds its lane beside
+  auto held = [&](double lateral_speed) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+    planner.plan("ego", s - 1.0, lane, v, {{"beside", s - 1.0, inside, v}}, 10.0, 400.0);
+    planning::TrafficCar self{"ego", s, lane, v, 1.0, lateral_speed};
+    const auto window = planner.plan("ego", s, lane, v, {self, {"beside", s, inside, v}}, 10.0, 400.0);
+    EXPECT_EQ(planner.decision("ego").mode, RaceMode::kHold) << planning::describe(planner.decision("ego"));
+    EXPECT_NEAR(shiftAt(f.line, window, s + 40.0), lane, 0.3);
+    return window;
+  };
+  const auto drifting = held(lane > 0 ? 1.6 : -1.6), settled = held(0.0);
+  double slower = 0.0, faster = 0.0;
+  for (double a = 0.0; a < 2.0 * v; a += 5.0) {
+    const double d = planning::sampleAt(settled, s + a).speed - planning::sampleAt(drifting, s + a).speed;
+    slower = std::max(slower, d);
+    faster = std::max(faster, -d);
+  }
+  EXPECT_GT(slower, 0.5) << "still moving sideways, its lane held on all the grip";
+  EXPECT_LT(faster, 1e-9) << "still moving sideways, its lane held faster somewhere";
 }
 
 // A pass is begun only if it draws alongside the car within the horizon: a car a little slower is

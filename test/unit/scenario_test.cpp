@@ -129,6 +129,40 @@ TEST(FollowBehind, SlowsToTheLeadersSpeedBeforeTheGapAndBrakesInTime) {
   EXPECT_LT(close.points[0].speed, 10.0);
 }
 
+// Behind a car that sets the speed just ahead, a car still below that speed keeps the window's own
+// acceleration (the tracker feeds it forward) until, gaining at it, it would reach the speed held; the
+// speeds themselves are held as ever, and a car already at the held speed reads the braking ramp.
+TEST(FollowBehind, ACarBelowTheHeldSpeedKeepsTheWindowsAccelerationUntilItReachesIt) {
+  planning::Trajectory window;
+  window.closed = false;
+  const double a = 4.0;  // m/s^2: the window accelerates from 30 m/s
+  for (int i = 0; i <= 200; ++i) {
+    planning::TrajectoryPoint p;
+    p.position = {1.0 * i, 0.0};
+    p.s = i;
+    p.speed = std::sqrt(30.0 * 30.0 + 2.0 * a * i);
+    p.acceleration = a;
+    window.points.push_back(p);
+  }
+  const auto limits = planning::vehicleLimits(test::sedan(), 1.0, 0.85);
+  auto held = window, below = window, at_speed = window;
+  planning::followBehind(&held, 0.0, 40.0, 31.0, 12.0, limits);
+  planning::followBehind(&below, 0.0, 40.0, 31.0, 12.0, limits, 25.0);
+  planning::followBehind(&at_speed, 0.0, 40.0, 31.0, 12.0, limits, 31.0);
+  double least_held = a, least_at_speed = a;
+  for (std::size_t k = 0; k < window.points.size(); ++k) {
+    EXPECT_DOUBLE_EQ(below.points[k].speed, held.points[k].speed) << k;
+    EXPECT_DOUBLE_EQ(at_speed.points[k].speed, held.points[k].speed) << k;
+    if (window.points[k].s > 28.0) continue;  // up to the gap behind the car ahead
+    least_held = std::min(least_held, held.points[k].acceleration);
+    least_at_speed = std::min(least_at_speed, at_speed.points[k].acceleration);
+    // From 25 m/s at 4 m/s^2 the car is at 29.1 m/s 28 m on: below the 31 held all the way.
+    EXPECT_NEAR(below.points[k].acceleration, a, 1e-9) << "at s = " << window.points[k].s;
+  }
+  EXPECT_LT(least_held, -1.0) << "no braking ramp down to the car ahead's speed";
+  EXPECT_LT(least_at_speed, -1.0) << "a car at the held speed not braking for it";
+}
+
 TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
   // Property test (issue 17): each number of a two-car scenario set to 0, -1, 1e-30, 1e30, 1e300, NaN and inf
   // in turn: refused naming the field, or a scenario whose numbers are finite and physical.

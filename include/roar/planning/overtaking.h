@@ -177,8 +177,9 @@ class OvertakePlanner {
     bool clear = true;
   };
   // The window moved as a decision's move goes (from ramp_from at ramp_s to offset, at ramp_speed), planned
-  // as any move but a pass is, in free air.
-  Trajectory shifted(const Trajectory& window, const RaceDecision& move) const;
+  // as any move but a pass is, in free air (settle_s as above).
+  Trajectory shifted(const Trajectory& window, const RaceDecision& move,
+                     double settle_s = -std::numeric_limits<double>::infinity()) const;
   // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them: higher where the
   // engine, not the grip, sets them. Never lower (braking points are the free-air ones).
   Trajectory towed(const Trajectory& window, double drag_share) const;
