@@ -234,11 +234,6 @@ TEST(Overtaking, APassPullingOutFromBehindASlowCarMovesAcrossInShiftTimeAtItsOwn
   EXPECT_LT(shiftAt(f.line, at_line, s + across), shiftAt(f.line, slower, s + across) - 0.3);
 }
 
-// Off the line in a fast curve, on its outside, the way back onto the line turns harder than the curve
-// does: a car at the curve's speed would have to brake while turning harder, and slides. Traced at Roar
-// Speedway: a pass given up 4.5 m outside the line at 57 m/s on a 435 m curve planned its way back at
-// 52 m/s from where the car was; the car slid wide, weaved and left the road. It keeps its lane until the
-// way back is drivable at the speed it has; slower, it heads back at once.
 namespace {
 
 // Line s of the first `count` fast curves the line takes near the grip (sideways acceleration within 15% of
@@ -273,6 +268,11 @@ double outsideLane(const Fixture& f, double s, double lane) {
 
 }  // namespace
 
+// Off the line in a fast curve, on its outside, the way back onto the line turns harder than the curve
+// does: a car at the curve's speed would have to brake while turning harder, and slides. Traced at Roar
+// Speedway: a pass given up 4.5 m outside the line at 57 m/s on a 435 m curve planned its way back at
+// 52 m/s from where the car was; the car slid wide, weaved and left the road. It keeps its lane until the
+// way back is drivable at the speed it has; slower, it heads back at once.
 TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtItsSpeed) {
   auto& f = wideFixture();
   const planning::OvertakeOptions o;
