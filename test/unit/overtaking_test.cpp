@@ -583,6 +583,25 @@ TEST(Overtaking, ACarClosingFastOnOneAheadKeepsItsLaneUntilItHasItsSpeed) {
   EXPECT_LT(std::abs(shiftAt(f.line, matched, at + 1.0 + 120.0)), std::abs(lane) - 1.0);
 }
 
+// A pass that does not draw alongside within the horizon gets no further in it than following the car it
+// passes: that car is still ahead at the end. Under way on a straight, 14 m behind a car held to 32 m/s
+// (predicted at most a little above it), the pass is credited no more than that car's travel less the
+// follow gap: 195.7 m, not its own path's 202.6 (which kept a pass in doubt going as better than following).
+TEST(Overtaking, APassThatDoesNotDrawAlongsideIsCreditedNoFurtherThanFollowing) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  auto [s, v, slow, pass] = beginPassOnTheStraight(&planner);
+  ASSERT_EQ(pass.mode, RaceMode::kPass);
+  const double at = s + o.plan_period * v, gap = 14.0, held = 32.0;
+  const planning::TrafficCar held_car{"slow", at + gap, 0.0, held, 0.0, 0.0, false, held};
+  planner.plan("ego", at, 0.05 * pass.side, v, {held_car}, 10.0, 250.0);
+  const auto going_on = planner.decision("ego");
+  ASSERT_EQ(going_on.mode, RaceMode::kPass) << planning::describe(going_on);
+  const double most_it_travels = gap + (held + 0.5) * o.horizon;
+  EXPECT_LE(going_on.progress, most_it_travels - o.follow_gap);
+}
+
 TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
   // Both cars planned here: the slow car's plan is the racing line. When it is 2 m off that line (someone
   // else at its wheel), the guard takes it where it is: in the passer's path 1.5 m left of the line.
