@@ -728,6 +728,43 @@ TEST(Overtaking, InClosedLoopTheFastCarPassesCleanlyAndRejoinsTheLine) {
   EXPECT_EQ(planner.decision("fast").mode, RaceMode::kRacingLine);
 }
 
+// A car moving into a passer's lane from behind it is that car's to mind: the passer, already out in its
+// lane, keeps a car's length and margin ahead of it, not the room a move across in front of a car needs
+// (rejoin_time at speed on top). Traced at Roar Ring (pace-car field, seed 0): car2, 3 m left of the line
+// beside the pace car's lane, began its pass there; car1, 21 m behind, was moving left behind it, and
+// car2's pass was taken for a move across in front of car1 (26.5 m asked), given up after three plans and
+// not tried again for 3 s, which car2 spent behind the pace car at 64% of its free-air speed.
+TEST(Overtaking, APassOutInItsLaneIsNotGivenUpForACarMovingIntoItBehind) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  double s = straightStart(f.line) - 60.0, lat = 0.0, v = planning::sampleAt(f.line, s).speed;
+  double slow_s = s + 50.0;
+  const double dt = o.plan_period;
+  int side = 0;
+  for (int step = 0; step < 200 && side == 0; ++step) {
+    const double slow_v = 0.6 * planning::sampleAt(f.line, slow_s).speed;
+    const auto plan = planner.plan("ego", s, lat, v, {{"slow", slow_s, 0.0, slow_v}}, 10.0, 250.0);
+    const auto d = planner.decision("ego");
+    v = std::min(planning::sampleAt(plan, s).speed, v + 8.0 * dt);
+    s += v * dt;
+    lat = planning::sampleAt(plan, s).offset - planning::sampleAt(f.line, s).offset;
+    slow_s += slow_v * dt;
+    if (d.mode == RaceMode::kPass && std::abs(lat) > std::abs(d.offset) - 0.1) side = d.side;
+  }
+  ASSERT_NE(side, 0) << "out in the pass's lane";
+  // From behind, 15 m back at this car's speed, a car moving across into its lane at 2 m/s.
+  for (int plan = 0; plan <= o.abort_plans; ++plan) {
+    const double slow_v = 0.6 * planning::sampleAt(f.line, slow_s).speed;
+    const planning::TrafficCar behind{"behind", s - 15.0, lat - side * 2.6, v, 0.0, 2.0 * side};
+    planner.plan("ego", s, lat, v, {{"slow", slow_s, 0.0, slow_v}, behind}, 10.0, 250.0);
+    ASSERT_EQ(planner.decision("ego").mode, RaceMode::kPass)
+        << "plan " << plan << ": " << planning::describe(planner.decision("ego"));
+    s += v * dt;
+    slow_s += slow_v * dt;
+  }
+}
+
 // Racecraft: a car with a faster one pulling out behind it makes one move across to cover that side, and
 // no second when the other switches sides; alongside, it holds its place. Off by default.
 TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
