@@ -554,12 +554,12 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         c.clear = true;
       }
     }
+    const bool pass_on_leader = d.mode == RaceMode::kPass && leader;
+    bool draws_alongside = pass_on_leader && drawsAlongside(c.window, s, speed, leader_prediction);
     // A new pass must at least draw alongside within the horizon: off the line and no nearer, it only
     // loses time (and meets the next corner still behind the car).
-    if (c.clear && d.mode == RaceMode::kPass && leader && !passing_leader &&
-        !drawsAlongside(c.window, s, speed, leader_prediction))
-      c.clear = false;
-    if (d.mode == RaceMode::kPass && leader) {
+    if (c.clear && pass_on_leader && !passing_leader && !draws_alongside) c.clear = false;
+    if (pass_on_leader) {
       // Or: stay behind the car at its speed until beside it with room, then go by.
       Candidate patient = c;
       followBehind(&patient.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
@@ -574,11 +574,14 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       // alongside within the horizon.
       patient.clear = clearOf(patient.window, s, speed, predicted, &patient.decision.progress, margin_share, within) &&
                       drawsAlongside(patient.window, s, speed, leader_prediction);
-      if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) c = std::move(patient);
+      if (patient.clear && (!c.clear || patient.decision.progress > c.decision.progress)) {
+        c = std::move(patient);
+        draws_alongside = true;
+      }
       // A pass that does not draw alongside within the horizon gets no further in it than following: the
       // car it passes is still ahead at the end. Credited with its own path's speeds, such a pass under way
       // went on looking better than following (README, traffic benchmark).
-      if (!drawsAlongside(c.window, s, speed, leader_prediction)) {
+      if (!draws_alongside) {
         c.decision.progress =
             std::min(c.decision.progress, leader_prediction.at(options_.horizon) - options_.follow_gap);
       }
