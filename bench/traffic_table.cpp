@@ -12,6 +12,7 @@
 
 #include "roar/config/number.h"
 #include "roar/config/yaml_section.h"
+#include "roar/planning/overtaking.h"
 #include "roar/sim/vehicle_config.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
@@ -38,11 +39,13 @@ Field paceCarField(std::mt19937& rng) {
   return f;
 }
 
+constexpr double kPaceStep = 0.05;  // the reverse grid's, between cars
+
 // Six cars 5% of pace apart (each jittered by up to 1%), started in reverse order of pace.
 Field reverseGridField(std::mt19937& rng) {
   Field f{"reverse_grid", {}, {}};
   for (int k = 0; k < 6; ++k) {
-    const double pace = std::min(1.0, 0.75 + 0.05 * k + jitter(rng, 0.01));
+    const double pace = std::min(1.0, 0.75 + kPaceStep * k + jitter(rng, 0.01));
     f.cars.push_back({"p" + std::to_string(k), k, pace, 0.0});
   }
   return f;
@@ -111,6 +114,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
               "attempts", "completed", "aborted", "gave_up", "rate_%", "catch_s", "speed_%", "contacts", "at_fault",
               "limits", "late", "in_order", "pairs_out", "loss_s");
   Totals all;
+  std::vector<std::string> lanes;  // each circuit's room to pass, printed under the table
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
     if (!only_map.empty() && map != only_map) continue;
@@ -120,6 +124,21 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.laps = laps;
     options.field.overtaking = true;
     options.field.overtake = overtake;
+    {
+      // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
+      // 5% of speed gained, two car lengths and margins to go by in.
+      planning::OvertakeOptions sized = overtake;
+      sized.car_length = vehicle.chassis.box_size.x();
+      sized.car_width = vehicle.chassis.box_size.y();
+      const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
+      const planning::OvertakePlanner planner(track, planning::planRacingTrajectory(track, limits, options.planner),
+                                              limits, sized);
+      const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / kPaceStep;
+      char line[200];
+      std::snprintf(line, sizeof line, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
+                    100.0 * planner.laneShare(+1, run), 100.0 * planner.laneShare(-1, run));
+      lanes.push_back(line);
+    }
     // Free air: each car of a field alone, from its grid slot at its pace, for the lap time traffic costs
     // it and the passing speed's reference (the full-pace cars' runs serve every seed).
     std::map<std::pair<int, double>, stack::RaceCarResult> alone_at;
@@ -226,6 +245,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     }
   }
   printRow("all", "", all);
+  std::printf(
+      "room to pass: where a lane runs beside a car on the racing line (its width and air, and the pass's edge\n"
+      "margin) for as far as a pass gaining the reverse grid's 5%% of speed needs to go by:\n");
+  for (const auto& l : lanes) std::printf("  %s\n", l.c_str());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::printf(
       "columns: passes attempted (the passer drawn alongside), completed and aborted; gave_up: passes begun and\n"

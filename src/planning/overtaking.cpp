@@ -100,6 +100,31 @@ double OvertakePlanner::roomRight(double s) const {
   return interpolateWrapped(room_s_, room_right_, lapLength(line_), s);
 }
 
+double OvertakePlanner::laneShare(int side, double run) const {
+  const double length = line_.closed ? lapLength(line_) : line_.points.back().s - line_.points.front().s;
+  constexpr double kStep = 1.0;  // m
+  const auto n = static_cast<std::size_t>(std::floor(length / kStep));
+  if (n == 0) return 0.0;
+  const double need = 1.5 * options_.car_width + options_.lateral_margin + options_.edge_margin;
+  std::vector<char> lane(n);
+  const double s0 = line_.points.front().s;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double at = s0 + kStep * static_cast<double>(i);
+    lane[i] = (side > 0 ? roomLeft(at) : roomRight(at)) >= need;
+  }
+  // Metres of lane from each point on, backwards round the lap (twice, for a closed line's wrap).
+  std::vector<double> on(n, 0.0);
+  const std::size_t passes = line_.closed ? 2 : 1;
+  double ahead = 0.0;
+  for (std::size_t k = passes * n; k-- > 0;) {
+    const std::size_t i = k % n;
+    ahead = lane[i] ? ahead + kStep : 0.0;
+    on[i] = std::min(ahead, length);
+  }
+  const auto starts = std::count_if(on.begin(), on.end(), [&](double m) { return m > 0.0 && m >= run; });
+  return static_cast<double>(starts) / static_cast<double>(n);
+}
+
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
                                     double drag_share, bool for_pass, double settle_s, double ramp_speed) const {
   Trajectory out = window;

@@ -439,6 +439,30 @@ TEST(Overtaking, ThePredictedGuardLetsACarCloseUpOnTheCarAheadAsItGoesOn) {
   EXPECT_GT(predicted, 0.95 * v + 1.0);
 }
 
+// Where a car on the racing line leaves a lane beside it long enough for a pass: on Roar Sprint's 8 m road
+// the line swings across it and no lane runs 250 m (what a pass gaining 5% of its speed needs); on Roar
+// Speedway's wide road long ones do.
+TEST(Overtaking, LanesBesideTheRacingLineAreMeasuredInTheRoadsTerms) {
+  auto& f = fixture();
+  const planning::OvertakeOptions options;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
+  const double need = 1.5 * options.car_width + options.lateral_margin + options.edge_margin;
+  const double five_percent_pass = 2.0 * (options.car_length + options.longitudinal_margin) / 0.05;
+  for (int side : {+1, -1}) {
+    auto room = [&](double s) { return side > 0 ? planner.roomLeft(s) : planner.roomRight(s); };
+    // Any lane at all: the share of the lap with room, sampled here every metre.
+    double with_room = 0.0;
+    for (double s = 0.0; s < f.line.length; s += 1.0) with_room += room(s) >= need;
+    EXPECT_NEAR(planner.laneShare(side, 0.0), with_room / std::floor(f.line.length), 0.01);
+    EXPECT_GT(planner.laneShare(side, 100.0), 0.0);
+    EXPECT_LT(planner.laneShare(side, 100.0), planner.laneShare(side, 0.0));
+    EXPECT_EQ(planner.laneShare(side, five_percent_pass), 0.0) << five_percent_pass;
+  }
+  auto& wide = wideFixture();
+  planning::OvertakePlanner wide_planner(wide.track, wide.line, wide.limits, options);
+  EXPECT_GT(wide_planner.laneShare(+1, five_percent_pass), 0.2);
+}
+
 // A car seen held to a speed (a pace car) is predicted at that speed out of a slow corner, not at its
 // share of the line's speed there (all of it, in the corner), which would have it pull away.
 TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
