@@ -506,6 +506,9 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     }
   }
   const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
+  // How far in the horizon a car gets behind the leader as the leader is predicted to go: what following
+  // gets at most, and a pass still behind it at the end no more.
+  const double behind_leader = leader ? leader_prediction.at(options_.horizon) - options_.follow_gap : kInf;
   // In the leader's slipstream a pass is planned with the speed the tow gives (and carries out of it).
   const double tow = leader ? sim::slipstreamReduction(leader_gap - options_.car_length, lateral - leader->lateral,
                                                        leader->speed, options_.car_width, options_.slipstream)
@@ -607,8 +610,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       // car it passes is still ahead at the end. Credited with its own path's speeds, such a pass under way
       // went on looking better than following (README, traffic benchmark).
       if (!draws_alongside) {
-        c.decision.progress =
-            std::min(c.decision.progress, leader_prediction.at(options_.horizon) - options_.follow_gap);
+        c.decision.progress = std::min(c.decision.progress, behind_leader);
       }
     }
     candidates.push_back(std::move(c));
@@ -745,8 +747,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {
     // Behind the leader as it is predicted to go, not at the speed it has now.
-    const double leader_travel = leader_prediction.at(options_.horizon);
-    follow.decision.progress = std::min(follow.decision.progress, leader_travel - options_.follow_gap);
+    follow.decision.progress = std::min(follow.decision.progress, behind_leader);
   }
 
   const Candidate* chosen = nullptr;
