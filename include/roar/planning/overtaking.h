@@ -157,8 +157,8 @@ class OvertakePlanner {
   double roomRight(double s) const;
   // The share of the lap from which a lane runs beside a car on the racing line, on the side `side`
   // (+1 left, -1 right), for at least `run` metres on: room for a passer (its width and air from the
-  // car, its edge margin from the road's edge), where it could stay alongside that far. A pass gaining
-  // `share` of its speed on the car needs about 2 (car_length + longitudinal_margin) / share metres.
+  // car, its edge margin from the road's edge), where it could stay alongside that far. A pass gaining a
+  // fraction f of its speed on the car needs about 2 (car_length + longitudinal_margin) / f metres.
   double laneShare(int side, double run) const;
 
   // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
