@@ -15,6 +15,7 @@
 #include "roar/planning/field_planner.h"
 #include "roar/planning/trajectory.h"
 #include "roar/ros/frames.h"
+#include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/queues.h"
@@ -132,9 +133,9 @@ class PlannerNode {
     car.last_odom = odom_msg;
     if (!field_) return;
     const nav_msgs::Odometry& odom = *odom_msg;
-    field_->locate(name,
-                   Eigen::Vector3d(odom.pose.pose.position.x, odom.pose.pose.position.y, odom.pose.pose.position.z),
-                   odom.twist.twist.linear.x, odom.header.stamp.toSec());
+    const sim::VehicleState state = ros_bridge::fromOdometry(odom);
+    field_->locate(name, state.pose.position, state.forward_speed, odom.header.stamp.toSec(),
+                   Eigen::Vector2d(state.linear_velocity.head<2>()));
     const planning::RaceDecision before = field_->decision(name);
     const planning::Trajectory local = field_->window(name);
     const planning::RaceDecision now = field_->decision(name);

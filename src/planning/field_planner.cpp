@@ -15,7 +15,8 @@ FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const Veh
   if (options_.overtaking) overtaker_ = std::make_unique<OvertakePlanner>(track, line_, limits_, options_.overtake);
 }
 
-void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time) {
+void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time,
+                          const std::optional<Eigen::Vector2d>& velocity) {
   Place& place = cars_[car];
   const double lateral_before = place.on_line.lateral;
   const bool first = place.hint < 0;
@@ -25,9 +26,13 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   if (!progress_origin_) progress_origin_ = place.on_line.s;
   place.progress = first ? aheadOnLap(place.on_line.s, *progress_origin_, lapLength(line_))
                          : place.progress + aheadOnLap(place.on_line.s, s_before, lapLength(line_));
-  // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in).
+  // Its sideways motion, over a few messages: a car moving across is seen moving (a cut-in); and, where
+  // its velocity is known, this moment's.
   const double dt = time - place.time;
   const bool since_last = dt > 1e-6 && dt < 1.0;  // a message after the last one, not after a gap
+  const double line_yaw = sampleAt(line_, place.on_line.s).yaw;
+  place.lateral_velocity = velocity ? velocity->dot(Eigen::Vector2d(-std::sin(line_yaw), std::cos(line_yaw)))
+                                    : std::numeric_limits<double>::quiet_NaN();
   if (since_last) {
     const double moving = (place.on_line.lateral - lateral_before) / dt;
     place.lateral_speed += 0.3 * (moving - place.lateral_speed);
@@ -73,7 +78,7 @@ Trajectory FieldPlanner::window(const std::string& car) {
     for (const auto& [name, other] : cars_)
       traffic.push_back({name, other.on_line.s, other.on_line.lateral, other.speed, other.line_share,
                          other.lateral_speed, line_.closed && other.progress - place.progress > 0.5 * line_.length,
-                         other.held.speed()});
+                         other.held.speed(), other.lateral_velocity});
     return overtaker_->plan(car, place.on_line.s, place.on_line.lateral, place.speed, traffic, options_.window_behind,
                             options_.window_ahead, pace);
   }

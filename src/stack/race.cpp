@@ -146,7 +146,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
     std::map<std::string, sim::VehicleState> states;
     for (auto& e : entrants) {
       const sim::VehicleState state = world.vehicleState(e.spec.name);
-      field.locate(e.spec.name, state.pose.position, state.forward_speed, world.time());
+      field.locate(e.spec.name, state.pose.position, state.forward_speed, world.time(),
+                   Eigen::Vector2d(state.linear_velocity.head<2>()));
       states[e.spec.name] = state;
     }
     const double now = world.time();

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
+#include "roar/planning/field_planner.h"
 #include "roar/planning/overtaking.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
@@ -550,6 +552,38 @@ TEST(Overtaking, APassIsGivenUpAtOnceWhenTheCarAheadMovesAcrossIntoIt) {
   fresh.plan("ego", s, 0.0, v, {slow}, 10.0, 250.0);
   if (fresh.decision("ego").mode == RaceMode::kPass) {
     EXPECT_EQ(fresh.decision("ego").side, -pass.side);
+  }
+}
+
+// The door closing, as the planner node and the in-process races see it: from the cars' places and
+// velocities (FieldPlanner). A car turning across into a pass shows it in its velocity before its place
+// has moved: the pass is given up at the first message of the turn. From its places alone (a caller
+// without velocities) the turn is not seen yet, and the pass goes on.
+TEST(Overtaking, ACarTurningAcrossIntoAPassIsSeenFromItsVelocityAtOnce) {
+  auto& f = fixture();
+  auto at = [&](double s) { return planning::sampleAt(f.line, s); };
+  auto place = [&](double s) { return Eigen::Vector3d(at(s).position.x(), at(s).position.y(), at(s).z); };
+  auto velocity = [&](double s, double forward, double leftwards) {
+    const double yaw = at(s).yaw;
+    return Eigen::Vector2d(forward * std::cos(yaw) - leftwards * std::sin(yaw),
+                           forward * std::sin(yaw) + leftwards * std::cos(yaw));
+  };
+  for (const bool with_velocity : {true, false}) {
+    planning::FieldPlanner field(f.track, f.line, f.limits, {});
+    const double s = straightStart(f.line), v = at(s).speed, slow_s = s + 25.0, slow_v = 0.6 * v;
+    field.locate("slow", place(slow_s), slow_v, 0.0, velocity(slow_s, slow_v, 0.0));
+    field.locate("ego", place(s), v, 0.0, velocity(s, v, 0.0));
+    field.window("ego");
+    const planning::RaceDecision pass = field.decision("ego");
+    ASSERT_EQ(pass.mode, RaceMode::kPass) << planning::describe(pass);
+    // 0.05 s on: the slow car has turned towards the passer's side at 1 m/s, still on its line.
+    const double turned_s = slow_s + 0.05 * slow_v;
+    field.locate("slow", place(turned_s), slow_v, 0.05,
+                 with_velocity ? std::optional(velocity(turned_s, slow_v, 1.0 * pass.side)) : std::nullopt);
+    field.locate("ego", place(s + 0.05 * v), v, 0.05, velocity(s + 0.05 * v, v, 0.0));
+    field.window("ego");
+    EXPECT_EQ(field.decision("ego").mode, with_velocity ? RaceMode::kFollow : RaceMode::kPass)
+        << (with_velocity ? "with" : "without") << " its velocity: " << planning::describe(field.decision("ego"));
   }
 }
 

@@ -38,8 +38,10 @@ class FieldPlanner {
 
   // Where `car` is at `time` (s): base_link's position (map frame, z the height) and its forward speed
   // (m/s). A car first seen is searched for on the whole line at its height (under a bridge, the branch
-  // below), then near its last place.
-  void locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time);
+  // below), then near its last place. `velocity` (m/s, map frame), where the caller has it: the car's
+  // motion across the line this moment (a door closing on a pass), before its places show it.
+  void locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time,
+              const std::optional<Eigen::Vector2d>& velocity = std::nullopt);
   bool located(const std::string& car) const { return cars_.count(car) > 0; }
   void forget(const std::string& car) { cars_.erase(car); }
   // The share of the line's speeds the car is planned at (0 < pace <= 1; 1: the line's own).
@@ -65,8 +67,9 @@ class FieldPlanner {
     TrajectoryProjection on_line;
     double speed = 0.0;
     double line_share = 0.0;  // its speed over the line's, smoothed (OvertakePlanner's prediction)
-    double time = std::numeric_limits<double>::quiet_NaN();  // s of the last position
-    double lateral_speed = 0.0;                              // m/s leftwards across the line, smoothed
+    double time = std::numeric_limits<double>::quiet_NaN();              // s of the last position
+    double lateral_speed = 0.0;                                          // m/s leftwards across the line, smoothed
+    double lateral_velocity = std::numeric_limits<double>::quiet_NaN();  // m/s, its velocity's; NaN: unknown
     double progress = 0.0;  // m round the laps since it was first seen (from the first car's place then)
     HeldSpeed held;
   };

@@ -35,6 +35,9 @@ struct TrafficCar {
   // m/s the car has been seen held to whatever the line's speed (a pace car, a scripted car): it is
   // predicted no faster. 0: none seen.
   double held_speed = 0.0;
+  // m/s leftwards across the racing line this moment (its velocity's, not smoothed): a car turning across
+  // is seen moving before its place has. NaN: unknown, lateral_speed is taken.
+  double lateral_velocity = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct OvertakeOptions {
