@@ -2,17 +2,21 @@
 // waypoint_server) and the car's own limits (the simulator's vehicle files), publishes the whole
 // trajectory latched on /racing_line (+ /racing_line/path) and, for every odometry message of each car,
 // the window ahead of it on /<vehicle>/local_trajectory (and as a path on /<vehicle>/local_path), stamped
-// with the odometry's time. Which car each one follows or passes is planning::FieldPlanner's decision; for
-// rviz, /<vehicle>/manoeuvre shows that decision and the planner's prediction of the cars around the car.
+// with the odometry's time. A tick's windows are planned once every car's odometry of it has come (or
+// ~tick_wait s of wall time, planning::TickGathering): each sees every other car at that tick, so a
+// lockstep race runs the same every time. Which car each one follows or passes is planning::FieldPlanner's decision;
+// for rviz, /<vehicle>/manoeuvre shows that decision and the planner's prediction of the cars around the car.
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <map>
 #include <memory>
 
 #include "roar/planning/field_planner.h"
+#include "roar/planning/tick_gathering.h"
 #include "roar/planning/trajectory.h"
 #include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
@@ -34,6 +38,7 @@ struct PlannerNodeOptions {
   planning::PlannerOptions planner;
   planning::FieldOptions field;
   std::string frame = ros_bridge::kMapFrame;
+  double tick_wait = 0.25;  // s of wall time a tick waits for every car's odometry (planning::TickGathering)
 };
 
 PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
@@ -71,6 +76,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.overtake.defend = readBool(nh, "defend", field.overtake.defend);
   field.overtake.guard_predicted = readBool(nh, "guard_predicted", field.overtake.guard_predicted);
   field.overtake.keep_predictions = true;  // for /<vehicle>/manoeuvre
+  o.tick_wait = readDouble(nh, "tick_wait", o.tick_wait, 0.0, 60.0);
   return o;
 }
 
@@ -89,6 +95,9 @@ class PlannerNode {
           name + "/odom", 10, [this, name](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(name, m); },
           ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
     }
+    expiry_timer_ = nh.createWallTimer(ros::WallDuration(0.02), [this](const ros::WallTimerEvent&) {
+      if (ticks_) plan(ticks_->expire(ros::WallTime::now().toSec()));
+    });
   }
 
  private:
@@ -96,6 +105,7 @@ class PlannerNode {
     ros::Publisher window_pub, path_pub, manoeuvre_pub;
     ros::Subscriber odom_sub;
     nav_msgs::Odometry::ConstPtr last_odom;
+    std::deque<nav_msgs::Odometry::ConstPtr> held;  // odometry gathered into ticks not yet planned
   };
 
   void onWaypoints(const roar_ros::WaypointArray& msg) {
@@ -108,6 +118,8 @@ class PlannerNode {
       for (const auto& [name, pace] : options_.pace) field->setPace(name, pace);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
       field_ = std::move(field);
+      ticks_ = std::make_unique<planning::TickGathering>(options_.vehicles, options_.tick_wait);
+      for (auto& [name, car] : cars_) car.held.clear();
       const planning::Trajectory& line = field_->line();
       roar_ros::Trajectory out = ros_bridge::toMessage(line, options_.frame, msg.map_name);
       out.header.stamp = ros::Time::now();
@@ -132,10 +144,32 @@ class PlannerNode {
     Car& car = cars_[name];
     car.last_odom = odom_msg;
     if (!field_) return;
-    const nav_msgs::Odometry& odom = *odom_msg;
-    const sim::VehicleState state = ros_bridge::fromOdometry(odom);
-    field_->locate(name, state.pose.position, state.forward_speed, odom.header.stamp.toSec(),
-                   Eigen::Vector2d(state.linear_velocity.head<2>()));
+    car.held.push_back(odom_msg);
+    plan(ticks_->arrive(name, odom_msg->header.stamp.toSec(), ros::WallTime::now().toSec()));
+  }
+
+  // Every car of a tick located first, then each planned: its window sees every other car at that tick.
+  void plan(const std::vector<planning::TickGathering::Tick>& ticks) {
+    for (const auto& tick : ticks) {
+      std::vector<std::pair<std::string, nav_msgs::Odometry::ConstPtr>> odoms;
+      for (const auto& name : tick.cars) {
+        auto& held = cars_[name].held;
+        while (!held.empty() && held.front()->header.stamp.toSec() < tick.stamp) held.pop_front();
+        if (held.empty()) continue;
+        odoms.emplace_back(name, held.front());
+        held.pop_front();
+      }
+      for (const auto& [name, odom] : odoms) {
+        const sim::VehicleState state = ros_bridge::fromOdometry(*odom);
+        field_->locate(name, state.pose.position, state.forward_speed, odom->header.stamp.toSec(),
+                       Eigen::Vector2d(state.linear_velocity.head<2>()));
+      }
+      for (const auto& [name, odom] : odoms) planAndPublish(name, *odom);
+    }
+  }
+
+  void planAndPublish(const std::string& name, const nav_msgs::Odometry& odom) {
+    Car& car = cars_[name];
     const planning::RaceDecision before = field_->decision(name);
     const planning::Trajectory local = field_->window(name);
     const planning::RaceDecision now = field_->decision(name);
@@ -160,6 +194,8 @@ class PlannerNode {
 
   PlannerNodeOptions options_;
   std::unique_ptr<planning::FieldPlanner> field_;
+  std::unique_ptr<planning::TickGathering> ticks_;
+  ros::WallTimer expiry_timer_;
   std::string map_name_;
   ros::Publisher line_pub_, path_pub_;
   ros::Subscriber waypoints_sub_;
