@@ -30,9 +30,11 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   // its velocity is known, this moment's.
   const double dt = time - place.time;
   const bool since_last = dt > 1e-6 && dt < 1.0;  // a message after the last one, not after a gap
-  const double line_yaw = sampleAt(line_, place.on_line.s).yaw;
-  place.lateral_velocity = velocity ? velocity->dot(Eigen::Vector2d(-std::sin(line_yaw), std::cos(line_yaw)))
-                                    : std::numeric_limits<double>::quiet_NaN();
+  place.lateral_velocity = std::numeric_limits<double>::quiet_NaN();
+  if (velocity) {
+    const double line_yaw = sampleAt(line_, place.on_line.s).yaw;
+    place.lateral_velocity = velocity->dot(Eigen::Vector2d(-std::sin(line_yaw), std::cos(line_yaw)));
+  }
   if (since_last) {
     const double moving = (place.on_line.lateral - lateral_before) / dt;
     place.lateral_speed += 0.3 * (moving - place.lateral_speed);
