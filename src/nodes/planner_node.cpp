@@ -154,8 +154,9 @@ class PlannerNode {
       std::vector<std::pair<std::string, nav_msgs::Odometry::ConstPtr>> odoms;
       for (const auto& name : tick.cars) {
         auto& held = cars_[name].held;
+        // Older ones belong to ticks planned without them; a newer one, to a tick still to come.
         while (!held.empty() && held.front()->header.stamp.toSec() < tick.stamp) held.pop_front();
-        if (held.empty()) continue;
+        if (held.empty() || held.front()->header.stamp.toSec() != tick.stamp) continue;
         odoms.emplace_back(name, held.front());
         held.pop_front();
       }
