@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "roar/track/heading.h"
+
 namespace roar::control {
 
 namespace {
@@ -49,7 +51,7 @@ double TrajectoryTracker::steeringAngle(const TrackerInput& in, double s, double
     const double arc = 2.0 * std::sin(alpha) / std::max(rel.norm(), 1e-3);
     return std::atan(options_.wheelbase * arc) + options_.yaw_rate_gain * (speed * arc - in.yaw_rate);
   }
-  const Eigen::Vector2d heading(std::cos(in.yaw), std::sin(in.yaw));
+  const Eigen::Vector2d heading = track::forwardOf(in.yaw);
   const Eigen::Vector2d front = in.position + options_.front_axle * heading;
   const auto at_front = planning::project(trajectory_, front, static_cast<long>(hint_));
   const planning::TrajectoryPoint ref = planning::sampleAt(trajectory_, at_front.s);

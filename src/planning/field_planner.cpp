@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "roar/planning/speed_profile.h"
+#include "roar/track/heading.h"
 
 namespace roar::planning {
 
@@ -33,7 +34,7 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   place.lateral_velocity = std::numeric_limits<double>::quiet_NaN();
   if (velocity) {
     const double line_yaw = sampleAt(line_, place.on_line.s).yaw;
-    place.lateral_velocity = velocity->dot(Eigen::Vector2d(-std::sin(line_yaw), std::cos(line_yaw)));
+    place.lateral_velocity = velocity->dot(track::leftOf(line_yaw));
   }
   if (since_last) {
     const double moving = (place.on_line.lateral - lateral_before) / dt;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "roar/track/heading.h"
+
 namespace roar::planning {
 
 namespace {
@@ -45,7 +47,7 @@ MinimumTimeResult minimumTimeLine(const track::Track& track, const RacingLine& s
   std::vector<Eigen::Vector2d> normal(n);
   std::vector<double> lo(n), hi(n);
   for (std::size_t i = 0; i < n; ++i) {
-    normal[i] = Eigen::Vector2d(-std::sin(start.heading[i]), std::cos(start.heading[i]));
+    normal[i] = track::leftOf(start.heading[i]);
     const track::TrackPose pose = track.poseAt(start.track_s[i]);
     lo[i] = std::min(0.0, -(pose.width_right - keep) - start.offset[i]);
     hi[i] = std::max(0.0, pose.width_left - keep - start.offset[i]);

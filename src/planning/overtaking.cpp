@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "roar/planning/speed_profile.h"
+#include "roar/track/heading.h"
 #include "roar/track/track.h"
 
 namespace roar::planning {
@@ -172,7 +173,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     } else {
       d[k] = std::clamp(shift, std::min(0.0, half - roomRight(p.s)), std::max(0.0, roomLeft(p.s) - half));
     }
-    p.position += d[k] * Eigen::Vector2d(-std::sin(p.yaw), std::cos(p.yaw));
+    p.position += d[k] * track::leftOf(p.yaw);
     p.offset += d[k];
   }
   if (n < 3) return out;
@@ -505,8 +506,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       const Prediction& p = predicted[i];
       for (double t = 0.0; t <= options_.horizon + 1e-9; t += kShownPredictionStep) {
         const TrajectoryPoint on_line = sampleAt(line_, p.s + (p.at(t) - p.ahead.front()));
-        path.positions.push_back(on_line.position +
-                                 lateralAt(p, t) * Eigen::Vector2d(-std::sin(on_line.yaw), std::cos(on_line.yaw)));
+        path.positions.push_back(on_line.position + lateralAt(p, t) * track::leftOf(on_line.yaw));
       }
       shown.push_back(std::move(path));
     }

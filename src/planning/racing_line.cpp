@@ -5,6 +5,8 @@
 #include <cmath>
 #include <string>
 
+#include "roar/track/heading.h"
+
 namespace roar::planning {
 
 namespace {
@@ -189,7 +191,7 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
     std::vector<Eigen::Vector2d> normal(n);
     Eigen::VectorXd lo(n), hi(n);
     for (std::size_t i = 0; i < n; ++i) {
-      normal[i] = Eigen::Vector2d(-std::sin(line.heading[i]), std::cos(line.heading[i]));
+      normal[i] = track::leftOf(line.heading[i]);
       const track::TrackPose pose = track.poseAt(line.track_s[i]);
       const double cos_diff = std::max(0.2, std::cos(track::wrapAngle(line.heading[i] - pose.heading)));
       const double left = pose.width_left - keep - line.offset[i], right = -(pose.width_right - keep) - line.offset[i];
@@ -241,7 +243,7 @@ RacingLine minimumCurvatureLine(const track::Track& track, const RacingLineOptio
       const track::TrackPose pose = track.poseAt(next.track_s[i]);
       const double limited = std::clamp(next.offset[i], -(pose.width_right - keep), pose.width_left - keep);
       if (limited != next.offset[i]) {
-        next.points[i] += (limited - next.offset[i]) * Eigen::Vector2d(-std::sin(pose.heading), std::cos(pose.heading));
+        next.points[i] += (limited - next.offset[i]) * track::leftOf(pose.heading);
         clamped = true;
       }
     }

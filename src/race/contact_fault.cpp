@@ -2,12 +2,14 @@
 
 #include <cmath>
 
+#include "roar/track/heading.h"
+
 namespace roar::race {
 
 ContactFault attributeContact(const CarAtContact& a, const CarAtContact& b, double road_heading,
                               const ContactFaultOptions& options) {
-  const Eigen::Vector2d along(std::cos(road_heading), std::sin(road_heading));
-  const Eigen::Vector2d across(-along.y(), along.x());
+  const Eigen::Vector2d along = track::forwardOf(road_heading);
+  const Eigen::Vector2d across = track::leftOf(road_heading);
   const Eigen::Vector2d rel = b.position - a.position;
   const double gap = rel.dot(along);  // b ahead of a when positive
   const double overlap = options.car_length - std::abs(gap);

@@ -7,6 +7,7 @@
 #include "roar/rl/action.h"
 #include "roar/sensors/ray_scene.h"
 #include "roar/sim/world.h"
+#include "roar/track/heading.h"
 
 namespace roar::rl {
 
@@ -46,7 +47,7 @@ sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, st
     const double room_left = std::max(0.0, at.width_left - 1.5), room_right = std::max(0.0, at.width_right - 1.5);
     const double offset = std::clamp(std::uniform_real_distribution<double>(-1.0, 1.0)(rng) * options.spawn_lateral,
                                      -room_right, room_left);
-    at.position += offset * Eigen::Vector2d(-std::sin(at.heading), std::cos(at.heading));
+    at.position += offset * track::leftOf(at.heading);
   }
   return sim::poseOnTrack(at);
 }

@@ -4,6 +4,7 @@
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/track/bridges.h"
+#include "roar/track/heading.h"
 #include "roar/track/road_mesh.h"
 
 namespace roar::ros_bridge {
@@ -147,7 +148,7 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
     Marker m = marker(frame, ns, Marker::LINE_LIST, 0.8, r, g, b);
     m.id = id;
     const track::TrackPose p = track.poseAt(s);
-    const Eigen::Vector2d n(-std::sin(p.heading), std::cos(p.heading));
+    const Eigen::Vector2d n = track::leftOf(p.heading);
     const Eigen::Vector2d a = p.position + n * p.width_left, c = p.position - n * p.width_right;
     m.points = {point(a.x(), a.y(), track.surfaceHeightAt(s, p.width_left) + 0.05),
                 point(c.x(), c.y(), track.surfaceHeightAt(s, -p.width_right) + 0.05)};

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "roar/track/heading.h"
+
 namespace roar::sensors {
 
 namespace {
@@ -28,7 +30,7 @@ void OccupancyMapRenderer::render(const RayScene& scene, const Eigen::Isometry3d
   const Eigen::Vector3d centre = sensor_in_map.translation();
   const Eigen::Vector3d forward_3d = sensor_in_map.linear().col(0);
   const double yaw = std::atan2(forward_3d.y(), forward_3d.x());
-  const Eigen::Vector2d forward(std::cos(yaw), std::sin(yaw)), left(-std::sin(yaw), std::cos(yaw));
+  const Eigen::Vector2d forward = track::forwardOf(yaw), left = track::leftOf(yaw);
   for (std::size_t k = 0; k < offsets_.size(); ++k) {
     const Eigen::Vector2d p = centre.head<2>() + offsets_[k].x() * forward + offsets_[k].y() * left;
     origins_[k] = Eigen::Vector3d(p.x(), p.y(), centre.z() + kRayHeight);

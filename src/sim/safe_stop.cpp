@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "roar/track/heading.h"
+
 namespace roar::sim {
 
 VehicleControl safeStopControl(const track::Track& track, const VehicleState& state, const VehicleParams& params,
@@ -16,8 +18,7 @@ VehicleControl safeStopControl(const track::Track& track, const VehicleState& st
   const double left = ahead.width_left - options.edge_clearance, right = ahead.width_right - options.edge_clearance;
   const double lateral =
       left + right > 0 ? std::clamp(here.lateral, -right, left) : 0.5 * (ahead.width_left - ahead.width_right);
-  const Eigen::Vector2d target =
-      ahead.position + lateral * Eigen::Vector2d(-std::sin(ahead.heading), std::cos(ahead.heading));
+  const Eigen::Vector2d target = ahead.position + lateral * track::leftOf(ahead.heading);
   // Pure pursuit from the rear axle's direction of travel (base_link's heading).
   const double heading = yawOf(state.pose.orientation);
   const Eigen::Vector2d to = target - position;

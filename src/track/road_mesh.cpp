@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "roar/track/bridges.h"
+#include "roar/track/heading.h"
 
 namespace roar::track {
 
@@ -105,9 +106,7 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
   addWall(&mesh, left_in, left_out, left_z, deck, track.info().barrier_height, track.closed());
   addWall(&mesh, right_in, right_out, right_z, deck, track.info().barrier_height, track.closed());
   if (!track.closed()) {
-    auto heading = [&](std::size_t i) {
-      return Eigen::Vector2d(std::cos(track.heading(i)), std::sin(track.heading(i)));
-    };
+    auto heading = [&](std::size_t i) { return track::forwardOf(track.heading(i)); };
     addEndWall(&mesh, track, 0, -heading(0), track.info().barrier_offset, thickness);
     addEndWall(&mesh, track, n - 1, heading(n - 1), track.info().barrier_offset, thickness);
   }

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "roar/track/heading.h"
+
 namespace roar::track {
 
 double wrapAngle(double a) {
@@ -97,12 +99,12 @@ void Track::checkCourseLines() const {
 
 Eigen::Vector2d Track::leftEdge(std::size_t i, double extra) const {
   const double h = heading_[i];
-  return position(i) + (points_[i].width_left + extra) * Eigen::Vector2d(-std::sin(h), std::cos(h));
+  return position(i) + (points_[i].width_left + extra) * track::leftOf(h);
 }
 
 Eigen::Vector2d Track::rightEdge(std::size_t i, double extra) const {
   const double h = heading_[i];
-  return position(i) - (points_[i].width_right + extra) * Eigen::Vector2d(-std::sin(h), std::cos(h));
+  return position(i) - (points_[i].width_right + extra) * track::leftOf(h);
 }
 
 double Track::surfaceHeightAt(double s, double lateral) const {
@@ -257,7 +259,7 @@ std::vector<TrackPose> Track::gridSpawnPoints(int count, double first_gap, doubl
   for (int k = 0; k < count; ++k) {
     TrackPose pose = poseAt(info_.start_finish_s - first_gap - spacing * k);
     const double side = (k % 2 == 0) ? 0.25 * pose.width_left : -0.25 * pose.width_right;
-    pose.position += side * Eigen::Vector2d(-std::sin(pose.heading), std::cos(pose.heading));
+    pose.position += side * track::leftOf(pose.heading);
     pose.height = surfaceHeightAt(info_.start_finish_s - first_gap - spacing * k, side);
     grid.push_back(pose);
   }

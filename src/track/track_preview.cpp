@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "roar/track/bridges.h"
+#include "roar/track/heading.h"
 
 namespace roar::track {
 
@@ -72,7 +73,7 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
   }
   auto line_across = [&](double s, const cv::Scalar& colour, int thickness) {
     const TrackPose pose = track.poseAt(s);
-    const Eigen::Vector2d normal(-std::sin(pose.heading), std::cos(pose.heading));
+    const Eigen::Vector2d normal = track::leftOf(pose.heading);
     cv::line(image, px(pose.position + normal * pose.width_left), px(pose.position - normal * pose.width_right), colour,
              thickness, cv::LINE_AA);
   };
