@@ -126,6 +126,16 @@ double OvertakePlanner::laneShare(int side, double run) const {
   return static_cast<double>(starts) / static_cast<double>(n);
 }
 
+double OvertakePlanner::laneRun(int side, double s, double beside, double longest) const {
+  // A pass's lane as one under way keeps it (half its margin from the car), inside its edge margin.
+  const double need = beside + 1.5 * options_.car_width + 0.5 * options_.lateral_margin + options_.edge_margin;
+  double run = 0.0;
+  for (; run < longest; run += options_.sample_step) {
+    if ((side > 0 ? roomLeft(s + run) : roomRight(s + run)) < need) break;
+  }
+  return std::min(run, longest);
+}
+
 Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
                                     double drag_share, bool for_pass, double settle_s, double ramp_speed) const {
   Trajectory out = window;
@@ -619,11 +629,24 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         c.decision.progress = std::min(c.decision.progress, behind_leader);
       }
     }
+    // A pass is begun only on a side whose lane stays open until it is done: until the car is a car's
+    // length and margin ahead of the car it passes, gaining on it as this plan does over the horizon. A
+    // lane that closes sooner squeezes the pass onto the line beside the car (Monza's reverse grid: a pass
+    // level on the left where the line ran over to the left edge was planned down to 30 m/s there, braked
+    // beside the car, fell 37 m back and was given up).
+    if (c.clear && pass_on_leader && !passing_leader) {
+      // Metres gained on the car per metre driven; alongside from level behind it to level ahead.
+      const double rate = (leader_gap + c.decision.progress - leader_prediction.at(options_.horizon)) /
+                          std::max(1.0, c.decision.progress);
+      const double level_at = std::max(0.0, leader_gap - near) / std::max(rate, 1e-3);
+      const double alongside_for = std::min(L, 2.0 * near / std::max(rate, 1e-3));
+      if (laneRun(d.side, s + level_at, d.side * leader->lateral, alongside_for) < alongside_for) c.clear = false;
+    }
     candidates.push_back(std::move(c));
   };
   // What is chosen goes under the guard and is remembered: the decision, and the window others predict it by.
-  auto commit = [&](Trajectory window, const RaceDecision& decision) {
-    guard(&window, s, speed, others);
+  auto commit = [&](Trajectory window, const RaceDecision& decision, bool clear_pass = false) {
+    guard(&window, s, speed, others, clear_pass);
     memory = decision;
     plans_[car] = window;
     return window;
@@ -829,7 +852,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   } else {
     holds_.erase(car);
   }
-  return commit(chosen->window, chosen->decision);
+  return commit(chosen->window, chosen->decision, chosen->clear && chosen->decision.mode == RaceMode::kPass);
 }
 
 OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, double s, double lateral, double speed,
@@ -895,23 +918,46 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
   return c;
 }
 
-void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const {
+void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others,
+                            bool clear_pass) const {
   // Whatever was chosen, never faster than a car ahead in the plan's own path allows: the nearest car
   // ahead whose lateral place overlaps the plan's where it is is followed at a short gap.
   const double gap = options_.car_length + options_.longitudinal_margin + options_.guard_time * speed;
   const TrafficCar* nearest = nullptr;
   double nearest_rel = 0.0;
+  // Where a pass gets along its plan in one and two seconds (-inf: not reached within it).
+  const double level = options_.car_length + options_.longitudinal_margin;
+  double travelled[3] = {0.0, -kInf, -kInf};
+  if (clear_pass) {
+    driveAlong(*window, s, speed, [&](std::size_t, double t, double s_now, double) {
+      for (int i : {1, 2}) {
+        if (t >= i && travelled[i] == -kInf) travelled[i] = s_now - s;
+      }
+      return t < 2.0;
+    });
+  }
+  const double width = options_.car_width + options_.guard_lateral;
   for (const auto& o : others) {
     const double rel = aheadOnLap(o.s, s, lapLength(line_));
     if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
-    // In the path now, or moving into it over the next two seconds by its own plan.
+    // In the path now, or in it over the next two seconds. For a clear pass (checked against every car's
+    // prediction, with margins), later only while the car is still ahead then, and a car level now only by
+    // moving across into it: the pass's own way back onto the line in front of the car it passes is not
+    // that car in its path (a pass drawn level at Monza was held a gap behind the car it passed, braked
+    // 5 m/s beside it and fell 37 m back). Any other plan (following is checked against nobody) keeps
+    // every time: a car falling in behind one braking hard met it where it would have been level.
+    const bool level_now = rel < level;
+    const Prediction predicted = clear_pass ? predict(o, s) : Prediction{};
     bool in_path = false;
-    for (double tau : {0.0, 1.0, 2.0}) {
+    for (int i : {0, 1, 2}) {
+      const double tau = i;
+      if (clear_pass && i > 0 && predicted.at(tau) - travelled[i] < level) continue;
       const double at = rel + tau * o.speed;
       const double d = sampleAt(*window, s + at).offset - sampleAt(line_, s + at).offset;
       const double drift = o.lateral + o.lateral_speed * std::min(tau, options_.lateral_lookahead);
       const double theirs = tau == 0.0 ? o.lateral : plannedLateral(trustedPlan(o), drift, o.s + tau * o.speed);
-      in_path = in_path || std::abs(d - theirs) < options_.car_width + options_.guard_lateral;
+      const bool moved_in = std::abs(d - o.lateral) >= width;
+      in_path = in_path || (std::abs(d - theirs) < width && (i == 0 || !clear_pass || !level_now || moved_in));
     }
     if (!in_path) continue;
     nearest = &o;

@@ -163,6 +163,9 @@ class OvertakePlanner {
   // car, its edge margin from the road's edge), where it could stay alongside that far. A pass gaining a
   // fraction f of its speed on the car needs about 2 (car_length + longitudinal_margin) / f metres.
   double laneShare(int side, double run) const;
+  // Metres on from line s (up to `longest`) over which a pass under way has room beside a car `beside`
+  // metres towards the side `side` of the racing line (its lateral place times side).
+  double laneRun(int side, double s, double beside, double longest) const;
 
   // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
   // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
@@ -212,7 +215,9 @@ class OvertakePlanner {
   // Whether a car driving `plan` from speed v0 at s0 draws alongside `leader` (its nose past the other's
   // tail) within the horizon.
   bool drawsAlongside(const Trajectory& plan, double s0, double v0, const Prediction& leader) const;
-  void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others) const;
+  // clear_pass: the window is a pass found clear of every car's prediction.
+  void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others,
+             bool clear_pass = false) const;
   // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
   double plannedLateral(const TrafficCar& car, double s) const;
   // The car's last window while it is where that window has it (within plan_trust); else none.
