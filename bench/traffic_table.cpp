@@ -298,6 +298,7 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
                                                  {"guard_predicted", flag(&o->guard_predicted)},
                                                  {"max_pass_offset", number(&o->max_pass_offset)},
                                                  {"offline_grip", number(&o->offline_grip)},
+                                                 {"settle_grip", number(&o->settle_grip)},
                                                  {"lateral_lookahead", number(&o->lateral_lookahead)},
                                                  {"plan_trust", number(&o->plan_trust)},
                                                  {"rejoin_time", number(&o->rejoin_time)},

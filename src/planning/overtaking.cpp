@@ -250,8 +250,16 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   limits.drag_coefficient *= drag_share;
   VehicleLimits offline = limits;
   offline.friction *= options_.offline_grip;
+  VehicleLimits settling_limits = limits;
+  settling_limits.friction *= options_.settle_grip;
+  auto settlingAt = [&](std::size_t k) {
+    return std::isfinite(settle_s) && aheadOnLap(pts[k].s, settle_s, lapLength(line_)) < 0.0;
+  };
   const SpeedProfile on_grip = computeSpeedProfile(step, curvature, limits, false, profile_options);
   const SpeedProfile off_grip = computeSpeedProfile(step, curvature, offline, false, profile_options);
+  const SpeedProfile settle_grip = n > 0 && settlingAt(0)
+                                       ? computeSpeedProfile(step, curvature, settling_limits, false, profile_options)
+                                       : SpeedProfile{};
   for (std::size_t k = 0; k < n; ++k) {
     pts[k].curvature = curvature[k];
     // A path moving across the line is planned on offline_grip (sideways motion takes grip); at a steady
@@ -262,12 +270,13 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
     const double slope = std::abs(d[b] - d[a]) / std::max(1e-3, pts[b].s - pts[a].s);
     const bool moving_across = slope > kSteadyOffsetSlope;
-    const bool settling = aheadOnLap(pts[k].s, settle_s, lapLength(line_)) < 0.0 && std::isfinite(settle_s);
-    const double off = (std::abs(d[k]) > 0.05 && moving_across) || settling ? 1.0 : 0.0;
+    const double off = std::abs(d[k]) > 0.05 && moving_across ? 1.0 : 0.0;
     pts[k].speed = std::min(pts[k].speed, on_grip.speed[k] + off * (off_grip.speed[k] - on_grip.speed[k]));
+    if (settlingAt(k)) pts[k].speed = std::min(pts[k].speed, settle_grip.speed[k]);
   }
-  for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the cap made
-    const double a = decelerationAt(offline, pts[k + 1].speed, pts[k + 1].curvature, profile_options.grade[k]);
+  for (std::size_t k = n - 1; k-- > 0;) {  // braking for the slower points the caps made
+    const VehicleLimits& braking = settlingAt(k + 1) ? settling_limits : offline;
+    const double a = decelerationAt(braking, pts[k + 1].speed, pts[k + 1].curvature, profile_options.grade[k]);
     pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * step[k]));
   }
   out.lap_time = 0.0;
@@ -313,7 +322,7 @@ double sidewaysNow(const TrafficCar& o) {
   return std::isfinite(o.lateral_velocity) ? o.lateral_velocity : o.lateral_speed;
 }
 constexpr double kSettledLateralSpeed = 0.5;  // m/s sideways across the line a car is settled under
-constexpr double kSettleTime = 2.0;           // s at speed it is planned on offline_grip after that
+constexpr double kSettleTime = 2.0;           // s at speed it is planned on settle_grip after that
 constexpr double kMoveBrakeSlack = 1.5;       // m/s a move's window may ask the car to shed at once
 }  // namespace
 
@@ -460,7 +469,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   const double L = lapLength(line_);
   Trajectory base = windowAround(line_, s, behind, ahead_m);
   scaleSpeeds(&base, pace);
-  // A car still moving sideways after a move (back from a pass, say) is planned on offline_grip for the next
+  // A car still moving sideways after a move (back from a pass, say) is planned on settle_grip for the next
   // kSettleTime at its speed on the line, on its way back to it and in a lane it holds: it has less grip to
   // brake and turn with. Only after a move (a car alone on the line never settles: its own tracking is the
   // line's business), and not a pass or any other move across the road (they plan their own moving across).
@@ -713,8 +722,14 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // Holding a place beside another car means the place planned, not wherever the car has drifted to: a
   // target that followed the car's tracking error would walk it into the car alongside. (Only a car keeping
   // its place, below, holds it; its planned place is forgotten once it no longer does.)
+  // A place taken afresh is the car's own, but no further out than the lane it was planned in (a pass or
+  // a place held): a car sliding wide of its lane took its place again each time where it had slid to and
+  // slid on (Roar Speedway's reverse grid: a pass 3.5 m out held at 4.1, 5.5, then 6.5 m, braked to half
+  // its speed there and came back onto the line into the car behind).
   const auto held = holds_.find(car);
-  const double hold_at = held != holds_.end() ? held->second : lateral;
+  const bool in_a_lane = memory.mode == RaceMode::kPass || memory.mode == RaceMode::kHold;
+  const bool wide_of_it = in_a_lane && memory.offset * lateral > 0.0 && std::abs(lateral) > std::abs(memory.offset);
+  const double hold_at = held != holds_.end() ? held->second : wide_of_it ? memory.offset : lateral;
   // Off the line in a fast curve, the way back onto it turns harder than the curve does, and a car at the
   // curve's speed would have to brake while turning harder: it slides (Roar Speedway, a pass given up 4.5 m
   // outside the line at 57 m/s on a 435 m curve planned its way back at 52 m/s from where the car was, and the

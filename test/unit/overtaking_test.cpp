@@ -300,8 +300,44 @@ TEST(Overtaking, ACarOutsideTheLineInAFastCurveKeepsItsLaneUntilItCanTurnBackAtI
   EXPECT_FALSE(curves.empty()) << "no fast curve near the grip with room outside the line";
 }
 
+// A car that has slid wide of the lane it was passing in, and now holds its place beside the car (its pass
+// given up), holds it in that lane, not where it has slid to: re-taken each time where the car had slid,
+// a place held at Roar Speedway went out from 3.5 m to 4.1, 5.5 and 6.5 m, the car braked to half its
+// speed there and came back onto the line into the car behind. Less wide than its lane, its place is its own.
+TEST(Overtaking, ACarWideOfItsPassLaneHoldsItsPlaceInTheLane) {
+  auto& f = wideFixture();
+  // The first place round the lap where a car at the line's speed passes one 25 m ahead at 60% of it.
+  auto passFrom = [&](planning::OvertakePlanner* planner, double s) {
+    const double v = planning::sampleAt(f.line, s).speed;
+    planner->plan("ego", s, 0.0, v, {{"slow", s + 25.0, 0.0, 0.6 * v}}, 10.0, 250.0);
+    return planner->decision("ego");
+  };
+  double s = 0.0;
+  for (; s < f.line.length; s += 25.0) {
+    planning::OvertakePlanner probe(f.track, f.line, f.limits, {});
+    if (passFrom(&probe, s).mode == RaceMode::kPass) break;
+  }
+  ASSERT_LT(s, f.line.length) << "no pass begun anywhere";
+  const double v = planning::sampleAt(f.line, s).speed;
+  auto heldAfterPass = [&](double beyond_lane) {
+    planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+    const auto pass = passFrom(&planner, s);
+    // Level with it now, `beyond_lane` metres further out than its lane; the car passed turns across towards
+    // it: the pass is given up at once, and the car keeps its place beside it.
+    const double lateral = pass.offset + pass.side * beyond_lane;
+    const planning::TrafficCar turning{"slow", s + 40.0, 0.0, 0.6 * v, 0.0, 3.0 * pass.side};
+    const auto window = planner.plan("ego", s + 40.0, lateral, 0.6 * v, {turning}, 10.0, 250.0);
+    EXPECT_NE(planner.decision("ego").mode, RaceMode::kPass) << planning::describe(planner.decision("ego"));
+    return std::pair{shiftAt(f.line, window, s + 160.0), pass.offset};
+  };
+  const auto [wide_place, lane] = heldAfterPass(1.5);
+  EXPECT_NEAR(wide_place, lane, 0.3) << "1.5 m wide of its lane, held where it slid to";
+  const auto [inside_place, same_lane] = heldAfterPass(-1.0);
+  EXPECT_NEAR(inside_place, same_lane - (same_lane > 0 ? 1.0 : -1.0), 0.3) << "inside its lane, moved out again";
+}
+
 // A car holding its lane outside a fast curve while still moving sideways (a pass given up there, the car
-// still drifting out from it) holds it on offline_grip for the next 2 s at its speed, as a car settling back
+// still drifting out from it) holds it on settle_grip for the next 2 s at its speed, as a car settling back
 // on the line is planned: on all the grip, a car at Roar Speedway drifting out at 1.6 m/s at 59 m/s kept its
 // throttle to its lane's speed, slid 3.7 m wide of the lane and into the barrier.
 TEST(Overtaking, ACarHoldingItsLaneWhileStillMovingSidewaysIsPlannedOnLessGrip) {
@@ -525,7 +561,7 @@ TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
   EXPECT_GT(travelled(0.0), v + 3.0) << "a car at the line's speed in a slow corner predicted not to speed up";
 }
 
-// A car coming back to the line after a move, still moving sideways, is planned on offline_grip for the
+// A car coming back to the line after a move, still moving sideways, is planned on settle_grip for the
 // next 2 s at its speed (it has less grip to brake and turn with: a car that crossed the line so and braked
 // into the next corner on all of it spun at Roar Speedway); a car alone on the line never is.
 TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
@@ -535,7 +571,7 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
   const double corner = slowest->s, s = corner - 20.0;  // within 2 s at its speed
   const double v = planning::sampleAt(f.line, s).speed;
   planning::OvertakeOptions o;
-  o.offline_grip = 0.8;  // far enough below the whole grip for the corner speeds to differ by more than 0.3 m/s
+  o.settle_grip = 0.8;  // far enough below the whole grip for the corner speeds to differ by more than 0.3 m/s
   auto cornerSpeed = [&](double lateral_speed, bool after_move) {
     planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
     // A car alongside first, between it and the line: it stays off the line (a move), then the other is gone.
@@ -546,6 +582,8 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
   };
   const double settling = cornerSpeed(-1.5, true), settled = cornerSpeed(0.0, true);
   EXPECT_LT(settling, settled - 0.3) << "moving sideways after a move, planned as fast into the corner";
+  o.settle_grip = 1.0;  // settle_grip is the share it is planned on, not offline_grip
+  EXPECT_NEAR(cornerSpeed(-1.5, true), settled, 1e-6) << "settling on all the grip, planned slower";
   EXPECT_DOUBLE_EQ(cornerSpeed(-1.5, false), cornerSpeed(0.0, false)) << "a car alone on the line settled";
 }
 

@@ -84,6 +84,11 @@ struct OvertakeOptions {
   // 0.8 held the passer back while pulling out behind a slow car (README, traffic benchmark: 0.92 and 0.95
   // complete more passes at more speed; at 0.97-1.0 cars spin or leave the road at Roar Sprint).
   double offline_grip = 0.92;
+  // Share of the plan's grip a car still moving sideways after a move (back onto the line from a pass, say)
+  // is planned with for the next 2 s at its speed, on the line or in a lane it holds. At offline_grip (0.92)
+  // a car that crossed the line at 2 m/s at 60 m/s into a braking curve slid off the road, 1 race in 16 of
+  // Roar Speedway's pace-car field (README, traffic benchmark).
+  double settle_grip = 0.85;
   // s over which a car without a plan to go by is predicted to go on moving sideways as it is.
   double lateral_lookahead = 1.0;
   // m a car may be off its own last plan (sideways) for that plan to be taken as its prediction.
@@ -173,7 +178,7 @@ class OvertakePlanner {
   // drag_share: of the free-air drag the speeds are planned with (below 1: in a car's slipstream).
   // for_pass: planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the
   // moved points differenced); otherwise exactly, and a path moved by nothing is the racing line.
-  // settle_s: up to this line s the path is planned on offline_grip wherever it is (a car still moving
+  // settle_s: up to this line s the path is planned on settle_grip wherever it is (a car still moving
   // sideways from a move it has just made). ramp_speed: m/s the car had at ramp_s, the move made in
   // shift_time at that speed where it is below the racing line's there (0: at the line's).
   Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
@@ -244,7 +249,7 @@ class OvertakePlanner {
   };
   std::map<std::string, Abort> aborts_;
   std::map<std::string, double> holds_;   // the lateral place (m) a car holds while another is alongside
-  std::map<std::string, double> settle_;  // line s up to which a car moving sideways is planned on offline_grip
+  std::map<std::string, double> settle_;  // line s up to which a car moving sideways is planned on settle_grip
   struct Headway {
     std::string other;      // the car being passed
     double best_gap = 0.0;  // m, the nearest the pass has come to it
