@@ -101,12 +101,16 @@ double OvertakePlanner::roomRight(double s) const {
   return interpolateWrapped(room_s_, room_right_, lapLength(line_), s);
 }
 
+double OvertakePlanner::laneNeed(double margin_share) const {
+  return 1.5 * options_.car_width + margin_share * options_.lateral_margin + options_.edge_margin;
+}
+
 double OvertakePlanner::laneShare(int side, double run) const {
   const double length = line_.closed ? lapLength(line_) : line_.points.back().s - line_.points.front().s;
   constexpr double kStep = 1.0;  // m
   const auto n = static_cast<std::size_t>(std::floor(length / kStep));
   if (n == 0) return 0.0;
-  const double need = 1.5 * options_.car_width + options_.lateral_margin + options_.edge_margin;
+  const double need = laneNeed(1.0);
   std::vector<char> lane(n);
   const double s0 = line_.points.front().s;
   for (std::size_t i = 0; i < n; ++i) {
@@ -127,8 +131,8 @@ double OvertakePlanner::laneShare(int side, double run) const {
 }
 
 double OvertakePlanner::laneRun(int side, double s, double beside, double longest) const {
-  // A pass's lane as one under way keeps it (half its margin from the car), inside its edge margin.
-  const double need = beside + 1.5 * options_.car_width + 0.5 * options_.lateral_margin + options_.edge_margin;
+  // A pass's lane as one under way keeps it: half its air from the car.
+  const double need = beside + laneNeed(0.5);
   double run = 0.0;
   for (; run < longest; run += options_.sample_step) {
     if ((side > 0 ? roomLeft(s + run) : roomRight(s + run)) < need) break;
@@ -409,7 +413,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, cons
   const auto& pts = plan.points;
   double last_check = -1e9;
   bool clear = true;
-  const double length = options_.car_length + options_.longitudinal_margin;
+  const double length = levelDistance();
   const double width = options_.car_width + margin_share * options_.lateral_margin;
   const double d0 = pts.empty() ? 0.0 : sampleAt(plan, s0).offset - sampleAt(line_, s0).offset;
   std::vector<char> merged(others.size(), 0);  // the plan has moved into that car's lane, in front of it
@@ -445,7 +449,7 @@ bool OvertakePlanner::clearOf(const Trajectory& plan, double s0, double v0, cons
 
 double OvertakePlanner::passCompleteAt(const Trajectory& plan, double s0, double v0, const Prediction& leader) const {
   // As far ahead as clearOf asks of a car moving across in front of another, and a little more.
-  const double clear_ahead = options_.car_length + options_.longitudinal_margin + 2.0;
+  const double clear_ahead = levelDistance() + 2.0;
   double at = std::numeric_limits<double>::infinity();
   driveAlong(plan, s0, v0, [&](std::size_t, double t, double s, double v) {
     if ((s - s0) - leader.at(t) <= clear_ahead + options_.rejoin_time * v) return true;
@@ -500,7 +504,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   double leader_gap = ahead_m;
   bool alongside = false;
   bool closing_behind = false;  // a car closing from behind within a move's time: keep the place, as alongside
-  const double near = options_.car_length + options_.longitudinal_margin;  // within it, a car is level
+  const double near = levelDistance();
   for (const auto& o : traffic) {
     if (o.name == car) continue;
     const double rel = aheadOnLap(o.s, s, L);
@@ -876,7 +880,7 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
                                                    const RaceDecision& memory) {
   const double L = lapLength(line_);
   const double reach = options_.car_length + options_.defend_time * std::max(speed, 5.0);
-  const double beside = options_.car_length + options_.longitudinal_margin;
+  const double beside = levelDistance();
   Defence& defence = defences_[car];
   bool against_near = false;
   const TrafficCar* attacker = nullptr;
@@ -937,11 +941,11 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
                             bool clear_pass) const {
   // Whatever was chosen, never faster than a car ahead in the plan's own path allows: the nearest car
   // ahead whose lateral place overlaps the plan's where it is is followed at a short gap.
-  const double gap = options_.car_length + options_.longitudinal_margin + options_.guard_time * speed;
+  const double gap = levelDistance() + options_.guard_time * speed;
   const TrafficCar* nearest = nullptr;
   double nearest_rel = 0.0;
   // Where a pass gets along its plan in one and two seconds (-inf: not reached within it).
-  const double level = options_.car_length + options_.longitudinal_margin;
+  const double level = levelDistance();
   double travelled[3] = {0.0, -kInf, -kInf};
   if (clear_pass) {
     driveAlong(*window, s, speed, [&](std::size_t, double t, double s_now, double) {

@@ -192,6 +192,11 @@ class OvertakePlanner {
     RaceDecision decision;
     bool clear = true;
   };
+  // m, centre to centre, within which two cars are level (a car's length and the longitudinal margin).
+  double levelDistance() const { return options_.car_length + options_.longitudinal_margin; }
+  // m of road a lane beside a car on the racing line needs from the line to the edge: the passer's width
+  // and margin_share of the air from the car, half its own width and its edge margin.
+  double laneNeed(double margin_share) const;
   // The window moved as a decision's move goes (from ramp_from at ramp_s to offset, at ramp_speed), planned
   // as any move but a pass is, in free air (settle_s as above).
   Trajectory shifted(const Trajectory& window, const RaceDecision& move,
