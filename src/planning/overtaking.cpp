@@ -659,7 +659,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   };
   // What is chosen goes under the guard and is remembered: the decision, and the window others predict it by.
   auto commit = [&](Trajectory window, const RaceDecision& decision, bool clear_pass = false) {
-    guard(&window, s, speed, others, clear_pass);
+    guard(&window, s, speed, others, predicted, clear_pass);
     memory = decision;
     plans_[car] = window;
     return window;
@@ -938,11 +938,12 @@ OvertakePlanner::Candidate OvertakePlanner::defend(const std::string& car, doubl
 }
 
 void OvertakePlanner::guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others,
-                            bool clear_pass) const {
+                            const std::vector<Prediction>& predicted, bool clear_pass) const {
   // Whatever was chosen, never faster than a car ahead in the plan's own path allows: the nearest car
   // ahead whose lateral place overlaps the plan's where it is is followed at a short gap.
   const double gap = levelDistance() + options_.guard_time * speed;
   const TrafficCar* nearest = nullptr;
+  const Prediction* nearest_prediction = nullptr;
   double nearest_rel = 0.0;
   // Where a pass gets along its plan in one and two seconds (-inf: not reached within it).
   const double level = levelDistance();
@@ -956,7 +957,8 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     });
   }
   const double width = options_.car_width + options_.guard_lateral;
-  for (const auto& o : others) {
+  for (std::size_t j = 0; j < others.size(); ++j) {
+    const TrafficCar& o = others[j];
     const double rel = aheadOnLap(o.s, s, lapLength(line_));
     if (rel <= 0.0 || (nearest && rel >= nearest_rel)) continue;
     // In the path now, or in it over the next two seconds. For a clear pass (checked against every car's
@@ -966,11 +968,10 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     // 5 m/s beside it and fell 37 m back). Any other plan (following is checked against nobody) keeps
     // every time: a car falling in behind one braking hard met it where it would have been level.
     const bool level_now = rel < level;
-    const Prediction predicted = clear_pass ? predict(o, s) : Prediction{};
     bool in_path = false;
     for (int i : {0, 1, 2}) {
       const double tau = i;
-      if (clear_pass && i > 0 && predicted.at(tau) - travelled[i] < level) continue;
+      if (clear_pass && i > 0 && predicted[j].at(tau) - travelled[i] < level) continue;
       const double at = rel + tau * o.speed;
       const double d = sampleAt(*window, s + at).offset - sampleAt(line_, s + at).offset;
       const double drift = o.lateral + o.lateral_speed * std::min(tau, options_.lateral_lookahead);
@@ -980,6 +981,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
     }
     if (!in_path) continue;
     nearest = &o;
+    nearest_prediction = &predicted[j];
     nearest_rel = rel;
   }
   if (!nearest) return;
@@ -991,7 +993,7 @@ void OvertakePlanner::guard(Trajectory* window, double s, double speed, const st
   // guard_predicted: held to that car's speed from where, driving the window, the car would first come
   // within the gap of it as it is predicted to go on (held short of where it is now at its speed now, a car
   // 5% faster needs (v^2 - v_ahead^2) / 2a more room to go faster: 17 m at 60 m/s for 3 m/s).
-  const Prediction ahead = predict(*nearest, s);
+  const Prediction& ahead = *nearest_prediction;
   double meet_s = kInf, meet_speed = nearest->speed;
   driveAlong(*window, s, speed, [&](std::size_t, double t, double s_now, double) {
     if (t > options_.horizon) return false;

@@ -225,9 +225,10 @@ class OvertakePlanner {
   // Whether a car driving `plan` from speed v0 at s0 draws alongside `leader` (its nose past the other's
   // tail) within the horizon.
   bool drawsAlongside(const Trajectory& plan, double s0, double v0, const Prediction& leader) const;
-  // clear_pass: the window is a pass found clear of every car's prediction.
+  // predicted: the plan's predictions of `others`, in the same order. clear_pass: the window is a pass found
+  // clear of every car's prediction.
   void guard(Trajectory* window, double s, double speed, const std::vector<TrafficCar>& others,
-             bool clear_pass = false) const;
+             const std::vector<Prediction>& predicted, bool clear_pass = false) const;
   // A car's last window sampled at line s (m left of the racing line), or its lateral place now.
   double plannedLateral(const TrafficCar& car, double s) const;
   // The car's last window while it is where that window has it (within plan_trust); else none.
