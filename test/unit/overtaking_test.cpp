@@ -732,6 +732,32 @@ TEST(Overtaking, APassThatDoesNotDrawAlongsideIsCreditedNoFurtherThanFollowing) 
   EXPECT_LE(going_on.progress, most_it_travels - o.follow_gap);
 }
 
+// A pass is trusted only while it gains on following, not merely while it is clear: one that no longer
+// would is given up after abort_plans plans of doubt, as a blocked one is. Before, a clear plan cleared its
+// doubts each time: traced at Monza's reverse grid, a pass 7 m behind the car it passed, clear but 25 m
+// short of following, stayed out into the first chicane, was planned through it on the outside at 10 m/s
+// where that car took 24 m/s, and fell 40 m back. Here: a pass begun on Roar Sprint's straight, later 10 m
+// behind a car at 90% of the line's speed where its lane on the left is 11 m short of following (s = 420 m,
+// into a left-right; the lane still clear). Before, it stayed out at every plan.
+TEST(Overtaking, AClearPassThatNoLongerGainsOnFollowingIsGivenUp) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const PassBegun begun = beginPassOnTheStraight(&planner);
+  ASSERT_EQ(begun.pass.mode, RaceMode::kPass);
+  ASSERT_EQ(begun.pass.side, +1);
+  const double at = 420.0, v = planning::sampleAt(f.line, at).speed;
+  std::vector<RaceMode> modes;
+  for (int k = 0; k < o.abort_plans; ++k) {
+    const double s = at + k * o.plan_period * v, ahead = s + 10.0;
+    const planning::TrafficCar slower{"slow", ahead, 0.0, 0.9 * planning::sampleAt(f.line, ahead).speed};
+    planner.plan("ego", s, begun.pass.offset, v, {slower}, 10.0, 250.0);
+    modes.push_back(planner.decision("ego").mode);
+  }
+  EXPECT_EQ(modes.front(), RaceMode::kPass) << "one plan's doubt is not an abort";
+  EXPECT_NE(modes.back(), RaceMode::kPass) << "given up after " << o.abort_plans << " plans of doubt";
+}
+
 TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
   // Both cars planned here: the slow car's plan is the racing line. When it is 2 m off that line (someone
   // else at its wheel), the guard takes it where it is: in the passer's path 1.5 m left of the line.
