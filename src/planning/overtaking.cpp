@@ -328,6 +328,7 @@ double sidewaysNow(const TrafficCar& o) {
 constexpr double kSettledLateralSpeed = 0.5;  // m/s sideways across the line a car is settled under
 constexpr double kSettleTime = 2.0;           // s at speed it is planned on settle_grip after that
 constexpr double kMoveBrakeSlack = 1.5;       // m/s a move's window may ask the car to shed at once
+constexpr double kLetByRate = 3.0;            // m/s below a car level beside it that a car lets it by at
 }  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
@@ -790,7 +791,18 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   follow.decision.mode = RaceMode::kFollow;
   if (leader) {
     follow.decision.other = leader->name;
-    followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
+    // A leader level beside this car, in a lane of its own, is let by: followed from where it is, at a little
+    // less than its speed, not braked for at once to be the follow gap behind it. Braking so, 7 m/s in a
+    // second at 45 m/s into a braking curve, a car being passed slid 1.5 m wide into the car passing it
+    // (Monza's reverse grid over 8 laps, seed 1, 617.2 s).
+    const bool beside =
+        leader_gap < near && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;
+    if (beside) {
+      followBehind(&follow.window, s, s + leader_gap, std::max(0.0, leader->speed - kLetByRate), leader_gap, limits_,
+                   speed);
+    } else {
+      followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
+    }
   }
   clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {

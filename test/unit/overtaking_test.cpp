@@ -758,6 +758,24 @@ TEST(Overtaking, AClearPassThatNoLongerGainsOnFollowingIsGivenUp) {
   EXPECT_NE(modes.back(), RaceMode::kPass) << "given up after " << o.abort_plans << " plans of doubt";
 }
 
+// A car level beside this one in a lane of its own, coming across towards it (a pass going by, back onto the
+// line in front), is let by: followed from where it is at a little less than its speed, not braked for at
+// once to be the follow gap (12 m) behind it. Braking so, 7 m/s in a second at 45 m/s into a braking curve,
+// a car being passed slid 1.5 m wide into the car passing it (Monza's reverse grid over 8 laps, seed 1).
+TEST(Overtaking, ACarLevelBesideComingAcrossIsLetByNotBrakedForAtOnce) {
+  auto& f = wideFixture();
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, {});
+  const double s = straightStart(f.line), v = planning::sampleAt(f.line, s).speed;
+  planning::TrafficCar beside{"beside", s + 0.3, 3.9, v};
+  beside.lateral_speed = -1.5;  // m/s towards this car
+  const auto window = planner.plan("ego", s, 0.0, v, {beside}, 10.0, 250.0);
+  const auto decision = planner.decision("ego");
+  ASSERT_EQ(decision.mode, RaceMode::kFollow) << planning::describe(decision);
+  ASSERT_EQ(decision.other, "beside");
+  for (double ahead : {0.0, 10.0, 30.0})
+    EXPECT_GT(planning::sampleAt(window, s + ahead).speed, v - 3.5) << ahead << " m on, at " << v << " m/s";
+}
+
 TEST(Overtaking, AnotherCarsPlanPredictsItOnlyWhileItDrivesIt) {
   // Both cars planned here: the slow car's plan is the racing line. When it is 2 m off that line (someone
   // else at its wheel), the guard takes it where it is: in the passer's path 1.5 m left of the line.
