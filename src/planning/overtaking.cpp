@@ -792,8 +792,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   if (leader) {
     follow.decision.other = leader->name;
     // A leader level beside this car, in a lane of its own, is let by: followed from where it is, at a little
-    // less than its speed, not braked for at once to be the follow gap behind it. Braking so, 7 m/s in a
-    // second at 45 m/s into a braking curve, a car being passed slid 1.5 m wide into the car passing it
+    // less than its speed, not braked for at once to be the follow gap behind it. Braking so, from 45 to
+    // 37 m/s in 1.25 s into a braking curve, a car being passed slid 1.5 m wide into the car passing it
     // (Monza's reverse grid over 8 laps, seed 1, 617.2 s).
     const bool beside =
         leader_gap < near && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;

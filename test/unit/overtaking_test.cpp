@@ -737,8 +737,8 @@ TEST(Overtaking, APassThatDoesNotDrawAlongsideIsCreditedNoFurtherThanFollowing) 
 // doubts each time: traced at Monza's reverse grid, a pass 7 m behind the car it passed, clear but 25 m
 // short of following, stayed out into the first chicane, was planned through it on the outside at 10 m/s
 // where that car took 24 m/s, and fell 40 m back. Here: a pass begun on Roar Sprint's straight, later 10 m
-// behind a car at 90% of the line's speed where its lane on the left is 11 m short of following (s = 420 m,
-// into a left-right; the lane still clear). Before, it stayed out at every plan.
+// behind a car at 90% of the line's speed where its lane on the left is 11 m short of following (s = 420 m;
+// the lane still clear). Before, it stayed out at every plan.
 TEST(Overtaking, AClearPassThatNoLongerGainsOnFollowingIsGivenUp) {
   auto& f = fixture();
   const planning::OvertakeOptions o;
@@ -760,7 +760,7 @@ TEST(Overtaking, AClearPassThatNoLongerGainsOnFollowingIsGivenUp) {
 
 // A car level beside this one in a lane of its own, coming across towards it (a pass going by, back onto the
 // line in front), is let by: followed from where it is at a little less than its speed, not braked for at
-// once to be the follow gap (12 m) behind it. Braking so, 7 m/s in a second at 45 m/s into a braking curve,
+// once to be the follow gap (12 m) behind it. Braking so, from 45 to 37 m/s in 1.25 s into a braking curve,
 // a car being passed slid 1.5 m wide into the car passing it (Monza's reverse grid over 8 laps, seed 1).
 TEST(Overtaking, ACarLevelBesideComingAcrossIsLetByNotBrakedForAtOnce) {
   auto& f = wideFixture();
