@@ -502,6 +502,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // must not move back onto it in front of them: at its own low speed, "near" is a few metres).
   std::vector<TrafficCar> others;
   const TrafficCar* leader = nullptr;
+  std::size_t leader_index = 0;  // the leader's place in `others` (and so in `predicted`)
   double leader_gap = ahead_m;
   bool alongside = false;
   bool closing_behind = false;  // a car closing from behind within a move's time: keep the place, as alongside
@@ -518,6 +519,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
       leader_gap = rel;
       leader = &o;
+      leader_index = others.size() - 1;
     }
   }
   std::vector<Prediction> predicted;
@@ -535,7 +537,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       shown.push_back(std::move(path));
     }
   }
-  const Prediction leader_prediction = leader ? predict(*leader, s) : Prediction{};
+  const Prediction leader_prediction = leader ? predicted[leader_index] : Prediction{};
   // How far in the horizon a car gets behind the leader as the leader is predicted to go: what following
   // gets at most, and a pass still behind it at the end no more.
   const double behind_leader = leader ? leader_prediction.at(options_.horizon) - options_.follow_gap : kInf;
@@ -797,12 +799,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // (Monza's reverse grid over 8 laps, seed 1, 617.2 s).
     const bool beside =
         leader_gap < near && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;
-    if (beside) {
-      followBehind(&follow.window, s, s + leader_gap, std::max(0.0, leader->speed - kLetByRate), leader_gap, limits_,
-                   speed);
-    } else {
-      followBehind(&follow.window, s, s + leader_gap, leader->speed, options_.follow_gap, limits_, speed);
-    }
+    const double held = beside ? std::max(0.0, leader->speed - kLetByRate) : leader->speed;
+    followBehind(&follow.window, s, s + leader_gap, held, beside ? leader_gap : options_.follow_gap, limits_, speed);
   }
   clearOf(follow.window, s, speed, {}, &follow.decision.progress);
   if (leader) {
