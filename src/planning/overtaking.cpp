@@ -328,7 +328,8 @@ double sidewaysNow(const TrafficCar& o) {
 constexpr double kSettledLateralSpeed = 0.5;  // m/s sideways across the line a car is settled under
 constexpr double kSettleTime = 2.0;           // s at speed it is planned on settle_grip after that
 constexpr double kMoveBrakeSlack = 1.5;       // m/s a move's window may ask the car to shed at once
-constexpr double kLetByRate = 3.0;            // m/s below a car level beside it that a car lets it by at
+constexpr double kPassedLevelGap = 0.1;  // m taken as the gap to the car a pass is level with (its nose may be past)
+constexpr double kLetByRate = 3.0;       // m/s below a car level beside it that a car lets it by at
 }  // namespace
 
 double OvertakePlanner::Prediction::at(double t) const {
@@ -515,9 +516,16 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     others.push_back(o);
     if (std::abs(rel) < near) alongside = true;
     if (rel <= -near && -rel < near + closing_in) closing_behind = true;
-    if (rel > 0 && rel < leader_gap &&
-        std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0) {
-      leader_gap = rel;
+    // The car a pass is on stays the car ahead while level with it, wherever it is across the road: the pass
+    // is done only once clear ahead of it. Taken as done the moment the nose drew level, a pass turned to
+    // the next car up the road, braked beside the car it was passing and dropped back behind it (Roar
+    // Eight's reverse grid, seed 0, 55-61 s). Not once it turns across towards this car: the pass is given
+    // up and the car holds its place beside it.
+    const bool passing_it = last.mode == RaceMode::kPass && o.name == last.other && std::abs(rel) < near &&
+                            last.side * sidewaysNow(o) <= 0.5;
+    if (passing_it || (rel > 0 && rel < leader_gap &&
+                       std::abs(o.lateral - lateral) < options_.car_width + options_.lateral_margin + 2.0)) {
+      leader_gap = passing_it ? std::max(rel, kPassedLevelGap) : rel;
       leader = &o;
       leader_index = others.size() - 1;
     }

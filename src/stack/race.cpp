@@ -180,7 +180,10 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       // car still racing (or be gone by), which is no pass of the race (the traffic table counted them).
       const bool finished = control.car(name).finished;
       const bool racing = !finished && !(passing && control.car(d.other).finished);
-      if (passing && e.open_pass < 0 && racing) {
+      // A pass still under way on a car already a length behind (the planner keeps it until clear ahead)
+      // is no new attempt, nor one begun and given up.
+      const bool got_by = passing && gapAhead(d.other, name) <= -car_length;
+      if (passing && e.open_pass < 0 && racing && !got_by) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
           giveUp(e);
           e.moving_out.passer = name;

@@ -937,6 +937,42 @@ TEST(Overtaking, APassDrawnLevelIsNotHeldBackBehindTheCarItPasses) {
   EXPECT_GT(passed_at, 0.0) << "the fast car got by";
 }
 
+// Level with the car it passes, a pass is not done until it is clear ahead of it: that car stays its car
+// ahead until then, not the next car up the road. Traced at Roar Eight's reverse grid (seed 0, 55-61 s):
+// a pass whose nose had just drawn level took the car beyond as its car ahead, fell to following it,
+// braked beside the car it was passing and dropped back behind it. Here, on Roar Eight: a car at 85% of
+// the line's speed passes one at 80%, with another at 80% 20 m up the road, all driving their plans
+// exactly. Without the rule, the first plan with its nose level followed the car beyond (47.3 to 42.5 m/s
+// beside the car passed) and the pass was lost.
+TEST(Overtaking, APassLevelWithTheCarItPassesIsNotTurnedToTheCarBeyond) {
+  Fixture f{track::loadMapFolder(test::sourceDir() + "/maps/roar_eight")};
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  const double L = f.line.length, level = o.car_length + o.longitudinal_margin, dt = 0.05;
+  double s = 0.0, lateral = 0.0, v = 0.0, slow_s = 30.0, beyond_s = 50.0;
+  int plans_level = 0, plans_for_the_car_beyond = 0;
+  for (double t = 0.0; t < 120.0; t += dt) {
+    const double slow_v = 0.8 * planning::sampleAt(f.line, slow_s).speed;
+    const double beyond_v = 0.8 * planning::sampleAt(f.line, beyond_s).speed;
+    const std::vector<planning::TrafficCar> traffic{
+        {"fast", s, lateral, v}, {"slow", slow_s, 0.0, slow_v, 0.8}, {"beyond", beyond_s, 0.0, beyond_v, 0.8}};
+    const auto plan = planner.plan("fast", s, lateral, v, traffic, 10.0, 250.0, 0.85);
+    const auto d = planner.decision("fast");
+    const double rel = wrapAhead(slow_s, s, L);
+    if (std::abs(rel) < level && (plans_level > 0 || (d.mode == RaceMode::kPass && d.other == "slow"))) {
+      ++plans_level;
+      if (d.other == "beyond") ++plans_for_the_car_beyond;
+    }
+    v = std::min(planning::sampleAt(plan, s).speed, v + 8.0 * dt);
+    s += v * dt;
+    lateral = shiftAt(f.line, plan, s);
+    slow_s += slow_v * dt;
+    beyond_s += beyond_v * dt;
+  }
+  ASSERT_GT(plans_level, 10) << "the fast car never drew level in a pass";
+  EXPECT_EQ(plans_for_the_car_beyond, 0) << "plans level with the car it passed that went for the car beyond";
+}
+
 // A car moving into a passer's lane from behind it is that car's to mind: the passer, already out in its
 // lane, keeps a car's length and margin ahead of it, not the room a move across in front of a car needs
 // (rejoin_time at speed on top). Traced at Roar Ring (pace-car field, seed 0): car2, 3 m left of the line
