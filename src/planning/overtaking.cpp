@@ -806,7 +806,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
     // 37 m/s in 1.25 s into a braking curve, a car being passed slid 1.5 m wide into the car passing it
     // (Monza's reverse grid over 8 laps, seed 1, 617.2 s).
     const bool beside =
-        leader_gap < near && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;
+        level_with_leader && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;
     const double held = beside ? std::max(0.0, leader->speed - kLetByRate) : leader->speed;
     followBehind(&follow.window, s, s + leader_gap, held, beside ? leader_gap : options_.follow_gap, limits_, speed);
   }

@@ -182,7 +182,8 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       const bool racing = !finished && !(passing && control.car(d.other).finished);
       // A pass still under way on a car already a length behind (the planner keeps it until clear ahead)
       // is no new attempt, nor one begun and given up.
-      const bool got_by = passing && gapAhead(d.other, name) <= -car_length;
+      const double passed_ahead = passing ? gapAhead(d.other, name) : 0.0;  // m the car passed is ahead
+      const bool got_by = passing && passed_ahead <= -car_length;
       if (passing && e.open_pass < 0 && racing && !got_by) {
         if (e.moving_out.passer.empty() || e.moving_out.passed != d.other) {
           giveUp(e);
@@ -192,7 +193,7 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
           e.moving_out.start_time = now;
         }
         e.moving_out.side = d.side;
-        if (gapAhead(d.other, name) < car_length) {  // alongside
+        if (passed_ahead < car_length) {  // alongside
           result.passes.push_back(std::move(e.moving_out));
           e.moving_out = PassAttempt{};
           e.open_pass = static_cast<long>(result.passes.size()) - 1;
