@@ -124,6 +124,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.laps = laps;
     options.field.overtaking = true;
     options.field.overtake = overtake;
+    options.field.follow_gap = overtake.follow_gap;  // the field's own is the one its planner keeps to
     {
       // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
       // 5% of speed gained, two car lengths and margins to go by in.
@@ -277,9 +278,8 @@ void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignme
     return [=] { *field = static_cast<int>(config::wholeNumberArgument(option, text, 0)); };
   };
   auto flag = [&](bool* field) -> Setter { return [=] { *field = config::numberArgument(option, text) != 0.0; }; };
-  const std::map<std::string, Setter> setters = {{"car_length", number(&o->car_length)},
-                                                 {"car_width", number(&o->car_width)},
-                                                 {"lateral_margin", number(&o->lateral_margin)},
+  // Not car_length nor car_width: a race sizes its cars from the vehicle's body, and would quietly ignore them.
+  const std::map<std::string, Setter> setters = {{"lateral_margin", number(&o->lateral_margin)},
                                                  {"longitudinal_margin", number(&o->longitudinal_margin)},
                                                  {"edge_margin", number(&o->edge_margin)},
                                                  {"horizon", number(&o->horizon)},

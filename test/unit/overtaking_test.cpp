@@ -561,6 +561,27 @@ TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
   EXPECT_GT(travelled(0.0), v + 3.0) << "a car at the line's speed in a slow corner predicted not to speed up";
 }
 
+// Following is credited with where the car ahead is predicted to go, less the follow gap, not with that
+// car's speed now held over the horizon: out of a slow corner the car ahead speeds up, and so does its
+// follower. Credited held, following a car out of Roar Eight's loops was scored 20 m short, and a pass on
+// the loop's outside gaining 0.5 m/s looked 30 m better than it: it stayed out the whole loop and came back
+// onto the line 20 m behind. Here: Roar Sprint's slowest corner, the car ahead the follow gap up the road
+// at 85% of the line's speed there (and everywhere).
+TEST(Overtaking, FollowingOutOfASlowCornerIsCreditedWithTheCarAheadSpeedingUp) {
+  auto& f = fixture();
+  const planning::OvertakeOptions o;
+  planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
+  auto slowest = std::min_element(f.line.points.begin(), f.line.points.end(),
+                                  [](const auto& a, const auto& b) { return a.speed < b.speed; });
+  const double s = slowest->s, v = 0.85 * slowest->speed;
+  const planning::TrafficCar ahead{"ahead", s + o.follow_gap, 0.0, v, 0.85};
+  planner.plan("ego", s, 0.0, v, {ahead}, 10.0, 250.0);
+  const auto following = planner.decision("ego");
+  ASSERT_EQ(following.mode, RaceMode::kFollow) << planning::describe(following);
+  EXPECT_GT(following.progress, (v + 2.0) * o.horizon)
+      << "following from " << v << " m/s credited as if the car ahead held that speed";
+}
+
 // A car coming back to the line after a move, still moving sideways, is planned on settle_grip for the
 // next 2 s at its speed (it has less grip to brake and turn with: a car that crossed the line so and braked
 // into the next corner on all of it spun at Roar Speedway); a car alone on the line never is.
