@@ -820,8 +820,6 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
         level_with_leader && std::abs(leader->lateral - lateral) >= options_.car_width + 0.5 * options_.lateral_margin;
     const double held = beside ? std::max(0.0, leader->speed - kLetByRate) : leader->speed;
     followBehind(&follow.window, s, s + leader_gap, held, beside ? leader_gap : options_.follow_gap, limits_, speed);
-  }
-  if (leader) {
     // Behind the leader as it is predicted to go, not at the speed it has now.
     follow.decision.progress = std::min(follow.decision.progress, behind_leader);
   }
