@@ -47,12 +47,12 @@ def test_fields_beyond_the_first_ones_and_the_slipstreams_are_settable():
 
 def test_the_follow_gap_set_is_the_one_raced_to_and_the_cars_size_is_the_vehicles():
     # The field's planner keeps to the field's follow gap: --overtake=follow_gap was once taken and ignored.
-    def loss(gap):
+    def table_row(gap):
         done = run("--map=roar_sprint", "--field=pace_car", "--seeds=1", "--traffic-laps=1",
                    f"--overtake=follow_gap={gap}")
         assert done.returncode == 0, done.stdout + done.stderr
         return [line for line in done.stdout.splitlines() if line.startswith("roar_sprint    pace_car")]
-    assert loss(12) != loss(40)
+    assert table_row(12) != table_row(40)
     for size in ("car_length", "car_width"):
         done = run(f"--overtake={size}=3")
         assert done.returncode == 2 and f"no option '{size}'" in done.stderr, done.stderr
