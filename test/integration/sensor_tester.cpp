@@ -71,6 +71,21 @@ roar_ros::Step::Response step(uint32_t ticks) {
   return srv.response;
 }
 
+// Steps one tick at a time until every connection carries messages (slow on a loaded machine), then restarts
+// the counts, so that what is counted next is exactly what the simulator published.
+bool startCountingWhenEveryTopicIsHeard(Recorder& r) {
+  if (!waitFor([&] { return r.connected(); })) return false;
+  for (int tick = 0; tick < 100 && !r.everyTopicHeard(); ++tick) {
+    step(1);
+    waitFor([&] { return r.everyTopicHeard(); }, 0.5);
+  }
+  if (!r.everyTopicHeard()) return false;
+  ros::WallDuration(0.3).sleep();
+  ros::spinOnce();
+  r.restartCounts();
+  return true;
+}
+
 }  // namespace
 
 TEST(Sensors, EverySensorPublishesAtItsRateWithItsFrameAndEncoding) {
@@ -93,16 +108,7 @@ TEST(Sensors, EverySensorPublishesAtItsRateWithItsFrameAndEncoding) {
   r.watch<sensor_msgs::NavSatFix>("/ego/gnss", [&](const sensor_msgs::NavSatFix& m) { fix = m; });
   r.watch<geometry_msgs::TwistStamped>("/ego/velocimeter/twist");
   r.watch<geometry_msgs::TwistStamped>("/ego/velocimeter/twist_map");
-  ASSERT_TRUE(waitFor([&] { return r.connected(); }));
-  // Step one tick at a time until every connection carries messages (slow on a loaded machine), then count.
-  for (int tick = 0; tick < 100 && !r.everyTopicHeard(); ++tick) {
-    step(1);
-    waitFor([&] { return r.everyTopicHeard(); }, 0.5);
-  }
-  ASSERT_TRUE(r.everyTopicHeard());
-  ros::WallDuration(0.3).sleep();
-  ros::spinOnce();
-  r.restartCounts();
+  ASSERT_TRUE(startCountingWhenEveryTopicIsHeard(r));
 
   step(20);  // one simulated second
   ASSERT_TRUE(waitFor(
@@ -160,8 +166,7 @@ TEST(Sensors, AttachAndDetachAtRunTime) {
       "{name: rear_grey, type: camera_grey, x: -2.4, z: 1.4, yaw: 180, rate: 10, image_width: 64, image_height: 48}";
   ASSERT_TRUE(ros::service::call("/roar_sim/attach_sensor", attach));
   ASSERT_TRUE(attach.response.success) << attach.response.message;
-  ASSERT_TRUE(waitFor([&] { return r.connected(); }));
-  ros::WallDuration(0.5).sleep();
+  ASSERT_TRUE(startCountingWhenEveryTopicIsHeard(r));
   step(20);
   EXPECT_TRUE(waitFor([&] { return r.seen["/ego/camera/rear_grey/image"].count >= 10; }));
   EXPECT_EQ(r.seen["/ego/camera/rear_grey/image"].count, 10) << "10 Hz for one second";
