@@ -318,12 +318,10 @@ int main(int argc, char** argv) {
   double grip_use = stack::TimeTrialOptions().grip_use;
   control::LateralMethod lateral = control::TrackerOptions().lateral;
   bool minimum_time = false, yardstick = true;
-  bool race = true, benchmarks = true, traffic = false, verbose = false, scaling = false;
+  bool race = true, benchmarks = true, traffic = false, scaling = false;
   bench::ScalingOptions scaling_options;
   scaling_options.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  int seeds = 3, traffic_laps = 3;
-  std::string only_map, only_field;
-  planning::OvertakeOptions overtake;
+  bench::TrafficTableOptions traffic_options;
   std::vector<char*> rest;
   // A bad value is refused before anything runs, naming the option.
   try {
@@ -346,15 +344,17 @@ int main(int argc, char** argv) {
         traffic = true;
         race = benchmarks = false;
       } else if (std::strncmp(argv[i], "--seeds=", 8) == 0) {
-        seeds = static_cast<int>(config::wholeNumberArgument("--seeds", argv[i] + 8, 1));
+        traffic_options.seeds = static_cast<int>(config::wholeNumberArgument("--seeds", argv[i] + 8, 1));
       } else if (std::strncmp(argv[i], "--traffic-laps=", 15) == 0) {
-        traffic_laps = static_cast<int>(config::wholeNumberArgument("--traffic-laps", argv[i] + 15, 1));
+        traffic_options.laps = static_cast<int>(config::wholeNumberArgument("--traffic-laps", argv[i] + 15, 1));
+      } else if (std::strncmp(argv[i], "--pace-step=", 12) == 0) {
+        traffic_options.pace_step = config::numberArgument("--pace-step", argv[i] + 12);
       } else if (std::strncmp(argv[i], "--map=", 6) == 0) {
-        only_map = argv[i] + 6;
+        traffic_options.only_map = argv[i] + 6;
       } else if (std::strncmp(argv[i], "--field=", 8) == 0) {
-        only_field = argv[i] + 8;
+        traffic_options.only_field = argv[i] + 8;
       } else if (std::strncmp(argv[i], "--overtake=", 11) == 0) {
-        bench::setOvertakeOption(&overtake, argv[i] + 11);
+        bench::setOvertakeOption(&traffic_options.overtake, argv[i] + 11);
       } else if (std::strcmp(argv[i], "--scaling") == 0) {
         scaling = true;
         race = benchmarks = false;
@@ -368,7 +368,7 @@ int main(int argc, char** argv) {
       } else if (std::strncmp(argv[i], "--repeats=", 10) == 0) {
         scaling_options.repeats = static_cast<int>(config::wholeNumberArgument("--repeats", argv[i] + 10, 1));
       } else if (std::strcmp(argv[i], "--verbose") == 0) {
-        verbose = true;
+        traffic_options.verbose = true;
       } else {
         rest.push_back(argv[i]);
       }
@@ -393,8 +393,13 @@ int main(int argc, char** argv) {
         scaling_options);
   }
   if (traffic) {
-    bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles", seeds,
-                             traffic_laps, overtake, only_map, verbose, only_field);
+    try {
+      bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles",
+                               traffic_options);
+    } catch (const std::invalid_argument& e) {  // a bad field or pace step, refused before any race
+      std::fprintf(stderr, "roar_bench: %s\n", e.what());
+      return 2;
+    }
   }
   return 0;
 }

@@ -39,13 +39,12 @@ Field paceCarField(std::mt19937& rng) {
   return f;
 }
 
-constexpr double kPaceStep = 0.05;  // the reverse grid's, between cars
-
-// Six cars 5% of pace apart (each jittered by up to 1%), started in reverse order of pace.
-Field reverseGridField(std::mt19937& rng) {
+// Six cars pace_step apart (each jittered by up to 1%; the fastest at full pace), started in reverse order of pace.
+Field reverseGridField(std::mt19937& rng, double pace_step) {
   Field f{"reverse_grid", {}, {}};
+  const double slowest = 1.0 - 5.0 * pace_step;
   for (int k = 0; k < 6; ++k) {
-    const double pace = std::min(1.0, 0.75 + kPaceStep * k + jitter(rng, 0.01));
+    const double pace = std::min(1.0, slowest + pace_step * k + jitter(rng, 0.01));
     f.cars.push_back({"p" + std::to_string(k), k, pace, 0.0});
   }
   return f;
@@ -100,16 +99,26 @@ void printRow(const std::string& circuit, const std::string& kind, const Totals&
 }  // namespace
 
 int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, const std::string& vehicle_config_dir,
-                      int seeds, int laps, const planning::OvertakeOptions& overtake, const std::string& only_map,
-                      bool verbose, const std::string& only_field) {
+                      const TrafficTableOptions& table) {
+  const std::string& only_field = table.only_field;
+  const std::string& only_map = table.only_map;
+  const planning::OvertakeOptions& overtake = table.overtake;
+  const int seeds = table.seeds, laps = table.laps;
+  const bool verbose = table.verbose;
   if (!only_field.empty() && only_field != "pace_car" && only_field != "reverse_grid" && only_field != "five_percent") {
     throw std::invalid_argument("--field=" + only_field + ": expected pace_car, reverse_grid or five_percent");
+  }
+  if (!(table.pace_step >= kMinPaceStep && table.pace_step <= kMaxPaceStep)) {
+    char said[160];
+    std::snprintf(said, sizeof said, "--pace-step=%g: expected %g to %g (of pace between the reverse grid's cars)",
+                  table.pace_step, kMinPaceStep, kMaxPaceStep);
+    throw std::invalid_argument(said);
   }
   const auto vehicle = sim::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
   std::printf(
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
-      "lockstep, in one process\n",
-      laps, seeds);
+      "reverse grids %g%% of pace apart, lockstep, in one process\n",
+      laps, seeds, 100.0 * table.pace_step);
   std::printf("%-14s %-13s %5s %8s %9s %7s %7s %7s %9s %8s %8s %8s %7s %8s %9s %9s %7s\n", "circuit", "field", "races",
               "attempts", "completed", "aborted", "gave_up", "rate_%", "catch_s", "speed_%", "contacts", "at_fault",
               "limits", "late", "in_order", "pairs_out", "loss_s");
@@ -127,14 +136,14 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.field.follow_gap = overtake.follow_gap;  // the field's own is the one its planner keeps to
     {
       // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
-      // 5% of speed gained, two car lengths and margins to go by in.
+      // its pace step of speed gained, two car lengths and margins to go by in.
       planning::OvertakeOptions sized = overtake;
       sized.car_length = vehicle.chassis.box_size.x();
       sized.car_width = vehicle.chassis.box_size.y();
       const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
       const planning::OvertakePlanner planner(track, planning::planRacingTrajectory(track, limits, options.planner),
                                               limits, sized);
-      const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / kPaceStep;
+      const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / table.pace_step;
       char line[200];
       std::snprintf(line, sizeof line, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
                     100.0 * planner.laneShare(+1, run), 100.0 * planner.laneShare(-1, run));
@@ -150,7 +159,9 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         it = alone_at.emplace(key, stack::runRace(track, vehicle, {car}, options).car(car.name)).first;
       return it->second;
     };
-    for (auto make : {paceCarField, reverseGridField, twoCarField}) {
+    const std::vector<std::function<Field(std::mt19937&)>> fields = {
+        paceCarField, [&](std::mt19937& rng) { return reverseGridField(rng, table.pace_step); }, twoCarField};
+    for (const auto& make : fields) {
       std::mt19937 probe(0);
       if (!only_field.empty() && make(probe).kind != only_field) continue;
       Totals t;
@@ -248,7 +259,8 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
   printRow("all", "", all);
   std::printf(
       "room to pass: where a lane runs beside a car on the racing line (its width and air, and the pass's edge\n"
-      "margin) for as far as a pass gaining the reverse grid's 5%% of speed needs to go by:\n");
+      "margin) for as far as a pass gaining the reverse grid's %g%% of speed needs to go by:\n",
+      100.0 * table.pace_step);
   for (const auto& l : lanes) std::printf("  %s\n", l.c_str());
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   std::printf(

@@ -89,3 +89,22 @@ def test_rl_train_refuses_a_value_that_is_not_a_number(tmp_path):
                               timeout=60)
         assert done.returncode == 2 and said in done.stderr, (args, done.stderr)
     assert not (tmp_path / "out").exists()  # nothing ran
+
+
+def test_the_reverse_grids_pace_step_sets_its_paces_and_is_refused_out_of_range():
+    def paces(step):
+        done = run("--map=roar_sprint", "--field=reverse_grid", "--seeds=1", "--traffic-laps=1", "--verbose",
+                   f"--pace-step={step}")
+        assert done.returncode == 0, done.stdout + done.stderr
+        grid = next(line for line in done.stdout.splitlines() if "seed 0 reverse_grid:" in line)
+        return [float(word) for before, word in zip(grid.split(), grid.split()[1:]) if before == "pace"]
+    for step in (0.05, 0.08):
+        got = paces(step)
+        assert len(got) == 6
+        for k, pace in enumerate(got):  # the fastest at full pace, each jittered by up to 1%
+            assert abs(pace - (1.0 - step * (5 - k))) <= 0.01 + 1e-12, (step, got)
+    for bad, said in (("0.5", "--pace-step=0.5: expected 0.01 to 0.15"), ("0", "--pace-step=0: expected"),
+                      ("5%", "--pace-step '5%' is not a number")):
+        done = run(f"--pace-step={bad}")
+        assert done.returncode == 2 and said in done.stderr, (bad, done.stderr)
+        assert "Traffic:" not in done.stdout
