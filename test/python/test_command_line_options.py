@@ -108,3 +108,9 @@ def test_the_reverse_grids_pace_step_sets_its_paces_and_is_refused_out_of_range(
         done = run(f"--pace-step={bad}")
         assert done.returncode == 2 and said in done.stderr, (bad, done.stderr)
         assert "Traffic:" not in done.stdout
+
+
+def test_an_unknown_field_is_refused_not_aborted_on():
+    done = run("--field=reverse")  # once an uncaught exception: abort, exit 134
+    assert done.returncode == 2, (done.returncode, done.stderr)
+    assert "--field=reverse: expected pace_car, reverse_grid or five_percent" in done.stderr, done.stderr
