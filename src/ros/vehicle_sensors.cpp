@@ -6,6 +6,7 @@
 #include <sensor_msgs/PointCloud2.h>
 
 #include "roar/ros/msg_conversion.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/sensor_msg_conversion.h"
 
 namespace roar::ros_bridge {
@@ -30,33 +31,34 @@ void VehicleSensors::attach(const sensors::SensorSpec& spec, double now) {
   rig_.add(spec, now);  // validates first: nothing is advertised for a sensor the rig refuses
   Publishers p;
   const std::string base = vehicle_ + "/";
+  const int queue = ros_bridge::sensorQueue(spec.rate);
   switch (spec.type) {
     case sensors::SensorType::kLidar:
-      p.main = nh_.advertise<sensor_msgs::PointCloud2>(base + "lidar/" + spec.name + "/points", 10);
+      p.main = nh_.advertise<sensor_msgs::PointCloud2>(base + "lidar/" + spec.name + "/points", queue);
       break;
     case sensors::SensorType::kImu:
-      p.main = nh_.advertise<sensor_msgs::Imu>(base + spec.name, 200);
+      p.main = nh_.advertise<sensor_msgs::Imu>(base + spec.name, queue);
       break;
     case sensors::SensorType::kGnss:
-      p.main = nh_.advertise<sensor_msgs::NavSatFix>(base + spec.name, 200);
+      p.main = nh_.advertise<sensor_msgs::NavSatFix>(base + spec.name, queue);
       break;
     case sensors::SensorType::kVelocimeter:
-      p.main = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist", 50);
-      p.second = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist_map", 50);
+      p.main = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist", queue);
+      p.second = nh_.advertise<geometry_msgs::TwistStamped>(base + spec.name + "/twist_map", queue);
       break;
     case sensors::SensorType::kAccelerometer:
     case sensors::SensorType::kGyroscope:
     case sensors::SensorType::kRollPitchYaw:
-      p.main = nh_.advertise<geometry_msgs::Vector3Stamped>(base + spec.name, 200);
+      p.main = nh_.advertise<geometry_msgs::Vector3Stamped>(base + spec.name, queue);
       break;
     case sensors::SensorType::kLocation:
-      p.main = nh_.advertise<geometry_msgs::PointStamped>(base + spec.name, 200);
+      p.main = nh_.advertise<geometry_msgs::PointStamped>(base + spec.name, queue);
       break;
     case sensors::SensorType::kOccupancyMap:
-      p.image = it_.advertise(base + "occupancy_map/" + spec.name + "/image", 10);
+      p.image = it_.advertise(base + "occupancy_map/" + spec.name + "/image", queue);
       break;
     default:
-      p.camera = it_.advertiseCamera(base + "camera/" + spec.name + "/image", 10);
+      p.camera = it_.advertiseCamera(base + "camera/" + spec.name + "/image", queue);
       break;
   }
   publishers_[spec.name] = p;

@@ -1,4 +1,7 @@
 #pragma once
+#include <algorithm>
+#include <cmath>
+
 // Outgoing queue of the drivers' per-tick topics (control, local_trajectory, local_path): a publisher
 // keeps this many messages for each subscriber whose link lags. roar_sim paces itself by the /clock a
 // recorder has written, not by its links to the drivers, which can fall further behind on a loaded
@@ -7,5 +10,14 @@
 namespace roar::ros_bridge {
 
 inline constexpr int kPerTickQueue = 200;
+
+// Outgoing queue of a sensor's topic: this many seconds of its messages for each subscriber whose link lags
+// (at least 10, at most 1,000). In step mode a request for 20 ticks publishes a second of camera images at
+// once: a queue of 10 lost 2 of them to a tester on a loaded machine (rostest sensors). An image queue costs
+// memory only while a link lags: 3 s of 640x480 RGB at 20 Hz is 55 MB.
+inline constexpr double kSensorQueueSeconds = 3.0;
+inline int sensorQueue(double rate_hz) {
+  return static_cast<int>(std::clamp(std::ceil(rate_hz * kSensorQueueSeconds), 10.0, 1000.0));
+}
 
 }  // namespace roar::ros_bridge
