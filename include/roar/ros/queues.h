@@ -11,11 +11,11 @@ namespace roar::ros_bridge {
 
 inline constexpr int kPerTickQueue = 200;
 
-// Outgoing queue of a sensor's topic: this many seconds of its messages for each subscriber whose link lags
-// (at least 10, at most 1,000). In step mode a request for 20 ticks publishes a second of camera images at
-// once: a queue of 10 lost 2 of them to a tester on a loaded machine (rostest sensors). An image queue costs
-// memory only while a link lags: 3 s of 640x480 RGB at 20 Hz is 55 MB.
-inline constexpr double kSensorQueueSeconds = 3.0;
+// Outgoing queue of a sensor's topic: as many seconds of its messages as the per-tick topics keep (at least 10,
+// at most 1,000) for each subscriber whose link lags. In step mode a request for 20 ticks publishes a second of
+// camera images at once: a queue of 10 lost 2 of them to a tester on a loaded machine (rostest sensors). An
+// image queue costs memory only while a link lags: 10 s of 640x480 RGB at 20 Hz is 184 MB.
+inline constexpr double kSensorQueueSeconds = 10.0;
 inline int sensorQueue(double rate_hz) {
   return static_cast<int>(std::clamp(std::ceil(rate_hz * kSensorQueueSeconds), 10.0, 1000.0));
 }
