@@ -3,6 +3,7 @@
 #include "roar/rl/action.h"
 #include "roar/rl/racing_env.h"
 #include "roar/ros/msg_conversion.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/rl_msg_conversion.h"
 #include "roar/ros/wall_throttle.h"
 
@@ -17,8 +18,8 @@ AgentInterface::AgentInterface(ros::NodeHandle& nh, const std::string& vehicle, 
       episode_(track, options.reward, options.termination) {
   action_space_ = nh.advertise<roar_ros::SpaceDescription>(vehicle + "/rl/action_space", 1, true);
   observation_space_ = nh.advertise<roar_ros::SpaceDescription>(vehicle + "/rl/observation_space", 1, true);
-  observation_ = nh.advertise<roar_ros::Observation>(vehicle + "/rl/observation", 10);
-  step_ = nh.advertise<roar_ros::EpisodeStep>(vehicle + "/rl/step", 10);
+  observation_ = nh.advertise<roar_ros::Observation>(vehicle + "/rl/observation", kPerTickQueue);
+  step_ = nh.advertise<roar_ros::EpisodeStep>(vehicle + "/rl/step", kPerTickQueue);
   action_space_.publish(toMessage(rl::actionSpace(options.action, forward_gears)));
   observation_space_.publish(toMessage(observer_.space()));
 }

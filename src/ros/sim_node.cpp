@@ -13,6 +13,7 @@
 
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/queues.h"
 #include "roar/ros/wall_throttle.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
@@ -185,10 +186,10 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   io.agent = std::move(agent);
   io.scene_id = scene_->addVehicle(looks_[params.model], io.spawned.colour);
   io.sensors = std::move(vehicle_sensors);
-  io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 50);
-  io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", 50);
-  io.joints = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 50);
-  io.collision = nh_.advertise<roar_ros::CollisionEvent>(name + "/collision", 50);
+  io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", kPerTickQueue);
+  io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", kPerTickQueue);
+  io.joints = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", kPerTickQueue);
+  io.collision = nh_.advertise<roar_ros::CollisionEvent>(name + "/collision", kPerTickQueue);
   io.control = nh_.subscribe<roar_ros::VehicleControl>(
       name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());

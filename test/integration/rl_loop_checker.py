@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """rostest: the rospy example (scripts/rl_random_agent.py) runs 200 steps against roar_sim; what it observes
 lies in the published spaces, each step's outcome and images carry the step's stamp, resets with one seed
-start the same episode, and driving forward is rewarded."""
+start the same episode, driving forward is rewarded, and a step of many ticks delivers every tick's
+observation and outcome to a listener that lags."""
 import math
 import os
 import sys
+import threading
+import time
 import unittest
 
 import numpy as np
@@ -14,6 +17,7 @@ import rostest
 
 sys.path.insert(0, os.path.join(rospkg.RosPack().get_path("roar_ros"), "scripts"))
 import rl_random_agent  # noqa: E402
+from roar_ros.msg import EpisodeStep, Observation, VehicleControl  # noqa: E402
 
 ACTION_KEYS = ["brake", "hand_brake", "reverse", "steer", "throttle"]
 
@@ -60,6 +64,44 @@ class RlLoop(unittest.TestCase):
         self.assertGreater(info["progress"], 20.0)
         self.assertGreater(total, 10.0 * info["progress"])
         self.assertAlmostEqual(total, info["episode_return"], places=6)
+
+    def test_3_a_step_of_many_ticks_reaches_a_lagging_listener_whole(self):
+        # A frame-skipping agent asks for many ticks at once; roar_sim publishes each tick's observation and
+        # outcome as it simulates them, faster than this listener (20 ms a message) takes them.
+        ticks = 100
+        stamps = {"observation": set(), "step": set()}
+        lock = threading.Condition()
+
+        def slow_listener(kind):
+            def keep(msg):
+                time.sleep(0.02)
+                with lock:
+                    stamps[kind].add(msg.header.stamp)
+                    lock.notify_all()
+            return keep
+
+        subscribers = [rospy.Subscriber("/agent/rl/observation", Observation, slow_listener("observation")),
+                       rospy.Subscriber("/agent/rl/step", EpisodeStep, slow_listener("step"))]
+        deadline = time.time() + 20.0
+        while any(s.get_num_connections() == 0 for s in subscribers) and time.time() < deadline:
+            time.sleep(0.05)
+        self.env.reset(seed=7)
+        time.sleep(0.5)  # the reset's observation reaches the slow listener before the step begins
+        answer = self.env._step(ticks=ticks, vehicle_names=["agent"], controls=[VehicleControl(throttle=0.3)])
+        self.assertTrue(answer.success, answer.message)
+        last = round(answer.stamp.to_sec(), 3)
+        expected = {round(last - 0.05 * k, 3) for k in range(ticks)}
+
+        def of_the_step(kind):
+            return {round(s.to_sec(), 3) for s in stamps[kind]} & expected
+
+        with lock:
+            lock.wait_for(lambda: all(len(of_the_step(k)) == ticks for k in stamps), 60.0)
+            for kind in stamps:
+                self.assertEqual(len(of_the_step(kind)), ticks, "%s: %d of the %d ticks' messages arrived"
+                                 % (kind, len(of_the_step(kind)), ticks))
+        for subscriber in subscribers:
+            subscriber.unregister()
 
 
 if __name__ == "__main__":

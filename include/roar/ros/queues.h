@@ -2,11 +2,12 @@
 #include <algorithm>
 #include <cmath>
 
-// Outgoing queue of the drivers' per-tick topics (control, local_trajectory, local_path): a publisher
-// keeps this many messages for each subscriber whose link lags. roar_sim paces itself by the /clock a
-// recorder has written, not by its links to the drivers, which can fall further behind on a loaded
-// machine: ten messages lost one control of 6,000 beside two busy loops and a compiler. 200 are 10 s of
-// ticks at 20 Hz.
+// Outgoing queue of every per-tick topic, the drivers' (control, local_trajectory, local_path) and roar_sim's
+// (odom, vehicle_status, joint_states, collision, rl/observation, rl/step): a publisher keeps this many messages
+// for each subscriber whose link lags. roar_sim paces itself by the /clock a recorder has written, not by its
+// links to the drivers, which can fall further behind on a loaded machine: ten messages lost one control of
+// 6,000 beside two busy loops and a compiler. A step request of many ticks publishes its ticks' messages at
+// once. 200 are 10 s of ticks at 20 Hz.
 namespace roar::ros_bridge {
 
 inline constexpr int kPerTickQueue = 200;
