@@ -653,7 +653,7 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
       }
       // A pass that does not draw alongside within the horizon gets no further in it than following: the
       // car it passes is still ahead at the end. Credited with its own path's speeds, such a pass under way
-      // went on looking better than following (README, traffic benchmark).
+      // went on looking better than following (doc/traffic_history.md).
       if (!draws_alongside) {
         c.decision.progress = std::min(c.decision.progress, behind_leader);
       }

@@ -22,7 +22,7 @@ namespace roar::planning {
 struct FieldOptions {
   // m of the line each window covers ahead of the car: at least the 6 s the overtaking planner compares
   // candidates over at the speeds of a straight (250 m: every candidate there reached the window's end, and a
-  // pass on a straight could show no gain; README, traffic benchmark).
+  // pass on a straight could show no gain; doc/traffic_history.md).
   double window_ahead = 400.0;
   double window_behind = 10.0;  // m behind it
   double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)

@@ -71,23 +71,24 @@ struct OvertakeOptions {
   // The guard under every plan: a car ahead in the plan's path (laterally within the cars' width plus
   // guard_lateral) is followed at least a car's length plus longitudinal_margin plus guard_time at speed behind.
   // 0.15 s, not 0.25: at 0.25 a car 5% faster sat 20 m behind on a straight, too far back to draw alongside
-  // within the horizon; 0.15 gets the fields nearer pace order with no contact (README, traffic benchmark).
+  // within the horizon; 0.15 gets the fields nearer pace order with no contact (doc/traffic_history.md).
   double guard_lateral = 0.4;  // m
   double guard_time = 0.15;    // s
   // The guard holds the car to the speed of the car ahead from where it would come within the gap of that
   // car as it is predicted to go on, not from the gap behind where it is now (which, at speed, kept a car
-  // 5% faster tens of metres further back than the gap, never closing up). Off by default: see README.
+  // 5% faster tens of metres further back than the gap, never closing up). Off by default: it sorts fields
+  // nearer pace order at the cost of contacts (doc/traffic_history.md).
   bool guard_predicted = false;
   double max_pass_offset = 5.0;  // m from the racing line a pass may go
   // Share of the plan's grip a path off the racing line is planned with where it moves across the line (a
   // steady offset is a line of its own, on all the grip).
-  // 0.8 held the passer back while pulling out behind a slow car (README, traffic benchmark: 0.92 and 0.95
+  // 0.8 held the passer back while pulling out behind a slow car (doc/traffic_history.md: 0.92 and 0.95
   // complete more passes at more speed; at 0.97-1.0 cars spin or leave the road at Roar Sprint).
   double offline_grip = 0.92;
   // Share of the plan's grip a car still moving sideways after a move (back onto the line from a pass, say)
   // is planned with for the next 2 s at its speed, on the line or in a lane it holds. At offline_grip (0.92)
   // a car that crossed the line at 2 m/s at 60 m/s into a braking curve slid off the road, 1 race in 16 of
-  // Roar Speedway's pace-car field (README, traffic benchmark).
+  // Roar Speedway's pace-car field (doc/traffic_history.md).
   double settle_grip = 0.85;
   // s over which a car without a plan to go by is predicted to go on moving sideways as it is.
   double lateral_lookahead = 1.0;
@@ -96,14 +97,14 @@ struct OvertakeOptions {
   double rejoin_time = 0.5;
   // Blue flags: a car about to be lapped (a car a lap up within this many seconds behind, at its speed)
   // moves aside, to the side with more room, and keeps its pace until it has been lapped. Off by default:
-  // see README (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
+  // see README, Racing stack (a lapped car rejoining behind the car that lapped it in a slow corner touched it once).
   bool blue_flags = false;
   double blue_flag_time = 3.0;  // s at speed behind within which a car a lap up is let by
   // Defending: a car on its line at racing speed, with another closing from behind and pulling out to
   // pass, makes one move across to cover that side (at most defend_shift, only while the move keeps clear
   // of everyone, and held at most defend_hold); no second move while that car stays near, and once it is
   // alongside the defender holds its place (leaving it a car's width). Off by default: it makes passes
-  // harder (README, traffic benchmark).
+  // harder (doc/traffic_history.md).
   bool defend = false;
   double defend_time = 1.0;    // s at speed behind within which a car is defended against
   double defend_shift = 1.85;  // m at most the defensive move goes across (a car's width)
