@@ -14,6 +14,7 @@
 #include "roar/config/yaml_section.h"
 #include "roar/planning/overtaking.h"
 #include "roar/sim/vehicle_config.h"
+#include "roar/stack/pass_place.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
 #include "statistics.h"
@@ -70,6 +71,8 @@ struct Totals {
   int pairs_out_of_order = 0;  // over the reverse-grid races: pairs of cars finishing against their pace
   std::vector<double> catch_to_pass, passing_share, lap_loss;
   double traffic_time = 0.0, race_seconds = 0.0;
+  // Completed passes by where they were won (stack::passPlace), side (0 left, 1 right) and inside.
+  int won[3][2][2] = {};
 
   void add(const Totals& t) {
     races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
@@ -81,8 +84,30 @@ struct Totals {
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
     lap_loss.insert(lap_loss.end(), t.lap_loss.begin(), t.lap_loss.end());
+    for (int p = 0; p < 3; ++p)
+      for (int side = 0; side < 2; ++side)
+        for (int inside = 0; inside < 2; ++inside) won[p][side][inside] += t.won[p][side][inside];
   }
+  int wonAt(stack::PassPlace place, int side, int inside) const { return won[static_cast<int>(place)][side][inside]; }
 };
+
+// Where a circuit's completed passes were won: "straight: left 3, right 2; braking zone: inside 4 (left 1,
+// right 3), outside 0; corner: inside 1 (...), outside 0 (...)".
+std::string wonLine(const std::string& circuit, const Totals& t) {
+  using stack::PassPlace;
+  const int straight_left = t.wonAt(PassPlace::kStraight, 0, 0), straight_right = t.wonAt(PassPlace::kStraight, 1, 0);
+  std::string out =
+      circuit + ": straight left " + std::to_string(straight_left) + ", right " + std::to_string(straight_right);
+  for (const PassPlace place : {PassPlace::kBrakingZone, PassPlace::kCorner}) {
+    out += "; " + stack::describe(place);
+    for (const int inside : {1, 0}) {
+      const int left = t.wonAt(place, 0, inside), right = t.wonAt(place, 1, inside);
+      out += std::string(inside ? " inside " : ", outside ") + std::to_string(left + right) + " (left " +
+             std::to_string(left) + ", right " + std::to_string(right) + ")";
+    }
+  }
+  return out;
+}
 
 void printRow(const std::string& circuit, const std::string& kind, const Totals& t) {
   const double rate = t.attempts ? 100.0 * t.completed / t.attempts : std::nan("");
@@ -124,6 +149,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
               "limits", "late", "in_order", "pairs_out", "loss_s");
   Totals all;
   std::vector<std::string> lanes;  // each circuit's room to pass, printed under the table
+  std::vector<std::string> won;    // where each circuit's passes were won, printed under it too
   const auto started = std::chrono::steady_clock::now();
   for (const auto& map : track::listMaps(maps_dir)) {
     if (!only_map.empty() && map != only_map) continue;
@@ -134,15 +160,17 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.field.overtaking = true;
     options.field.overtake = overtake;
     options.field.follow_gap = overtake.follow_gap;  // the field's own is the one its planner keeps to
+    // The racing line the races drive (FieldPlanner plans the same): where passes were won is read on it.
+    const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
+    const planning::Trajectory line = planning::planRacingTrajectory(track, limits, options.planner);
+    Totals circuit;  // every field's races on this circuit
     {
       // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
       // its pace step of speed gained, two car lengths and margins to go by in.
       planning::OvertakeOptions sized = overtake;
       sized.car_length = vehicle.chassis.box_size.x();
       sized.car_width = vehicle.chassis.box_size.y();
-      const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
-      const planning::OvertakePlanner planner(track, planning::planRacingTrajectory(track, limits, options.planner),
-                                              limits, sized);
+      const planning::OvertakePlanner planner(track, line, limits, sized);
       const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / table.pace_step;
       char line[200];
       std::snprintf(line, sizeof line, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
@@ -207,19 +235,28 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         }
         for (const auto& p : r.passes) {
           ++t.attempts;
+          std::string won_where;
           if (p.completed) {
             ++t.completed;
             t.catch_to_pass.push_back(p.end_time - p.caught_time);
             if (p.end_time - p.caught_time > best_lap[p.passer]) ++t.late_passes;
+            if (std::isfinite(p.level_s)) {
+              const stack::PassWhere where = stack::passPlace(line, p.level_s, p.side);
+              ++t.won[static_cast<int>(where.place)][p.side > 0 ? 0 : 1][where.inside ? 1 : 0];
+              won_where = std::string(where.place == stack::PassPlace::kStraight ? ", won on a " : ", won in a ") +
+                          stack::describe(where.place);
+              if (where.place != stack::PassPlace::kStraight) won_where += where.inside ? " inside" : " outside";
+            }
           } else {
             ++t.aborted;
           }
           const double share = stack::passingSpeedShare(p, aloneAs(*spec_of.at(p.passer)).round_speeds, r.speed_bin);
           if (std::isfinite(share)) t.passing_share.push_back(share);
           if (verbose) {
-            std::printf("  %s seed %d: %s %s %s on the %s, caught %.1f, %.1f-%.1f s, speed %.0f%%\n", map.c_str(), seed,
-                        p.passer.c_str(), p.completed ? "passed" : "aborted passing", p.passed.c_str(),
-                        p.side > 0 ? "left" : "right", p.caught_time, p.start_time, p.end_time, 100 * share);
+            std::printf("  %s seed %d: %s %s %s on the %s, caught %.1f, %.1f-%.1f s, speed %.0f%%%s\n", map.c_str(),
+                        seed, p.passer.c_str(), p.completed ? "passed" : "aborted passing", p.passed.c_str(),
+                        p.side > 0 ? "left" : "right", p.caught_time, p.start_time, p.end_time, 100 * share,
+                        won_where.c_str());
           }
         }
         t.given_up += static_cast<int>(r.given_up_before_alongside.size());
@@ -254,9 +291,18 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       printRow(map, kind, t);
       std::fflush(stdout);
       all.add(t);
+      circuit.add(t);
     }
+    won.push_back(wonLine(map, circuit));
   }
   printRow("all", "", all);
+  std::printf(
+      "where completed passes were won (the passer drawing level, on the racing line there: a braking zone where\n"
+      "it slows at %g m/s^2 or more, inside or outside of the corner braked for; a corner where it turns tighter\n"
+      "than %g m; else a straight):\n",
+      stack::PassPlaceOptions().braking, stack::PassPlaceOptions().corner_radius);
+  for (const auto& w : won) std::printf("  %s\n", w.c_str());
+  std::printf("  %s\n", wonLine("all", all).c_str());
   std::printf(
       "room to pass: where a lane runs beside a car on the racing line (its width and air, and the pass's edge\n"
       "margin) for as far as a pass gaining the reverse grid's %g%% of speed needs to go by:\n",

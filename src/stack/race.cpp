@@ -208,7 +208,11 @@ RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle,
       const SpeedSample sample{e.round, s_line, state.forward_speed};
       if (options.on_tick)
         options.on_tick({now, &name, state.pose.position.head<2>(), state.forward_speed, field.onLine(name), d});
-      if (e.open_pass >= 0) result.passes[static_cast<std::size_t>(e.open_pass)].samples.push_back(sample);
+      if (e.open_pass >= 0) {
+        PassAttempt& pass = result.passes[static_cast<std::size_t>(e.open_pass)];
+        pass.samples.push_back(sample);
+        if (std::isnan(pass.level_s) && gapAhead(name, pass.passed) >= 0) pass.level_s = s_line;
+      }
       if (!e.moving_out.passer.empty()) e.moving_out.samples.push_back(sample);
       if (!finished && !e.engaged_with.empty()) e.result.time_in_traffic += dt;
       auto& rounds = e.result.round_speeds;

@@ -18,6 +18,7 @@ import rostest
 sys.path.insert(0, os.path.join(rospkg.RosPack().get_path("roar_ros"), "scripts"))
 import rl_random_agent  # noqa: E402
 from roar_ros.msg import EpisodeStep, Observation, VehicleControl  # noqa: E402
+from roar_ros.srv import Step  # noqa: E402
 
 ACTION_KEYS = ["brake", "hand_brake", "reverse", "steer", "throttle"]
 
@@ -86,8 +87,8 @@ class RlLoop(unittest.TestCase):
         while any(s.get_num_connections() == 0 for s in subscribers) and time.time() < deadline:
             time.sleep(0.05)
         self.env.reset(seed=7)
-        time.sleep(0.5)  # the reset's observation reaches the slow listener before the step begins
-        answer = self.env._step(ticks=ticks, vehicle_names=["agent"], controls=[VehicleControl(throttle=0.3)])
+        step = rospy.ServiceProxy("/roar_sim/step", Step)
+        answer = step(ticks=ticks, vehicle_names=["agent"], controls=[VehicleControl(throttle=0.3)])
         self.assertTrue(answer.success, answer.message)
         last = round(answer.stamp.to_sec(), 3)
         expected = {round(last - 0.05 * k, 3) for k in range(ticks)}

@@ -10,6 +10,7 @@
 #include "roar/planning/field_planner.h"
 #include "roar/planning/speed_profile.h"
 #include "roar/race/contact_fault.h"
+#include "roar/sim/world.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
@@ -218,6 +219,32 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
     EXPECT_EQ(c.track_limit_violations, 0) << c.name;
   }
   EXPECT_GT(r.car("ego").time_in_traffic, 0.0);
+}
+
+// Where a pass was won (PassAttempt::level_s, which stack::passPlace reads) is where the passer first drew
+// level with the car it passes: behind it at the tick before, level or ahead at that tick.
+TEST(Race, APassRecordsWhereThePasserFirstDrewLevel) {
+  stack::RaceOptions options;
+  options.field.overtaking = true;
+  std::map<std::string, std::vector<double>> s_of;  // each car's line s, every tick
+  options.on_tick = [&](const stack::RaceTick& tick) { s_of[*tick.car].push_back(tick.on_line.s); };
+  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  int checked = 0;
+  for (const auto& pass : r.passes) {
+    if (!pass.completed) continue;
+    ASSERT_TRUE(std::isfinite(pass.level_s)) << "a completed pass drew level somewhere";
+    const auto& passer = s_of.at(pass.passer);
+    const auto& passed = s_of.at(pass.passed);
+    const auto tick = static_cast<std::size_t>(std::lround(pass.start_time / sim::WorldOptions().control_dt));
+    std::size_t k = tick;
+    while (k < passer.size() && passer[k] != pass.level_s) ++k;
+    ASSERT_LT(k, passer.size()) << "level_s is where the passer was at a tick of the pass";
+    ASSERT_GT(k, 0u);
+    EXPECT_GE(planning::aheadOnLap(passer[k], passed[k], r.line_length), 0.0);
+    EXPECT_LT(planning::aheadOnLap(passer[k - 1], passed[k - 1], r.line_length), 0.0);
+    ++checked;
+  }
+  EXPECT_GE(checked, 1);
 }
 
 // Only cars still racing pass each other: after the flag the winner drives on and laps the slow car still

@@ -3,6 +3,7 @@
 // (planning::FieldPlanner: following or overtaking), a trajectory tracker per car and race control, ticking
 // in lockstep; deterministic. What the traffic benchmark (roar_bench --traffic) runs and gtest drives.
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,9 @@ struct PassAttempt {
   double start_time = 0.0;   // s the planner chose the pass
   double end_time = 0.0;     // s it was complete or aborted
   bool completed = false;
+  // Line s (m) where the passer first drew level with the car it passes (its place on the line at or past
+  // the other's); NaN if it never did. stack::passPlace tells what kind of place that is.
+  double level_s = std::numeric_limits<double>::quiet_NaN();
   // The passer's speed during the pass, sampled each tick.
   std::vector<SpeedSample> samples;
 };
