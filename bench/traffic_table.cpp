@@ -172,10 +172,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       sized.car_width = vehicle.chassis.box_size.y();
       const planning::OvertakePlanner planner(track, line, limits, sized);
       const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / table.pace_step;
-      char line[200];
-      std::snprintf(line, sizeof line, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
+      char room[200];
+      std::snprintf(room, sizeof room, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
                     100.0 * planner.laneShare(+1, run), 100.0 * planner.laneShare(-1, run));
-      lanes.push_back(line);
+      lanes.push_back(room);
     }
     // Free air: each car of a field alone, from its grid slot at its pace, for the lap time traffic costs
     // it and the passing speed's reference (the full-pace cars' runs serve every seed).
