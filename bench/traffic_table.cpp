@@ -65,14 +65,28 @@ void orderByPace(Field* f) {
   for (const auto& c : cars) f->pace_order.push_back(c.name);
 }
 
+// Completed passes by where they were won (stack::passPlace), the side passed on and the corner's inside.
+struct PassPlaces {
+  int won[3][2][2] = {};  // [place][0 left, 1 right][1 inside]
+
+  void count(const stack::PassWhere& where, int side) {
+    ++won[static_cast<int>(where.place)][side > 0 ? 0 : 1][where.inside ? 1 : 0];
+  }
+  void add(const PassPlaces& other) {
+    for (int p = 0; p < 3; ++p)
+      for (int side = 0; side < 2; ++side)
+        for (int inside = 0; inside < 2; ++inside) won[p][side][inside] += other.won[p][side][inside];
+  }
+  int at(stack::PassPlace place, int side, int inside) const { return won[static_cast<int>(place)][side][inside]; }
+};
+
 struct Totals {
   int races = 0, attempts = 0, completed = 0, aborted = 0, contacts = 0, at_fault = 0, track_limits = 0, barrier = 0;
   int pace_order = 0, pace_order_races = 0, late_passes = 0, defences = 0, given_up = 0;
   int pairs_out_of_order = 0;  // over the reverse-grid races: pairs of cars finishing against their pace
   std::vector<double> catch_to_pass, passing_share, lap_loss;
   double traffic_time = 0.0, race_seconds = 0.0;
-  // Completed passes by where they were won (stack::passPlace), side (0 left, 1 right) and inside.
-  int won[3][2][2] = {};
+  PassPlaces places;
 
   void add(const Totals& t) {
     races += t.races, attempts += t.attempts, completed += t.completed, aborted += t.aborted;
@@ -84,24 +98,21 @@ struct Totals {
     catch_to_pass.insert(catch_to_pass.end(), t.catch_to_pass.begin(), t.catch_to_pass.end());
     passing_share.insert(passing_share.end(), t.passing_share.begin(), t.passing_share.end());
     lap_loss.insert(lap_loss.end(), t.lap_loss.begin(), t.lap_loss.end());
-    for (int p = 0; p < 3; ++p)
-      for (int side = 0; side < 2; ++side)
-        for (int inside = 0; inside < 2; ++inside) won[p][side][inside] += t.won[p][side][inside];
+    places.add(t.places);
   }
-  int wonAt(stack::PassPlace place, int side, int inside) const { return won[static_cast<int>(place)][side][inside]; }
 };
 
 // Where a circuit's completed passes were won: "straight: left 3, right 2; braking zone: inside 4 (left 1,
 // right 3), outside 0; corner: inside 1 (...), outside 0 (...)".
-std::string wonLine(const std::string& circuit, const Totals& t) {
+std::string wonLine(const std::string& circuit, const PassPlaces& t) {
   using stack::PassPlace;
-  const int straight_left = t.wonAt(PassPlace::kStraight, 0, 0), straight_right = t.wonAt(PassPlace::kStraight, 1, 0);
+  const int straight_left = t.at(PassPlace::kStraight, 0, 0), straight_right = t.at(PassPlace::kStraight, 1, 0);
   std::string out =
       circuit + ": straight left " + std::to_string(straight_left) + ", right " + std::to_string(straight_right);
   for (const PassPlace place : {PassPlace::kBrakingZone, PassPlace::kCorner}) {
     out += "; " + stack::describe(place);
     for (const int inside : {1, 0}) {
-      const int left = t.wonAt(place, 0, inside), right = t.wonAt(place, 1, inside);
+      const int left = t.at(place, 0, inside), right = t.at(place, 1, inside);
       out += std::string(inside ? " inside " : ", outside ") + std::to_string(left + right) + " (left " +
              std::to_string(left) + ", right " + std::to_string(right) + ")";
     }
@@ -163,7 +174,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     // The racing line the races drive (FieldPlanner plans the same): where passes were won is read on it.
     const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
     const planning::Trajectory line = planning::planRacingTrajectory(track, limits, options.planner);
-    Totals circuit;  // every field's races on this circuit
+    PassPlaces circuit_places;  // every field's races on this circuit
     {
       // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
       // its pace step of speed gained, two car lengths and margins to go by in.
@@ -242,7 +253,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
             if (p.end_time - p.caught_time > best_lap[p.passer]) ++t.late_passes;
             if (std::isfinite(p.level_s)) {
               const stack::PassWhere where = stack::passPlace(line, p.level_s, p.side);
-              ++t.won[static_cast<int>(where.place)][p.side > 0 ? 0 : 1][where.inside ? 1 : 0];
+              t.places.count(where, p.side);
               won_where = std::string(where.place == stack::PassPlace::kStraight ? ", won on a " : ", won in a ") +
                           stack::describe(where.place);
               if (where.place != stack::PassPlace::kStraight) won_where += where.inside ? " inside" : " outside";
@@ -291,9 +302,9 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       printRow(map, kind, t);
       std::fflush(stdout);
       all.add(t);
-      circuit.add(t);
+      circuit_places.add(t.places);
     }
-    won.push_back(wonLine(map, circuit));
+    won.push_back(wonLine(map, circuit_places));
   }
   printRow("all", "", all);
   std::printf(
@@ -302,7 +313,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "than %g m; else a straight):\n",
       stack::PassPlaceOptions().braking, stack::PassPlaceOptions().corner_radius);
   for (const auto& w : won) std::printf("  %s\n", w.c_str());
-  std::printf("  %s\n", wonLine("all", all).c_str());
+  std::printf("  %s\n", wonLine("all", all.places).c_str());
   std::printf(
       "room to pass: where a lane runs beside a car on the racing line (its width and air, and the pass's edge\n"
       "margin) for as far as a pass gaining the reverse grid's %g%% of speed needs to go by:\n",
