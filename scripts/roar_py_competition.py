@@ -84,7 +84,7 @@ async def run(map_name: str = "monza", laps: int = 3, max_sim_time: float = 3600
         await world.step()
         while len(lap_times) < laps:
             obs = await vehicle.receive_observation()
-            location = np.array(obs["location"].to_gym(), dtype=np.float64)
+            location = obs["location"].convert_obs_to_gym_obs()
             action = agent.control(location, obs["rpy"].roll_pitch_yaw, obs["velocimeter"].velocity)
             if np.linalg.norm(obs["collision"].impulse_normal) > RESPAWN_IMPULSE:
                 respawns += 1

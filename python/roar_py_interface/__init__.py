@@ -1,15 +1,33 @@
-"""ROAR_PY's interface (roar_py_interface), written for roar_ros: the names and behaviour of ROAR_PY's
-public classes, with roar_py_ros as the backend over roar_sim."""
+"""ROAR_PY's interface (roar_py_interface), written for roar_ros: the names, arguments and behaviour of
+ROAR_PY's public classes at ROAR_PY's head, with roar_py_ros as the backend over roar_sim and
+roar_py_remote streaming them to other machines. Without gymnasium installed, importing this package
+provides ``gymnasium`` (see gymnasium_fallback)."""
 from . import spaces  # noqa: F401
-from .actors import (RoarPyActor, RoarPyBaseVehicle, RoarPyResettableActor, observation_keys,  # noqa: F401
-                     vehicle_action_spec)
-from .sensors import (RoarPyAccelerometerSensor, RoarPyAccelerometerSensorData, RoarPyCameraSensor,  # noqa: F401
-                      RoarPyCameraSensorData, RoarPyCameraSensorDataDepth, RoarPyCameraSensorDataGreyscale,
-                      RoarPyCameraSensorDataRGB, RoarPyCameraSensorDataSemanticSegmentation, RoarPyCollisionSensor,
-                      RoarPyCollisionSensorData, RoarPyGNSSSensor, RoarPyGNSSSensorData, RoarPyGyroscopeSensor,
-                      RoarPyGyroscopeSensorData, RoarPyLiDARSensor, RoarPyLiDARSensorData,
-                      RoarPyLocationInWorldSensor, RoarPyLocationInWorldSensorData, RoarPyOccupancyMapSensor,
-                      RoarPyOccupancyMapSensorData, RoarPyRollPitchYawSensor, RoarPyRollPitchYawSensorData,
-                      RoarPySensor, RoarPyVelocimeterSensor, RoarPyVelocimeterSensorData, SEMANTIC_LABEL_COLOR_MAP)
-from .waypoint import RoarPyWaypoint, euler2mat, interpolate_waypoints, normalize_rad  # noqa: F401
-from .world import RoarPyWorld  # noqa: F401
+from . import gymnasium_fallback
+
+gymnasium_fallback.install()
+
+from . import transforms  # noqa: E402,F401
+from .actors import (RoarPyActor, RoarPyBaseVehicle, RoarPyResettableActor, RoarPyVehicleAutoGearActor,  # noqa: E402,F401
+                     RoarPyVehicleManualGearActor, observation_keys, vehicle_action_spec)
+from .base import (RoarPyRemoteSupportedSensorData, RoarPyRemoteSupportedSensorSerializationScheme,  # noqa: E402,F401
+                   RoarPySensor, remote_support_sensor_data_register)
+from .occupancy_map import RoarPyOccupancyMapProducer  # noqa: E402,F401
+from .sensors import (CARLA_SEMANTIC_LABEL_COLOR_MAP, RoarPyAccelerometerSensor,  # noqa: E402,F401
+                      RoarPyAccelerometerSensorData, RoarPyCameraSensor, RoarPyCameraSensorData,
+                      RoarPyCameraSensorDataDepth, RoarPyCameraSensorDataGreyscale, RoarPyCameraSensorDataRGB,
+                      RoarPyCameraSensorDataSemanticSegmentation, RoarPyCollisionSensor, RoarPyCollisionSensorData,
+                      RoarPyCustomLambdaSensor, RoarPyCustomLambdaSensorData, RoarPyFrameQuatSensor,
+                      RoarPyFrameQuatSensorData, RoarPyFrameQuatSensorFromRollPitchYaw, RoarPyGNSSSensor,
+                      RoarPyGNSSSensorData, RoarPyGyroscopeSensor, RoarPyGyroscopeSensorData, RoarPyLiDARSensor,
+                      RoarPyLiDARSensorData, RoarPyLocationInWorldSensor, RoarPyLocationInWorldSensorData,
+                      RoarPyOccupancyMapSensor, RoarPyOccupancyMapSensorData, RoarPyOccupancyMapSensorImpl,
+                      RoarPyRadarSensor, RoarPyRadarSensorData, RoarPyRollPitchYawSensor, RoarPyRollPitchYawSensorData,
+                      RoarPyRollPitchYawSensorFromFrameQuat, RoarPyVelocimeterSensor, RoarPyVelocimeterSensorData)
+from .transforms import euler2mat, normalize_rad  # noqa: E402,F401
+from .visualizer import RoarPyVisualizer  # noqa: E402,F401
+from .waypoint import RoarPyWaypoint, RoarPyWaypointsProjection, RoarPyWaypointsTracker  # noqa: E402,F401
+from .world import RoarPyWorld, RoarPyWorldResettable  # noqa: E402,F401
+from .wrappers import (RoarPyActorSensorFilterWrapper, RoarPyActorWrapper, RoarPyAddItemWrapper,  # noqa: E402,F401
+                       RoarPySensorWrapper, RoarPyThreadSafeWrapper, RoarPyWorldWrapper, RoarPyWrapper,
+                       roar_py_append_item, roar_py_remove_item, roar_py_thread_sync)

@@ -1,8 +1,8 @@
-"""ROAR_PY's actors: anything with sensors that takes actions, and the vehicle's action specs.
+"""ROAR_PY's actors: anything with sensors that takes actions, and the vehicles' action specs.
 
-The base class builds observations and their spaces from ``get_sensors()`` alone, so that a wrapper which
-derives from ``RoarPyActor`` without calling its ``__init__`` and forwards every call to a wrapped vehicle
-works as in ROAR_PY.
+Observations and their spaces are built from ``get_sensors()`` alone, so that a wrapper which derives from
+``RoarPyActor`` without calling its ``__init__`` and forwards every call to a wrapped vehicle (the
+competition starter kit's ``RoarCompetitionAgentWrapper``) works as in ROAR_PY.
 """
 import asyncio
 import collections
@@ -10,7 +10,7 @@ import time
 import typing
 
 from . import spaces
-from .sensors import RoarPySensor
+from .base import RoarPySensor
 
 
 def observation_keys(sensors: typing.Sequence[RoarPySensor]) -> typing.List[str]:
@@ -27,12 +27,56 @@ def observation_keys(sensors: typing.Sequence[RoarPySensor]) -> typing.List[str]
     return keys
 
 
+class RoarPyObservation(dict):
+    """An actor's observation: a dict of each sensor's reading by its key. A sensor left with the default
+    name of ROAR_PY's CARLA backend (carla_camera, carla_lidar_sensor, ...) can also be read by its kind
+    (camera, lidar), as ROAR_PY's documentation reads it; keys and iteration are the real ones."""
+
+    def __missing__(self, key):
+        if isinstance(key, str):
+            for alias in (f"carla_{key}", f"carla_{key}_sensor"):
+                if dict.__contains__(self, alias):
+                    return self[alias]
+        raise KeyError(key)
+
+
+async def _wait_for_control_timestep(actor) -> None:
+    """ROAR_PY's force_real_control_timestep: at most one action (or reset) per control_timestep of wall time."""
+    if not getattr(actor, "force_real_control_timestep", False):
+        return
+    step = actor.control_timestep
+    last = getattr(actor, "_last_action_t", 0.0)
+    now = time.time()
+    if now - last < step:
+        await asyncio.sleep(step - (now - last))
+        actor._last_action_t = last + step
+    else:
+        actor._last_action_t = now
+
+
 class RoarPyActor:
     def __init__(self, name: str, control_timestep: float = 0.05, force_real_control_timestep: bool = False):
         self.name = name
-        self.control_timestep = control_timestep
-        self.force_real_control_timestep = force_real_control_timestep
+        self._control_timestep = control_timestep
+        self._force_real_control_timestep = force_real_control_timestep
         self._last_action_t = 0.0
+        self._last_obs = None
+
+    @property
+    def control_timestep(self) -> float:
+        return self._control_timestep
+
+    @control_timestep.setter
+    def control_timestep(self, value: float):
+        self._control_timestep = value
+
+    @property
+    def force_real_control_timestep(self) -> bool:
+        return self._force_real_control_timestep
+
+    @force_real_control_timestep.setter
+    def force_real_control_timestep(self, value: bool):
+        self._force_real_control_timestep = value
 
     def get_sensors(self) -> typing.Iterable[RoarPySensor]:
         raise NotImplementedError()
@@ -51,24 +95,13 @@ class RoarPyActor:
 
     def __del__(self):
         try:
-            self.close()
+            if not self.is_closed():
+                self.close()
         except Exception:  # noqa: BLE001 - nothing may escape a finaliser
             pass
 
-    async def _pace(self):
-        if not getattr(self, "force_real_control_timestep", False):
-            return
-        step = getattr(self, "control_timestep", 0.0)
-        last = getattr(self, "_last_action_t", 0.0)
-        now = time.time()
-        if now - last < step:
-            await asyncio.sleep(step - (now - last))
-            self._last_action_t = last + step
-        else:
-            self._last_action_t = now
-
     async def apply_action(self, action: typing.Any) -> bool:
-        await self._pace()
+        await _wait_for_control_timestep(self)
         return await self._apply_action(action)
 
     def get_gym_observation_spec(self) -> spaces.Space:
@@ -79,17 +112,11 @@ class RoarPyActor:
     async def receive_observation(self) -> typing.Dict[str, typing.Any]:
         sensors = list(self.get_sensors())
         readings = await asyncio.gather(*(s.receive_observation() for s in sensors))
-        return dict(zip(observation_keys(sensors), readings))
+        self._last_obs = RoarPyObservation(zip(observation_keys(sensors), readings))
+        return self._last_obs
 
     def get_last_observation(self) -> typing.Optional[typing.Dict[str, typing.Any]]:
-        sensors = list(self.get_sensors())
-        out = {}
-        for key, sensor in zip(observation_keys(sensors), sensors):
-            obs = sensor.get_last_observation()
-            if obs is None:
-                return None
-            out[key] = obs
-        return out
+        return getattr(self, "_last_obs", None)
 
     def get_last_gym_observation(self) -> typing.Optional[typing.Dict[str, typing.Any]]:
         obs = self.get_last_observation()
@@ -105,8 +132,9 @@ class RoarPyResettableActor:
         raise NotImplementedError()
 
     async def reset(self) -> None:
+        """Puts the actor back to its initial state."""
         if isinstance(self, RoarPyActor):
-            await self._pace()
+            await _wait_for_control_timestep(self)
         await self._reset()
 
 
@@ -125,8 +153,29 @@ def vehicle_action_spec(auto_gear: bool = True, num_gears: int = 6) -> spaces.Di
     return spaces.Dict(spec)
 
 
+class RoarPyVehicleAutoGearActor(RoarPyActor):
+    def __init__(self, name: str = "vehicle_autogear", control_timestep: float = 0.05,
+                 force_real_control_timestep: bool = False):
+        super().__init__(name=name, control_timestep=control_timestep,
+                         force_real_control_timestep=force_real_control_timestep)
+
+    def get_action_spec(self) -> spaces.Space:
+        return vehicle_action_spec(auto_gear=True)
+
+
+class RoarPyVehicleManualGearActor(RoarPyActor):
+    def __init__(self, name: str = "vehicle_manualgear", control_timestep: float = 0.05,
+                 force_real_control_timestep: bool = False, num_gears: int = 6):
+        super().__init__(name=name, control_timestep=control_timestep,
+                         force_real_control_timestep=force_real_control_timestep)
+        self.num_gears = num_gears
+
+    def get_action_spec(self) -> spaces.Space:
+        return vehicle_action_spec(auto_gear=False, num_gears=self.num_gears)
+
+
 class RoarPyBaseVehicle(RoarPyActor):
-    """A car: ROAR_PY's action spec and the state a backend reads."""
+    """A backend's car: ROAR_PY's action spec for its gearbox (auto_gear, num_gears)."""
 
     auto_gear = True
     num_gears = 6

@@ -1,84 +1,64 @@
-"""ROAR_PY's sensors: the data each one reads and the sensor base classes a backend implements."""
+"""ROAR_PY's sensors: the data each one reads and the sensor base classes a backend implements.
+
+Names, fields (and their order), observation spaces and gym conversions are ROAR_PY's
+(``roar_py_interface/sensors/*.py`` at ROAR_PY's head); test_roar_py_conformance.py lists them.
+"""
 import asyncio
+import dataclasses
+import io
 import typing
-from dataclasses import dataclass, field
 
 import numpy as np
 from PIL import Image
 
-from . import spaces
+from . import spaces, transforms
+from .base import (RoarPyRemoteSupportedSensorData, RoarPyRemoteSupportedSensorSerializationScheme, RoarPySensor,
+                   remote_support_sensor_data_register)
+from .occupancy_map import RoarPyOccupancyMapProducer
 
-T = typing.TypeVar("T")
-
-
-class RoarPySensor(typing.Generic[T]):
-    """A sensor: ``receive_observation`` waits for its reading of the current step."""
-
-    sensordata_type: typing.Type = object
-
-    def __init__(self, name: str, control_timestep: float = 0.0):
-        self.name = name
-        self.control_timestep = control_timestep
-
-    def get_gym_observation_spec(self) -> spaces.Space:
-        raise NotImplementedError()
-
-    async def receive_observation(self) -> T:
-        raise NotImplementedError()
-
-    def get_last_observation(self) -> typing.Optional[T]:
-        raise NotImplementedError()
-
-    def convert_obs_to_gym_obs(self, obs: T):
-        return obs.convert_obs_to_gym_obs()
-
-    def get_last_gym_observation(self):
-        obs = self.get_last_observation()
-        return None if obs is None else self.convert_obs_to_gym_obs(obs)
-
-    def close(self):
-        raise NotImplementedError()
-
-    def is_closed(self) -> bool:
-        raise NotImplementedError()
-
-    def __del__(self):
-        try:
-            if not self.is_closed():
-                self.close()
-        except Exception:  # noqa: BLE001 - nothing may escape a finaliser
-            pass
+_Scheme = RoarPyRemoteSupportedSensorSerializationScheme
 
 
-class _GymData:
-    def to_gym(self):
-        raise NotImplementedError()
-
-    def convert_obs_to_gym_obs(self):
-        return self.to_gym()
+def _vector_space(size: int = 3, low=-np.inf, high=np.inf) -> spaces.Box:
+    return spaces.Box(low=low, high=high, shape=(size,), dtype=np.float32)
 
 
-def _vector(value) -> np.ndarray:
-    return np.asarray(value, dtype=np.float32).reshape(3)
+def _jpeg(image: Image.Image) -> bytes:
+    out = io.BytesIO()
+    image.save(out, format="JPEG")
+    return out.getvalue()
+
+
+def _from_jpeg(data: bytes) -> Image.Image:
+    return Image.open(io.BytesIO(data))
 
 
 # ---- cameras -----------------------------------------------------------------------------------------------
 
-class RoarPyCameraSensorData(_GymData):
+class RoarPyCameraSensorData(RoarPyRemoteSupportedSensorData):
     def get_image(self) -> Image.Image:
+        raise NotImplementedError()
+
+    def to_gym(self) -> typing.Any:
         raise NotImplementedError()
 
     def get_size(self) -> typing.Tuple[int, int]:
         """(width, height) in pixels."""
-        image = self.to_gym()
-        return int(image.shape[1]), int(image.shape[0])
+        return self.get_image().size
 
     @staticmethod
     def gym_observation_space(width: int, height: int) -> spaces.Space:
         raise NotImplementedError()
 
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return self.__class__.gym_observation_space(*self.get_size())
 
-@dataclass
+    def convert_obs_to_gym_obs(self):
+        return self.to_gym()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
 class RoarPyCameraSensorDataRGB(RoarPyCameraSensorData):
     image_rgb: np.ndarray  # H x W x 3 uint8
 
@@ -88,6 +68,9 @@ class RoarPyCameraSensorDataRGB(RoarPyCameraSensorData):
     def to_gym(self) -> np.ndarray:
         return self.image_rgb
 
+    def get_size(self) -> typing.Tuple[int, int]:
+        return tuple(self.image_rgb.shape[1::-1])
+
     @staticmethod
     def gym_observation_space(width: int, height: int) -> spaces.Space:
         return spaces.Box(low=0, high=255, shape=(height, width, 3), dtype=np.uint8)
@@ -96,16 +79,27 @@ class RoarPyCameraSensorDataRGB(RoarPyCameraSensorData):
     def from_image(image: Image.Image) -> "RoarPyCameraSensorDataRGB":
         return RoarPyCameraSensorDataRGB(np.asarray(image.convert("RGB"), dtype=np.uint8))
 
+    def to_data(self, scheme: _Scheme) -> bytes:
+        return _jpeg(self.get_image())
 
-@dataclass
+    @staticmethod
+    def from_data_custom(data: bytes, scheme: _Scheme) -> "RoarPyCameraSensorDataRGB":
+        return RoarPyCameraSensorDataRGB.from_image(_from_jpeg(data))
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
 class RoarPyCameraSensorDataGreyscale(RoarPyCameraSensorData):
-    image_greyscale: np.ndarray  # H x W x 1 uint8
+    image_greyscale: np.ndarray  # H x W uint8, as CARLA's backend gives it
 
     def get_image(self) -> Image.Image:
-        return Image.fromarray(self.image_greyscale[:, :, 0], mode="L")
+        return Image.fromarray(self.image_greyscale.reshape(self.image_greyscale.shape[:2]), mode="L")
 
     def to_gym(self) -> np.ndarray:
         return self.image_greyscale
+
+    def get_size(self) -> typing.Tuple[int, int]:
+        return tuple(self.image_greyscale.shape[1::-1])
 
     @staticmethod
     def gym_observation_space(width: int, height: int) -> spaces.Space:
@@ -113,45 +107,57 @@ class RoarPyCameraSensorDataGreyscale(RoarPyCameraSensorData):
 
     @staticmethod
     def from_image(image: Image.Image) -> "RoarPyCameraSensorDataGreyscale":
-        return RoarPyCameraSensorDataGreyscale(np.asarray(image.convert("L"), dtype=np.uint8)[:, :, None])
+        return RoarPyCameraSensorDataGreyscale(np.asarray(image.convert("L"), dtype=np.uint8))
+
+    def to_data(self, scheme: _Scheme) -> bytes:
+        return _jpeg(self.get_image())
+
+    @staticmethod
+    def from_data_custom(data: bytes, scheme: _Scheme) -> "RoarPyCameraSensorDataGreyscale":
+        return RoarPyCameraSensorDataGreyscale.from_image(_from_jpeg(data))
 
 
-@dataclass
+@remote_support_sensor_data_register
+@dataclasses.dataclass
 class RoarPyCameraSensorDataDepth(RoarPyCameraSensorData):
-    image_depth: np.ndarray  # H x W x 1 float32, metres (inf: nothing within range)
+    image_depth: np.ndarray  # H x W x 1 float32, metres; CARLA's far plane (1000 m) where nothing is hit
     is_log_scale: bool = False
 
     def get_image(self) -> Image.Image:
-        depth = self.image_depth[:, :, 0]
-        finite = depth[np.isfinite(depth)]
-        top = float(finite.max()) if finite.size else 1.0
-        return Image.fromarray(np.where(np.isfinite(depth), depth / max(top, 1e-9), 1.0).astype(np.float32), mode="F")
+        # ROAR_PY's picture of depth: divided by the frame's spread of depths, as 8 bits.
+        low, high = float(np.min(self.image_depth)), float(np.max(self.image_depth))
+        normalised = self.image_depth / max(high - low, 1e-9)
+        return Image.fromarray((normalised * 255).astype(np.uint8).reshape(self.image_depth.shape[:2]), mode="L")
 
     def to_gym(self) -> np.ndarray:
         return self.image_depth
+
+    def get_size(self) -> typing.Tuple[int, int]:
+        return tuple(self.image_depth.shape[1::-1])
 
     @staticmethod
     def gym_observation_space(width: int, height: int) -> spaces.Space:
         return spaces.Box(low=0, high=np.inf, shape=(height, width, 1), dtype=np.float32)
 
 
-# roar_sim's semantic classes (its semantic camera's mono8 ids) and their display colours.
-SEMANTIC_LABEL_COLOR_MAP: typing.Dict[int, typing.Tuple[np.ndarray, str]] = {
-    0: (np.array([70, 130, 180], np.uint8), "sky"),
-    1: (np.array([128, 64, 128], np.uint8), "road"),
-    2: (np.array([157, 234, 50], np.uint8), "lane_marking"),
-    3: (np.array([244, 35, 232], np.uint8), "kerb"),
-    4: (np.array([190, 153, 153], np.uint8), "barrier"),
-    5: (np.array([152, 251, 152], np.uint8), "ground"),
-    6: (np.array([0, 0, 142], np.uint8), "vehicle"),
-}
+# CARLA 0.9.12-0.9.14's semantic tags and colours, as ROAR_PY's CARLA backend labels its segmentation.
+CARLA_SEMANTIC_LABEL_COLOR_MAP: typing.Dict[int, typing.Tuple[np.ndarray, str]] = {
+    i: (np.array(colour, dtype=np.uint8), label) for i, (colour, label) in enumerate([
+        ((0, 0, 0), "Unlabeled"), ((70, 70, 70), "Building"), ((100, 40, 40), "Fence"), ((55, 90, 80), "Other"),
+        ((220, 20, 60), "Pedestrian"), ((153, 153, 153), "Pole"), ((157, 234, 50), "RoadLine"),
+        ((128, 64, 128), "Road"), ((244, 35, 232), "Sidewalk"), ((107, 142, 35), "Vegetation"),
+        ((0, 0, 142), "Car"), ((102, 102, 156), "Wall"), ((220, 220, 0), "TrafficSign"), ((70, 130, 180), "Sky"),
+        ((81, 0, 81), "Ground"), ((150, 100, 100), "Bridge"), ((230, 150, 140), "RailTrack"),
+        ((180, 165, 180), "GuardRail"), ((250, 170, 30), "TrafficLight"), ((110, 190, 160), "Static"),
+        ((170, 120, 50), "Dynamic"), ((45, 60, 150), "Water"), ((145, 170, 100), "Terrain")])}
 
 
-@dataclass
+@remote_support_sensor_data_register
+@dataclasses.dataclass
 class RoarPyCameraSensorDataSemanticSegmentation(RoarPyCameraSensorData):
-    image_ss: np.ndarray  # H x W x 1 uint64 class ids
-    ss_label_color_map: typing.Dict[int, typing.Tuple[np.ndarray, str]] = field(
-        default_factory=lambda: dict(SEMANTIC_LABEL_COLOR_MAP))
+    image_ss: np.ndarray  # H x W x 1 uint64 semantic tags
+    ss_label_color_map: typing.Dict[int, typing.Tuple[np.ndarray, str]] = dataclasses.field(
+        default_factory=lambda: dict(CARLA_SEMANTIC_LABEL_COLOR_MAP))
 
     def get_image(self) -> Image.Image:
         palette = np.zeros((256, 3), np.uint8)
@@ -162,12 +168,22 @@ class RoarPyCameraSensorDataSemanticSegmentation(RoarPyCameraSensorData):
     def to_gym(self) -> np.ndarray:
         return self.image_ss
 
+    def get_size(self) -> typing.Tuple[int, int]:
+        return tuple(self.image_ss.shape[1::-1])
+
     @staticmethod
     def gym_observation_space(width: int, height: int) -> spaces.Space:
-        return spaces.Box(low=0, high=255, shape=(height, width, 1), dtype=np.uint64)
+        return spaces.Box(low=0, high=np.iinfo(np.uint64).max, shape=(height, width, 1), dtype=np.uint64)
 
 
 class RoarPyCameraSensor(RoarPySensor[RoarPyCameraSensorData]):
+    sensordata_type = RoarPyCameraSensorData
+
+    def __init__(self, name: str, control_timestep: float = 0.0,
+                 target_data_type: typing.Type[RoarPyCameraSensorData] = RoarPyCameraSensorDataRGB):
+        super().__init__(name, control_timestep)
+        self.sensordata_type = target_data_type
+
     @property
     def image_size_width(self) -> int:
         raise NotImplementedError()
@@ -180,150 +196,449 @@ class RoarPyCameraSensor(RoarPySensor[RoarPyCameraSensorData]):
     def fov(self) -> float:
         raise NotImplementedError()
 
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return self.sensordata_type.gym_observation_space(self.image_size_width, self.image_size_height)
+
     def convert_obs_to_gym_obs(self, obs: RoarPyCameraSensorData):
         return obs.to_gym()
 
 
-# ---- LiDAR ---------------------------------------------------------------------------------------------------
+# ---- LiDAR and radar -----------------------------------------------------------------------------------------
 
-@dataclass
-class RoarPyLiDARSensorData(_GymData):
-    lidar_points_data: np.ndarray  # N x 4 float32: x, y, z (m, sensor frame), intensity
-    channels: int = 0
-    horizontal_angle: float = 0.0  # rad, the rotor's angle at the end of the sweep
-    max_points: int = 0            # rows of the gym observation (0: the points as they are)
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyLiDARSensorData(RoarPyRemoteSupportedSensorData):
+    channels: int               # lasers
+    horizontal_angle: float     # rad, the rotor's angle at the end of the sweep
+    lidar_points_data: np.ndarray  # N x 4 float32: x, y, z (m, sensor frame), intensity 0..1
 
-    def to_gym(self) -> np.ndarray:
-        if self.max_points <= 0:
-            return self.lidar_points_data
-        out = np.zeros((self.max_points, 4), np.float32)
-        count = min(self.max_points, len(self.lidar_points_data))
-        out[:count] = self.lidar_points_data[:count]
-        return out
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return spaces.Box(low=np.array([[-np.inf, -np.inf, -np.inf, 0.0]] * len(self.lidar_points_data)),
+                          high=np.array([[np.inf, np.inf, np.inf, 1.0]] * len(self.lidar_points_data)),
+                          shape=(len(self.lidar_points_data), 4), dtype=np.float32)
+
+    def convert_obs_to_gym_obs(self):
+        return self.lidar_points_data
 
 
 class RoarPyLiDARSensor(RoarPySensor[RoarPyLiDARSensorData]):
-    pass
+    sensordata_type = RoarPyLiDARSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        # ROAR_PY's: a fixed 10,000 rows whatever the sweep holds.
+        return spaces.Box(low=-np.inf, high=np.inf, shape=(10000, 4), dtype=np.float32)
+
+    def convert_obs_to_gym_obs(self, obs: RoarPyLiDARSensorData):
+        return obs.convert_obs_to_gym_obs()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyRadarSensorData(RoarPyRemoteSupportedSensorData):
+    # N x 4 float32 detections in the column order of CARLA's radar measurement, as ROAR_PY's CARLA backend
+    # passes them on: velocity (m/s along the line of sight, negative approaching), azimuth (rad, positive
+    # right), altitude (rad, positive up), depth (m).
+    radar_points_data: np.ndarray
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        n = len(self.radar_points_data)
+        return spaces.Box(low=-np.inf, high=np.inf, shape=(n, 4), dtype=np.float32)
+
+    def convert_obs_to_gym_obs(self):
+        return self.radar_points_data
+
+
+class RoarPyRadarSensor(RoarPySensor[RoarPyRadarSensorData]):
+    sensordata_type = RoarPyRadarSensorData
+
+    @property
+    def horizontal_fov(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def points_per_second(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def max_distance(self) -> float:
+        raise NotImplementedError
+
+    @property
+    def vertical_fov(self) -> float:
+        raise NotImplementedError
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return spaces.Box(low=-np.inf, high=np.inf, shape=(10000, 4), dtype=np.float32)
+
+    def convert_obs_to_gym_obs(self, obs: RoarPyRadarSensorData):
+        return obs.convert_obs_to_gym_obs()
 
 
 # ---- the car's motion ----------------------------------------------------------------------------------
 
-@dataclass
-class RoarPyAccelerometerSensorData(_GymData):
-    accelerometer: np.ndarray  # m/s^2, x y z
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyAccelerometerSensorData(RoarPyRemoteSupportedSensorData):
+    acceleration: np.ndarray  # m/s^2, x y z
 
-    def to_gym(self) -> np.ndarray:
-        return _vector(self.accelerometer)
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
 
-
-@dataclass
-class RoarPyGyroscopeSensorData(_GymData):
-    gyroscope: np.ndarray  # rad/s, x y z
-
-    def to_gym(self) -> np.ndarray:
-        return _vector(self.gyroscope)
-
-
-@dataclass
-class RoarPyVelocimeterSensorData(_GymData):
-    velocity: np.ndarray  # m/s, world frame
-
-    def to_gym(self) -> np.ndarray:
-        return _vector(self.velocity)
-
-
-@dataclass
-class RoarPyRollPitchYawSensorData(_GymData):
-    roll_pitch_yaw: np.ndarray  # rad
-
-    def to_gym(self) -> np.ndarray:
-        return _vector(self.roll_pitch_yaw)
-
-
-@dataclass
-class RoarPyLocationInWorldSensorData(_GymData):
-    x: float
-    y: float
-    z: float
-
-    def to_gym(self) -> np.ndarray:
-        return _vector([self.x, self.y, self.z])
-
-
-@dataclass
-class RoarPyGNSSSensorData(_GymData):
-    latitude: float   # degrees
-    longitude: float  # degrees
-    altitude: float   # m
-
-    def to_gym(self) -> np.ndarray:
-        return np.array([self.latitude, self.longitude, self.altitude], np.float64)
-
-
-@dataclass
-class RoarPyCollisionSensorData(_GymData):
-    actor: typing.Any          # the car the sensor is on
-    other_actor: typing.Any    # what it hit: a vehicle's name, "barrier", "ground"; None: nothing
-    impulse_normal: np.ndarray  # N s, summed over the step, world frame
-
-    def to_gym(self) -> np.ndarray:
-        return _vector(self.impulse_normal)
-
-
-@dataclass
-class RoarPyOccupancyMapSensorData(_GymData):
-    occupancy_map: np.ndarray  # H x W uint8: road 255, another car 128, anything else 0; forward is up
-
-    def get_image(self) -> Image.Image:
-        return Image.fromarray(self.occupancy_map, mode="L")
-
-    def to_gym(self) -> np.ndarray:
-        return self.occupancy_map
-
-
-def vector_space(low=-np.inf, high=np.inf) -> spaces.Space:
-    return spaces.Box(low=low, high=high, shape=(3,), dtype=np.float32)
+    def convert_obs_to_gym_obs(self):
+        return self.acceleration
 
 
 class RoarPyAccelerometerSensor(RoarPySensor[RoarPyAccelerometerSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space()
+    sensordata_type = RoarPyAccelerometerSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyGyroscopeSensorData(RoarPyRemoteSupportedSensorData):
+    angular_velocity: np.ndarray  # rad/s, x y z
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+    def convert_obs_to_gym_obs(self):
+        return self.angular_velocity
 
 
 class RoarPyGyroscopeSensor(RoarPySensor[RoarPyGyroscopeSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space()
+    sensordata_type = RoarPyGyroscopeSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyVelocimeterSensorData(RoarPyRemoteSupportedSensorData):
+    velocity: np.ndarray  # m/s, x y z
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+    def convert_obs_to_gym_obs(self):
+        return self.velocity
 
 
 class RoarPyVelocimeterSensor(RoarPySensor[RoarPyVelocimeterSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space()
+    sensordata_type = RoarPyVelocimeterSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyFrameQuatSensorData(RoarPyRemoteSupportedSensorData):
+    frame_quaternion: np.ndarray  # normalised (w, x, y, z)
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space(4, -1.0, 1.0)
+
+    def convert_obs_to_gym_obs(self):
+        return self.frame_quaternion
+
+
+class RoarPyFrameQuatSensor(RoarPySensor[RoarPyFrameQuatSensorData]):
+    sensordata_type = RoarPyFrameQuatSensorData
+
+    def __init__(self, control_timestep: float = 0.0, name: str = "framequat_sensor"):
+        super().__init__(name, control_timestep)
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space(4, -1.0, 1.0)
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyRollPitchYawSensorData(RoarPyRemoteSupportedSensorData):
+    roll_pitch_yaw: np.ndarray  # rad, each in [-pi, pi)
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space(3, -np.pi, np.pi)
+
+    def convert_obs_to_gym_obs(self):
+        return self.roll_pitch_yaw
 
 
 class RoarPyRollPitchYawSensor(RoarPySensor[RoarPyRollPitchYawSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space(-np.pi, np.pi)
+    sensordata_type = RoarPyRollPitchYawSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space(3, -np.pi, np.pi)
+
+
+class RoarPyRollPitchYawSensorFromFrameQuat(RoarPyRollPitchYawSensor):
+    """Roll, pitch and yaw read from a frame-quaternion sensor."""
+
+    def __init__(self, framequat_sensor: RoarPyFrameQuatSensor, name: typing.Optional[str] = None):
+        super().__init__(name=framequat_sensor.name + " -> rpy" if name is None else name,
+                         control_timestep=framequat_sensor.control_timestep)
+        self.framequat_sensor = framequat_sensor
+        self._last_obs = None
+
+    async def receive_observation(self) -> RoarPyRollPitchYawSensorData:
+        reading = await self.framequat_sensor.receive_observation()
+        self._last_obs = RoarPyRollPitchYawSensorData(transforms.quat2euler(reading.frame_quaternion))
+        return self._last_obs
+
+    def get_last_observation(self) -> typing.Optional[RoarPyRollPitchYawSensorData]:
+        return self._last_obs
+
+    def close(self):
+        return self.framequat_sensor.close()
+
+    def is_closed(self) -> bool:
+        return self.framequat_sensor.is_closed()
+
+
+class RoarPyFrameQuatSensorFromRollPitchYaw(RoarPyFrameQuatSensor):
+    """A frame quaternion read from a roll-pitch-yaw sensor (how ROAR_PY's CARLA backend makes one)."""
+
+    def __init__(self, rpy_sensor: RoarPyRollPitchYawSensor, name: typing.Optional[str] = None):
+        super().__init__(name=rpy_sensor.name + " -> framequat" if name is None else name,
+                         control_timestep=rpy_sensor.control_timestep)
+        self.rpy_sensor = rpy_sensor
+        self._last_obs = None
+
+    async def receive_observation(self) -> RoarPyFrameQuatSensorData:
+        reading = await self.rpy_sensor.receive_observation()
+        self._last_obs = RoarPyFrameQuatSensorData(transforms.euler2quat(*reading.roll_pitch_yaw))
+        return self._last_obs
+
+    def get_last_observation(self) -> typing.Optional[RoarPyFrameQuatSensorData]:
+        return self._last_obs
+
+    def close(self):
+        return self.rpy_sensor.close()
+
+    def is_closed(self) -> bool:
+        return self.rpy_sensor.is_closed()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyLocationInWorldSensorData(RoarPyRemoteSupportedSensorData):
+    x: float  # m
+    y: float
+    z: float
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+    def convert_obs_to_gym_obs(self):
+        return np.array([self.x, self.y, self.z])
 
 
 class RoarPyLocationInWorldSensor(RoarPySensor[RoarPyLocationInWorldSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space()
+    sensordata_type = RoarPyLocationInWorldSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyGNSSSensorData(RoarPyRemoteSupportedSensorData):
+    altitude: float   # m
+    latitude: float   # degrees north
+    longitude: float  # degrees east
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return spaces.Box(low=np.array([-np.inf, -90, -180]), high=np.array([np.inf, 90, 180]), dtype=np.float32)
+
+    def convert_obs_to_gym_obs(self):
+        return np.array([self.altitude, self.latitude, self.longitude])
 
 
 class RoarPyGNSSSensor(RoarPySensor[RoarPyGNSSSensorData]):
-    def get_gym_observation_spec(self):
-        return spaces.Box(low=np.array([-90.0, -180.0, -np.inf]), high=np.array([90.0, 180.0, np.inf]),
-                          dtype=np.float64)
+    sensordata_type = RoarPyGNSSSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return spaces.Box(low=np.array([-np.inf, -90, -180]), high=np.array([np.inf, 90, 180]), dtype=np.float32)
+
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyCollisionSensorData(RoarPyRemoteSupportedSensorData):
+    actor: typing.Any           # the car the sensor is on
+    other_actor: typing.Any     # what it hit (another car's actor, or None for the barriers and ground)
+    impulse_normal: np.ndarray  # N s, world frame
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+    def convert_obs_to_gym_obs(self):
+        return self.impulse_normal
 
 
 class RoarPyCollisionSensor(RoarPySensor[RoarPyCollisionSensorData]):
-    def get_gym_observation_spec(self):
-        return vector_space()
+    sensordata_type = RoarPyCollisionSensorData
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return _vector_space()
+
+
+# ---- the occupancy map -----------------------------------------------------------------------------------
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyOccupancyMapSensorData(RoarPyRemoteSupportedSensorData):
+    occupancy_map: Image.Image  # mode "L": road 255, elsewhere 0; the car's forward is up
+
+    def convert_obs_to_gym_obs(self):
+        return np.asarray(self.occupancy_map, dtype=np.uint8)[:, :, None]
+
+    @staticmethod
+    def gym_observation_space(width: int, height: int) -> spaces.Space:
+        return spaces.Box(low=0, high=255, shape=(height, width, 1), dtype=np.uint8)
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return self.gym_observation_space(*self.occupancy_map.size)
+
+    @staticmethod
+    def from_image(image: Image.Image) -> "RoarPyOccupancyMapSensorData":
+        return RoarPyOccupancyMapSensorData(image.convert("L"))
+
+    def to_data(self, scheme: _Scheme) -> bytes:
+        return _jpeg(self.occupancy_map)
+
+    @staticmethod
+    def from_data_custom(data: bytes, scheme: _Scheme) -> "RoarPyOccupancyMapSensorData":
+        return RoarPyOccupancyMapSensorData.from_image(_from_jpeg(data))
 
 
 class RoarPyOccupancyMapSensor(RoarPySensor[RoarPyOccupancyMapSensorData]):
-    pass
+    sensordata_type = RoarPyOccupancyMapSensorData
+
+    def __init__(self, name: str = "occupancy_map_sensor"):
+        super().__init__(name, 0.0)
 
 
-async def gather_observations(sensors: typing.Sequence[RoarPySensor]) -> list:
-    return list(await asyncio.gather(*(s.receive_observation() for s in sensors)))
+class RoarPyOccupancyMapSensorImpl(RoarPyOccupancyMapSensor):
+    """The occupancy map a producer draws around the location and yaw two other sensors read."""
+
+    def __init__(self, producer: RoarPyOccupancyMapProducer, location_sensor: RoarPyLocationInWorldSensor,
+                 rotation_sensor: RoarPyRollPitchYawSensor, name: str = "occupancy_map_sensor"):
+        super().__init__(name)
+        self._closed = False
+        self.producer = producer
+        self.location_sensor = location_sensor
+        self.rotation_sensor = rotation_sensor
+        self._last_data: typing.Optional[RoarPyOccupancyMapSensorData] = None
+
+    async def get_2d_location(self) -> np.ndarray:
+        location = await self.location_sensor.receive_observation()
+        return np.array([location.x, location.y])
+
+    async def get_rotation_yaw(self) -> float:
+        rotation = await self.rotation_sensor.receive_observation()
+        return rotation.roll_pitch_yaw[2]
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return RoarPyOccupancyMapSensorData.gym_observation_space(self.producer.width, self.producer.height)
+
+    async def receive_observation(self) -> RoarPyOccupancyMapSensorData:
+        location = await self.get_2d_location()
+        yaw = await self.get_rotation_yaw()
+        self._last_data = RoarPyOccupancyMapSensorData.from_image(self.producer.plot_occupancy_map(location, yaw))
+        return self._last_data
+
+    def get_last_observation(self) -> typing.Optional[RoarPyOccupancyMapSensorData]:
+        return self._last_data
+
+    def close(self):
+        self._closed = True
+
+    def is_closed(self) -> bool:
+        return self._closed
+
+
+# ---- custom sensors ------------------------------------------------------------------------------------
+
+@remote_support_sensor_data_register
+@dataclasses.dataclass
+class RoarPyCustomLambdaSensorData(RoarPyRemoteSupportedSensorData):
+    flattened: np.ndarray
+    space: spaces.Space
+
+    @property
+    def unflattened(self):
+        return spaces.unflatten(self.space, self.flattened)
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return self.space
+
+    def convert_obs_to_gym_obs(self):
+        return spaces.unflatten(self.space, self.flattened)
+
+    def to_data(self, scheme: _Scheme) -> bytes:
+        import msgpack
+        import pickle
+        import zlib
+
+        return msgpack.packb({"flattened": self.flattened.tolist(), "space": zlib.compress(pickle.dumps(self.space))},
+                             use_bin_type=True)
+
+    @staticmethod
+    def from_data_custom(data: bytes, scheme: _Scheme) -> "RoarPyCustomLambdaSensorData":
+        import msgpack
+        import pickle
+        import zlib
+
+        fields = msgpack.unpackb(data, raw=False, strict_map_key=False)
+        if not isinstance(fields, dict) or "flattened" not in fields or "space" not in fields:
+            raise ValueError("RoarPyCustomLambdaSensorData: serialised data needs 'flattened' and 'space'")
+        return RoarPyCustomLambdaSensorData(flattened=np.asarray(fields["flattened"]),
+                                            space=pickle.loads(zlib.decompress(fields["space"])))
+
+
+class RoarPyCustomLambdaSensor(RoarPySensor[RoarPyCustomLambdaSensorData]):
+    """A sensor whose reading is a value of data_space. ROAR_PY's class is abstract (a subclass implements
+    receive_observation); here ``func`` (a function or coroutine function of no arguments returning a value
+    of data_space) can stand in for that subclass."""
+
+    sensordata_type = RoarPyCustomLambdaSensorData
+
+    def __init__(self, name: str, control_timestep: float, data_space: spaces.Space,
+                 func: typing.Optional[typing.Callable[[], typing.Any]] = None):
+        super().__init__(name, control_timestep)
+        self.data_space = data_space
+        self._func = func
+        self._last_obs: typing.Optional[RoarPyCustomLambdaSensorData] = None
+        self._closed = False
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        return self.data_space
+
+    def convert_obs_to_gym_obs(self, obs: RoarPyCustomLambdaSensorData):
+        return obs.convert_obs_to_gym_obs()
+
+    async def receive_observation(self) -> RoarPyCustomLambdaSensorData:
+        if self._func is None:
+            raise NotImplementedError(f"sensor '{self.name}': a RoarPyCustomLambdaSensor needs func= or a subclass "
+                                      f"with receive_observation")
+        if self._closed:
+            raise RuntimeError(f"sensor '{self.name}' is closed")
+        value = self._func()
+        if asyncio.iscoroutine(value):
+            value = await value
+        if not self.data_space.contains(value):
+            raise ValueError(f"sensor '{self.name}': its function returned {value!r}, not a value of {self.data_space}")
+        self._last_obs = RoarPyCustomLambdaSensorData(spaces.flatten(self.data_space, value), self.data_space)
+        return self._last_obs
+
+    def get_last_observation(self) -> typing.Optional[RoarPyCustomLambdaSensorData]:
+        return self._last_obs
+
+    def close(self):
+        self._closed = True
+
+    def is_closed(self) -> bool:
+        return self._closed

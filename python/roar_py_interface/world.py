@@ -1,10 +1,8 @@
 """ROAR_PY's world: the actors and sensors in it, its waypoints and its clock."""
 import typing
 
-import numpy as np
-
 from .actors import RoarPyActor
-from .sensors import RoarPySensor
+from .base import RoarPySensor
 from .waypoint import RoarPyWaypoint
 
 
@@ -20,20 +18,23 @@ class RoarPyWorld:
         raise NotImplementedError()
 
     @property
-    def maneuverable_waypoints(self) -> typing.Optional[typing.List[RoarPyWaypoint]]:
-        raise NotImplementedError()
+    def maneuverable_waypoints(self) -> typing.Optional[typing.Iterable[RoarPyWaypoint]]:
+        return None
 
     @property
     def comprehensive_waypoints(self) -> typing.Optional[typing.Dict[typing.Any, typing.List[RoarPyWaypoint]]]:
-        raise NotImplementedError()
-
-    @property
-    def spawn_points(self) -> typing.List[typing.Tuple[np.ndarray, np.ndarray]]:
-        raise NotImplementedError()
-
-    async def step(self) -> float:
-        raise NotImplementedError()
+        return None
 
     @property
     def last_tick_elapsed_seconds(self) -> float:
+        raise NotImplementedError()
+
+    async def step(self) -> float:
+        """Steps the world by one step; returns the step's length (s)."""
+        raise NotImplementedError()
+
+
+class RoarPyWorldResettable(RoarPyWorld):
+    async def reset(self):
+        """Puts the world (with its actors and sensors) back to its initial state."""
         raise NotImplementedError()

@@ -5,6 +5,7 @@ import os
 import shutil
 import socket
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -46,6 +47,12 @@ class PrivateSim:
         self.log_dir = tempfile.mkdtemp(prefix="roar_py_ros_")
         env = dict(os.environ)
         env["ROS_LOG_DIR"] = self.log_dir
+        if env.get("ROS_IP") == "127.0.0.1":
+            # roscpp binds its XML-RPC server to every interface whatever ROS_IP says: the loopback shim
+            # (src/tools/loopback_bind.cpp) turns that into loopback, as scripts/ros_env.sh does.
+            shim = package_root() / "devel" / "lib" / "libroar_loopback.so"
+            if shim.exists() and str(shim) not in env.get("LD_PRELOAD", ""):
+                env["LD_PRELOAD"] = str(shim) + (":" + env["LD_PRELOAD"] if env.get("LD_PRELOAD") else "")
         root = str(package_root())
         if root not in env.get("ROS_PACKAGE_PATH", "").split(":"):
             env["ROS_PACKAGE_PATH"] = root + (":" + env["ROS_PACKAGE_PATH"] if env.get("ROS_PACKAGE_PATH") else "")
@@ -55,6 +62,11 @@ class PrivateSim:
         self._output = open(self.output_path, "w")
         self.process = subprocess.Popen(cmd, env=env, stdout=self._output, stderr=subprocess.STDOUT,
                                         stdin=subprocess.DEVNULL, start_new_session=True)
+        # Ends the stack (and removes its log folder) when this program ends, however it ends (watchdog.py).
+        self._watchdog = subprocess.Popen(
+            [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "watchdog.py"),
+             str(self.process.pid), self.log_dir],
+            stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         atexit.register(self.stop)
 
     def alive(self) -> bool:
@@ -67,6 +79,14 @@ class PrivateSim:
         except OSError:
             return ""
 
+    def failure(self) -> str:
+        """What went wrong, from roslaunch's output: its error lines (roar_sim's FATAL, roslaunch's own
+        errors), else its last lines."""
+        tail = self.output_tail(200).splitlines()
+        errors = [line.strip() for line in tail
+                  if any(mark in line for mark in ("FATAL", "ERROR", "RLException", "error:", "Error:"))]
+        return "\n".join(errors[:5] if errors else tail[-5:])
+
     def stop(self):
         if self.process.poll() is None:
             self.process.send_signal(2)  # SIGINT: roslaunch stops its nodes and its master
@@ -76,6 +96,8 @@ class PrivateSim:
                 self.process.kill()
                 self.process.wait()
         self._output.close()
+        if self._watchdog.stdin and not self._watchdog.stdin.closed:
+            self._watchdog.stdin.close()  # the stack is down: the watchdog removes the log folder and ends
 
 
 def ensure_node():
@@ -96,12 +118,16 @@ def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[P
             raise RoarSimError(f"the ROS master at {uri or '(ROS_MASTER_URI unset)'} has gone away")
         _private_port = _private_port or free_port()
         os.environ["ROS_MASTER_URI"] = f"http://127.0.0.1:{_private_port}"
+        if not os.environ.get("ROS_IP") and not os.environ.get("ROS_HOSTNAME"):
+            # A private stack serves this program only: every node of it, this one too, on loopback.
+            os.environ["ROS_IP"] = "127.0.0.1"
         started = PrivateSim(map_name or "roar_ring", _private_port)
         deadline = time.time() + timeout
         while not master_online(os.environ["ROS_MASTER_URI"]):
             if not started.alive() or time.time() > deadline:
+                failure = started.failure()
                 started.stop()
-                raise RoarSimError("could not start a private ROS master and roar_sim:\n" + started.output_tail())
+                raise RoarSimError("could not start a private ROS master and roar_sim:\n" + failure)
             time.sleep(0.05)
     elif not sim_registered():
         started = PrivateSim(map_name or "roar_ring", None)
@@ -109,7 +135,9 @@ def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[P
     deadline = time.time() + timeout
     while not (sim_registered() and service_registered(WAYPOINT_SERVER + "/get_waypoints")):
         if started is not None and not started.alive():
-            raise RoarSimError("roar_sim did not start:\n" + started.output_tail())
+            failure = started.failure()
+            started.stop()
+            raise RoarSimError("roar_sim did not start:\n" + failure)
         if time.time() > deadline:
             if started is not None:
                 started.stop()

@@ -1,8 +1,11 @@
-"""ROAR_PY's sensors over roar_sim's sensor topics.
+"""ROAR_PY's sensors over roar_sim.
 
-Each sensor is a roar_sim sensor on the car (attached with /roar_sim/attach_sensor, so rviz and rosbag see
-it like any other) whose topic this process subscribes to. In synchronous mode a step's reply names the
-stamp of every sensor's newest reading, and receive_observation waits for exactly that reading.
+Sensors CARLA renders or measures (cameras, LiDAR, radar, GNSS) are roar_sim sensors on the car (attached
+with /roar_sim/attach_sensor, so rviz and rosbag see them like any other) whose topics this process
+subscribes to; in synchronous mode a step's reply names the stamp of every sensor's newest reading, and
+receive_observation waits for exactly that reading. Those ROAR_PY's CARLA backend reads from the actor's
+state (location, velocity, rotation, acceleration, angular velocity, collisions, the occupancy map drawn
+from waypoints) read the car's state from the step's reply, as CARLA's backend reads the actor: no topic.
 """
 import math
 import threading
@@ -111,7 +114,7 @@ class RosSensorMixin:
 
 class RoarPyRosCameraSensor(RosSensorMixin, rpi.RoarPyCameraSensor):
     def __init__(self, vehicle, name, sim_name, target_datatype, fov, width, height, rate):
-        rpi.RoarPyCameraSensor.__init__(self, name, 1.0 / rate)
+        rpi.RoarPyCameraSensor.__init__(self, name, 1.0 / rate, target_datatype)
         from sensor_msgs.msg import Image
 
         self.target_datatype = target_datatype
@@ -131,8 +134,6 @@ class RoarPyRosCameraSensor(RosSensorMixin, rpi.RoarPyCameraSensor):
     def fov(self) -> float:
         return self._fov
 
-    def get_gym_observation_spec(self):
-        return self.target_datatype.gym_observation_space(self._width, self._height)
 
 
 class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
@@ -141,73 +142,170 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
         from sensor_msgs.msg import PointCloud2
 
         self.num_lasers = spec["num_lasers"]
+        self.min_distance = 0.0
         self.max_distance = spec["max_distance"]
         self.points_per_second = spec["points_per_second"]
         self.rotation_frequency = spec["rotation_frequency"]
         self.upper_fov, self.lower_fov = spec["upper_fov"], spec["lower_fov"]
         self.horizontal_fov = spec["horizontal_fov"]
-        self.max_points = int(math.ceil(self.points_per_second / rate)) + self.num_lasers
 
         def convert(msg):
             points = conversions.lidar_points(msg)
             angle = float(math.atan2(points[-1, 1], points[-1, 0])) if len(points) else 0.0
-            return data.RoarPyLiDARSensorData(points, self.num_lasers, angle, self.max_points)
+            return data.RoarPyLiDARSensorData(self.num_lasers, angle, points)
 
         self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/lidar/{sim_name}/points", PointCloud2, convert)
 
-    def get_gym_observation_spec(self):
-        return rpi.spaces.Box(low=-np.inf, high=np.inf, shape=(self.max_points, 4), dtype=np.float32)
+
+class RoarPyRosGNSSSensor(RosSensorMixin, rpi.RoarPyGNSSSensor):
+    """roar_sim's GNSS (its noise) with CARLA's constant biases added, in degrees and metres."""
+
+    def __init__(self, vehicle, name, sim_name, rate, bias: typing.Tuple[float, float, float] = (0.0, 0.0, 0.0)):
+        rpi.RoarPyGNSSSensor.__init__(self, name, 1.0 / rate)
+        from sensor_msgs.msg import NavSatFix
+
+        altitude_bias, latitude_bias, longitude_bias = bias
+        self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/{sim_name}", NavSatFix,
+                    lambda m: data.RoarPyGNSSSensorData(m.altitude + altitude_bias, m.latitude + latitude_bias,
+                                                        m.longitude + longitude_bias))
 
 
-def _vector_sensor(base, msg_module: str, msg_name: str, topic_suffix: str, convert):
-    class Sensor(RosSensorMixin, base):
-        def __init__(self, vehicle, name, sim_name, rate):
-            base.__init__(self, name, 1.0 / rate)
-            module = __import__(msg_module, fromlist=[msg_name])
-            self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/{sim_name}{topic_suffix}", getattr(module, msg_name),
-                        convert)
+class RoarPyRosRadarSensor(RosSensorMixin, rpi.RoarPyRadarSensor):
+    """roar_sim's radar: each sweep's detections in CARLA's column order (velocity, azimuth, altitude, depth)."""
+
+    def __init__(self, vehicle, name, sim_name, spec: dict, rate):
+        rpi.RoarPyRadarSensor.__init__(self, name, 1.0 / rate)
+        from sensor_msgs.msg import PointCloud2
+
+        self._spec = dict(spec)
+        self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/radar/{sim_name}/detections", PointCloud2,
+                    lambda m: data.RoarPyRadarSensorData(conversions.radar_detections(m)))
+
+    @property
+    def horizontal_fov(self) -> float:
+        return self._spec["horizontal_fov"]
+
+    @property
+    def vertical_fov(self) -> float:
+        return self._spec["vertical_fov"]
+
+    @property
+    def points_per_second(self) -> float:
+        return self._spec["points_per_second"]
+
+    @property
+    def max_distance(self) -> float:
+        return self._spec["max_distance"]
+
+
+class _StateSensor:
+    """A sensor that reads the car's state (ROAR_PY's CARLA backend reads the actor the same way)."""
+
+    def __init__(self, vehicle, read):
+        self._vehicle = vehicle
+        self._read = read
+        self.sim_name = None
+        self._closed = False
+        self._last_obs = None
+
+    async def receive_observation(self):
+        if self._closed:
+            raise RuntimeError(f"sensor '{self.name}' is closed")
+        self._last_obs = self._read(self._vehicle)
+        return self._last_obs
+
+    def get_last_observation(self):
+        return self._last_obs
+
+    def close(self):
+        if not self._closed:
+            self._closed = True
+            self._vehicle._sensor_closed(self)
+
+    def is_closed(self) -> bool:
+        return self._closed
+
+
+def _state_sensor(base, read, doc: str):
+    class Sensor(_StateSensor, base):
+        __doc__ = doc
+
+        def __init__(self, vehicle, name):
+            base.__init__(self, name, 0.0)
+            _StateSensor.__init__(self, vehicle, read)
 
     Sensor.__name__ = "RoarPyRos" + base.__name__[len("RoarPy"):]
     Sensor.__qualname__ = Sensor.__name__
     return Sensor
 
 
-RoarPyRosAccelerometerSensor = _vector_sensor(
-    rpi.RoarPyAccelerometerSensor, "geometry_msgs.msg", "Vector3Stamped", "",
-    lambda m: data.RoarPyAccelerometerSensorData(conversions.vec3(m.vector)))
-RoarPyRosGyroscopeSensor = _vector_sensor(
-    rpi.RoarPyGyroscopeSensor, "geometry_msgs.msg", "Vector3Stamped", "",
-    lambda m: data.RoarPyGyroscopeSensorData(conversions.vec3(m.vector)))
-RoarPyRosRollPitchYawSensor = _vector_sensor(
-    rpi.RoarPyRollPitchYawSensor, "geometry_msgs.msg", "Vector3Stamped", "",
-    lambda m: data.RoarPyRollPitchYawSensorData(conversions.vec3(m.vector)))
-RoarPyRosLocationInWorldSensor = _vector_sensor(
-    rpi.RoarPyLocationInWorldSensor, "geometry_msgs.msg", "PointStamped", "",
-    lambda m: data.RoarPyLocationInWorldSensorData(m.point.x, m.point.y, m.point.z))
-RoarPyRosVelocimeterSensor = _vector_sensor(
-    rpi.RoarPyVelocimeterSensor, "geometry_msgs.msg", "TwistStamped", "/twist_map",
-    lambda m: data.RoarPyVelocimeterSensorData(conversions.vec3(m.twist.linear)))
-RoarPyRosGNSSSensor = _vector_sensor(
-    rpi.RoarPyGNSSSensor, "sensor_msgs.msg", "NavSatFix", "",
-    lambda m: data.RoarPyGNSSSensorData(m.latitude, m.longitude, m.altitude))
+def _location(vehicle):
+    x, y, z = vehicle.get_3d_location()
+    return data.RoarPyLocationInWorldSensorData(float(x), float(y), float(z))
 
 
-class RoarPyRosOccupancyMapSensor(RosSensorMixin, rpi.RoarPyOccupancyMapSensor):
-    def __init__(self, vehicle, name, sim_name, width, height, rate):
-        rpi.RoarPyOccupancyMapSensor.__init__(self, name, 1.0 / rate)
-        from sensor_msgs.msg import Image
+def _local_velocity(vehicle):
+    quaternion = rpi.transforms.euler2quat(*vehicle.get_roll_pitch_yaw())
+    return data.RoarPyVelocimeterSensorData(
+        rpi.transforms.rotate_vector(vehicle.get_linear_3d_velocity(), rpi.transforms.qinverse(quaternion)))
 
-        self.width, self.height = width, height
-        self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/occupancy_map/{sim_name}/image", Image,
-                    lambda m: data.RoarPyOccupancyMapSensorData(conversions.image_array(m)[:, :, 0]))
+
+RoarPyRosLocationInWorldSensor = _state_sensor(rpi.RoarPyLocationInWorldSensor, _location, "The car's location (m).")
+RoarPyRosVelocimeterSensor = _state_sensor(
+    rpi.RoarPyVelocimeterSensor, lambda v: data.RoarPyVelocimeterSensorData(v.get_linear_3d_velocity()),
+    "The car's velocity in the world frame (m/s).")
+RoarPyRosLocalVelocimeterSensor = _state_sensor(
+    rpi.RoarPyVelocimeterSensor, _local_velocity, "The car's velocity in its own frame (m/s): x forward, y left.")
+RoarPyRosLocalVelocimeterSensor.__name__ = RoarPyRosLocalVelocimeterSensor.__qualname__ = "RoarPyRosLocalVelocimeterSensor"
+RoarPyRosRollPitchYawSensor = _state_sensor(
+    rpi.RoarPyRollPitchYawSensor, lambda v: data.RoarPyRollPitchYawSensorData(v.get_roll_pitch_yaw()),
+    "The car's roll, pitch and yaw (rad).")
+RoarPyRosAccelerometerSensor = _state_sensor(
+    rpi.RoarPyAccelerometerSensor, lambda v: data.RoarPyAccelerometerSensorData(v.get_acceleration()),
+    "The car's acceleration in the world frame without gravity (m/s^2): its velocity's change over the last tick.")
+RoarPyRosGyroscopeSensor = _state_sensor(
+    rpi.RoarPyGyroscopeSensor, lambda v: data.RoarPyGyroscopeSensorData(v.get_angular_velocity()),
+    "The car's angular velocity in the world frame (rad/s).")
+
+
+class RoarPyRosOccupancyMapSensor(rpi.RoarPyOccupancyMapSensor):
+    """ROAR_PY's CARLA occupancy map: the road drawn from the map's waypoints around the car, forward up."""
+
+    def __init__(self, vehicle, producer: rpi.RoarPyOccupancyMapProducer, name: str):
+        super().__init__(name)
+        self._vehicle = vehicle
+        self.producer = producer
+        self.sim_name = None
+        self._closed = False
+        self._last_data = None
 
     def get_gym_observation_spec(self):
-        return rpi.spaces.Box(low=0, high=255, shape=(self.height, self.width), dtype=np.uint8)
+        return data.RoarPyOccupancyMapSensorData.gym_observation_space(self.producer.width, self.producer.height)
+
+    async def receive_observation(self):
+        if self._closed:
+            raise RuntimeError(f"sensor '{self.name}' is closed")
+        location = self._vehicle.get_3d_location()[:2]
+        yaw = self._vehicle.get_roll_pitch_yaw()[2]
+        self._last_data = data.RoarPyOccupancyMapSensorData.from_image(self.producer.plot_occupancy_map(location, yaw))
+        return self._last_data
+
+    def get_last_observation(self):
+        return self._last_data
+
+    def close(self):
+        if not self._closed:
+            self._closed = True
+            self._vehicle._sensor_closed(self)
+
+    def is_closed(self) -> bool:
+        return self._closed
 
 
 class RoarPyRosCollisionSensor(rpi.RoarPyCollisionSensor):
-    """Contacts roar_sim reports for the car (every car has them): in synchronous mode those of the last
-    step, in asynchronous mode those since the last observation; impulses summed."""
+    """The car's contacts since the last observation (CARLA's sensor keeps its latest event until read):
+    impulses summed (N s, world frame), other_actor the car of this world hit hardest (None for barriers,
+    the ground and cars not of this world, as CARLA's backend gives None for actors it does not know)."""
 
     def __init__(self, vehicle, name):
         rpi.RoarPyCollisionSensor.__init__(self, name, 0.0)
@@ -220,13 +318,15 @@ class RoarPyRosCollisionSensor(rpi.RoarPyCollisionSensor):
         if self._closed:
             raise RuntimeError(f"sensor '{self.name}' is closed")
         self._vehicle._check_open()
-        events = self._vehicle._take_collisions()
+        events = self._vehicle._take_collisions(self)
         impulse = np.zeros(3)
-        other = None
+        other, hardest = None, -1.0
         for event in events:
-            impulse += conversions.vec3(event.impulse)
-            other = event.other
-        self._last_obs = data.RoarPyCollisionSensorData(self._vehicle, other, impulse)
+            push = conversions.vec3(event.impulse)
+            impulse += push
+            if np.linalg.norm(push) > hardest:
+                hardest, other = float(np.linalg.norm(push)), event.other
+        self._last_obs = data.RoarPyCollisionSensorData(self._vehicle, self._vehicle._world._actor_named(other), impulse)
         return self._last_obs
 
     def get_last_observation(self):

@@ -1,4 +1,6 @@
-"""A car in roar_sim as ROAR_PY's vehicle: its state, its actions and its sensors."""
+"""A car in roar_sim as ROAR_PY's vehicle: its state, its actions and its sensors, with ROAR_PY's CARLA
+backend's methods, arguments and default names."""
+import dataclasses
 import re
 import threading
 import typing
@@ -12,12 +14,14 @@ import roar_py_interface as rpi
 from . import conversions, sensors
 
 
-class BoundingBox:
-    def __init__(self, extent: np.ndarray):
-        self.extent = extent  # m, half the body's length, width and height
+@dataclasses.dataclass
+class RoarPyRosBoundingBox:
+    """ROAR_PY's CARLA bounding box: half the body's size (m), its centre in the car's frame (m) and its
+    rotation (rad)."""
 
-    def __repr__(self):
-        return f"BoundingBox(extent={self.extent})"
+    extent: np.ndarray
+    location: np.ndarray
+    rotation: np.ndarray
 
 
 def _finite_vector(value, what: str, length: int = 3) -> np.ndarray:
@@ -32,8 +36,7 @@ def _finite_vector(value, what: str, length: int = 3) -> np.ndarray:
 
 # roar_sim's sensor keys as the ROAR_PY arguments they come from.
 _ARGUMENT_OF_KEY = {"x": "location[0]", "y": "location[1]", "z": "location[2]", "roll": "roll_pitch_yaw[0]",
-                    "pitch": "roll_pitch_yaw[1]", "yaw": "roll_pitch_yaw[2]", "rate": "control_timestep",
-                    "width_m": "width * x_res", "height_m": "height * y_res"}
+                    "pitch": "roll_pitch_yaw[1]", "yaw": "roll_pitch_yaw[2]", "rate": "control_timestep"}
 
 
 def _roar_py_terms(message: str) -> str:
@@ -59,15 +62,17 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         self.model = info.model
         self.auto_gear = auto_gear
         self.num_gears = max(1, info.gears)
-        self.bounding_box = BoundingBox(conversions.vec3(info.extent))
+        extent = conversions.vec3(info.extent)
+        self.bounding_box = RoarPyRosBoundingBox(extent, np.array([0.0, 0.0, extent[2]]), np.zeros(3))
+        self._actions = conversions.ActionReader(f"vehicle '{name}'", auto_gear, self.num_gears)
         self._closed = False
         self._sensors: typing.List[rpi.RoarPySensor] = []
         self._lock = threading.Lock()
         self._odom = None
         self._odom_stamp = -1.0
+        self._acceleration = np.zeros(3)
         self._expected: typing.Dict[str, float] = {}
-        self._step_collisions: list = []
-        self._async_collisions: list = []
+        self._pending_collisions: typing.Dict[int, list] = {}
         self.control = None  # roar_sim's VehicleControl of the last action
         from nav_msgs.msg import Odometry
         from roar_ros.msg import CollisionEvent, VehicleControl
@@ -86,20 +91,35 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         self._take_odometry(msg)
 
     def _take_odometry(self, msg):
+        """The newest odometry; the acceleration is the velocity's change since the one before (CARLA's actor
+        acceleration is its velocity's change over the last tick too)."""
         with self._lock:
             stamp = msg.header.stamp.to_sec()
-            if stamp >= self._odom_stamp:
-                self._odom, self._odom_stamp = msg, stamp
+            if stamp < self._odom_stamp:
+                return
+            if self._odom is not None and stamp > self._odom_stamp:
+                self._acceleration = (self._world_velocity(msg) - self._world_velocity(self._odom)) / \
+                    (stamp - self._odom_stamp)
+            self._odom, self._odom_stamp = msg, stamp
+
+    @staticmethod
+    def _world_velocity(odom) -> np.ndarray:
+        return conversions.rotation_matrix(odom.pose.pose.orientation) @ conversions.vec3(odom.twist.twist.linear)
 
     def _on_collision(self, msg):
         if self._world.is_asynchronous:
-            with self._lock:
-                self._async_collisions.append(msg)
+            self._add_collisions([msg])
+
+    def _add_collisions(self, events):
+        with self._lock:
+            for pending in self._pending_collisions.values():
+                pending.extend(events)
 
     def _on_snapshot(self, snapshot):
         self._take_odometry(snapshot.odometry)
+        if snapshot.collisions:
+            self._add_collisions(list(snapshot.collisions))
         with self._lock:
-            self._step_collisions = list(snapshot.collisions)
             for name, stamp in zip(snapshot.sensor_names, snapshot.sensor_stamps):
                 if stamp.to_sec() > 0:
                     self._expected[name] = stamp.to_sec()
@@ -108,12 +128,12 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         with self._lock:
             return self._expected.get(sim_name)
 
-    def _take_collisions(self) -> list:
+    def _take_collisions(self, sensor) -> list:
+        """The contacts since sensor last read them."""
         with self._lock:
-            if self._world.is_asynchronous:
-                events, self._async_collisions = self._async_collisions, []
-                return events
-            return list(self._step_collisions)
+            events = self._pending_collisions.get(id(sensor), [])
+            self._pending_collisions[id(sensor)] = []
+            return events
 
     def _odometry(self):
         self._check_open()
@@ -129,28 +149,48 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         return conversions.quaternion_to_rpy(self._odometry().pose.pose.orientation)
 
     def get_linear_3d_velocity(self) -> np.ndarray:
-        odom = self._odometry()
-        return conversions.rotation_matrix(odom.pose.pose.orientation) @ conversions.vec3(odom.twist.twist.linear)
+        return self._world_velocity(self._odometry())
 
     def get_angular_velocity(self) -> np.ndarray:
         odom = self._odometry()
         return conversions.rotation_matrix(odom.pose.pose.orientation) @ conversions.vec3(odom.twist.twist.angular)
 
-    def set_transform(self, location: np.ndarray, roll_pitch_yaw: np.ndarray) -> None:
-        """Puts the car at rest at location with the yaw of roll_pitch_yaw (roll and pitch follow the ground)."""
-        self._check_open()
-        self._world._reset_vehicle(self, _finite_vector(location, "set_transform: location"),
-                                   _finite_vector(roll_pitch_yaw, "set_transform: roll_pitch_yaw"))
+    def get_acceleration(self) -> np.ndarray:
+        """m/s^2 in the world frame, without gravity: the velocity's change over the last tick."""
+        self._odometry()
+        with self._lock:
+            return self._acceleration.copy()
 
-    def set_linear_3d_velocity(self, velocity: np.ndarray) -> None:
+    def set_transform(self, new_location: np.ndarray, new_rotation: np.ndarray) -> None:
+        """Teleports the car to the location and rotation as given (above the road it falls onto it), its
+        velocity kept, as CARLA's set_transform does."""
         self._check_open()
-        self._world._set_velocity(self, _finite_vector(velocity, "set_linear_3d_velocity: velocity"),
+        location = _finite_vector(new_location, "set_transform: new_location")
+        rotation = _finite_vector(new_rotation, "set_transform: new_rotation")
+        linear, angular = self.get_linear_3d_velocity(), self.get_angular_velocity()
+        self._world._reset_vehicle(self, location, rotation)
+        if np.any(linear != 0.0) or np.any(angular != 0.0):
+            self._world._set_velocity(self, linear, angular)
+
+    def set_3d_location(self, new_location: np.ndarray) -> None:
+        self.set_transform(new_location, self.get_roll_pitch_yaw())
+
+    def set_roll_pitch_yaw(self, new_rotation_rpy: np.ndarray) -> None:
+        self.set_transform(self.get_3d_location(), new_rotation_rpy)
+
+    def set_linear_3d_velocity(self, target_linear_velocity: np.ndarray) -> None:
+        self._check_open()
+        self._world._set_velocity(self, _finite_vector(target_linear_velocity, "set_linear_3d_velocity: velocity"),
                                   self.get_angular_velocity())
 
-    def set_angular_velocity(self, velocity: np.ndarray) -> None:
+    def set_angular_velocity(self, target_angular_velocity: np.ndarray) -> None:
         self._check_open()
         self._world._set_velocity(self, self.get_linear_3d_velocity(),
-                                  _finite_vector(velocity, "set_angular_velocity: velocity"))
+                                  _finite_vector(target_angular_velocity, "set_angular_velocity: velocity"))
+
+    @property
+    def carla_blueprint_type_id(self) -> str:
+        return self.blueprint_id
 
     # ---- actions --------------------------------------------------------------------------------------------
     def get_action_spec(self):
@@ -161,8 +201,7 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
 
     async def _apply_action(self, action: typing.Any) -> bool:
         self._check_open()
-        values = conversions.check_action(action, self.get_action_spec())
-        control = conversions.to_vehicle_control(values, self.auto_gear)
+        control = conversions.to_vehicle_control(self._actions.read(action), self.auto_gear)
         self.control = control
         if self._world.is_asynchronous:
             control.header.stamp = rospy.Time.now()
@@ -209,6 +248,11 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         self._sensors.append(sensor)
         return sensor
 
+    def _keep(self, sensor):
+        self._check_open()
+        self._sensors.append(sensor)
+        return sensor
+
     @staticmethod
     def _mount(location, roll_pitch_yaw, what: str) -> dict:
         loc = _finite_vector(location, f"{what}: location")
@@ -219,13 +263,13 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
     def attach_camera_sensor(self, target_datatype: typing.Type[rpi.RoarPyCameraSensorData], location: np.ndarray,
                              roll_pitch_yaw: np.ndarray, fov: float = 90.0, image_width: int = 800,
                              image_height: int = 600, control_timestep: float = 0.0, attachment_type=None,
-                             name: str = "camera") -> rpi.RoarPyCameraSensor:
+                             name: str = "carla_camera") -> rpi.RoarPyCameraSensor:
         kinds = {rpi.RoarPyCameraSensorDataRGB: "camera_rgb", rpi.RoarPyCameraSensorDataGreyscale: "camera_grey",
                  rpi.RoarPyCameraSensorDataDepth: "camera_depth",
                  rpi.RoarPyCameraSensorDataSemanticSegmentation: "camera_semantic"}
         if target_datatype not in kinds:
-            raise ValueError(f"attach_camera_sensor: target_datatype must be one of "
-                             f"{[k.__name__ for k in kinds]}, got {target_datatype!r}")
+            raise ValueError(f"Unsupported target data type {target_datatype}: attach_camera_sensor takes "
+                             f"{[k.__name__ for k in kinds]}")
         for value, what in ((image_width, "image_width"), (image_height, "image_height")):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
                 raise ValueError(f"attach_camera_sensor: {what} must be an int, got {value!r}")
@@ -242,7 +286,7 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                             horizontal_fov: float = 360.0, atmosphere_attenuation_rate: float = 0.004,
                             dropoff_general_rate: float = 0.45, dropoff_intensity_limit_below: float = 0.8,
                             control_timestep: float = 0.0, noise_std: float = 0.0, attachment_type=None,
-                            name: str = "lidar") -> rpi.RoarPyLiDARSensor:
+                            name: str = "carla_lidar_sensor") -> rpi.RoarPyLiDARSensor:
         rate = self._rate(control_timestep, "attach_lidar_sensor")
         sim_name = self._sim_sensor_name(name)
         lidar = {"num_lasers": int(num_lasers), "max_distance": float(max_distance),
@@ -253,71 +297,90 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                 "rate": rate, **lidar}
         return self._attach(spec, lambda: sensors.RoarPyRosLiDARSensor(self, name, sim_name, lidar, rate))
 
-    def _attach_simple(self, kind: str, name: str, cls, extra: typing.Optional[dict] = None,
-                       control_timestep: float = 0.0):
-        rate = self._rate(control_timestep, f"attach ({kind})")
+    def attach_radar_sensor(self, location: np.ndarray, roll_pitch_yaw: np.ndarray, horizontal_fov: float = 30.0,
+                            vertical_fov: float = 30.0, points_per_second: int = 1500, max_distance: float = 100.0,
+                            control_timestep: float = 0.0, attachment_type=None,
+                            name: str = "carla_radar_sensor") -> rpi.RoarPyRadarSensor:
+        """CARLA's radar (sensor.other.radar, its defaults): detections of the road, barriers and cars in a
+        cone, each with its velocity along the line of sight."""
+        rate = self._rate(control_timestep, "attach_radar_sensor")
         sim_name = self._sim_sensor_name(name)
-        spec = {"name": sim_name, "type": kind, "rate": rate, **(extra or {})}
-        return self._attach(spec, lambda: cls(self, name, sim_name, rate))
+        radar = {"horizontal_fov": float(horizontal_fov), "vertical_fov": float(vertical_fov),
+                 "points_per_second": float(points_per_second), "max_distance": float(max_distance)}
+        spec = {"name": sim_name, "type": "radar", **self._mount(location, roll_pitch_yaw, "attach_radar_sensor"),
+                "rate": rate, **radar}
+        return self._attach(spec, lambda: sensors.RoarPyRosRadarSensor(self, name, sim_name, radar, rate))
 
     def attach_collision_sensor(self, location: np.ndarray = None, roll_pitch_yaw: np.ndarray = None,
-                                attachment_type=None, name: str = "collision") -> rpi.RoarPyCollisionSensor:
-        self._check_open()
-        sensor = sensors.RoarPyRosCollisionSensor(self, name)
-        self._sensors.append(sensor)
+                                attachment_type=None, name: str = "carla_collision_sensor") -> rpi.RoarPyCollisionSensor:
+        sensor = self._keep(sensors.RoarPyRosCollisionSensor(self, name))
+        with self._lock:
+            self._pending_collisions[id(sensor)] = []
         return sensor
 
-    def attach_accelerometer_sensor(self, name: str = "accelerometer"):
-        # ROAR_PY's reads the car's acceleration in the world frame, without gravity.
-        return self._attach_simple("accelerometer", name, sensors.RoarPyRosAccelerometerSensor,
-                                   {"frame": "map", "gravity": False})
+    def attach_accelerometer_sensor(self, name: str = "carla_accelerometer_sensor"):
+        return self._keep(sensors.RoarPyRosAccelerometerSensor(self, name))
 
-    def attach_gyroscope_sensor(self, name: str = "gyroscope"):
-        return self._attach_simple("gyroscope", name, sensors.RoarPyRosGyroscopeSensor, {"frame": "map"})
+    def attach_gyroscope_sensor(self, name: str = "carla_gyroscope_sensor"):
+        return self._keep(sensors.RoarPyRosGyroscopeSensor(self, name))
 
-    def attach_velocimeter_sensor(self, name: str = "velocimeter"):
-        return self._attach_simple("velocimeter", name, sensors.RoarPyRosVelocimeterSensor)
+    def attach_velocimeter_sensor(self, name: str = "carla_velocimeter_sensor"):
+        return self._keep(sensors.RoarPyRosVelocimeterSensor(self, name))
 
-    def attach_roll_pitch_yaw_sensor(self, name: str = "roll_pitch_yaw"):
-        return self._attach_simple("roll_pitch_yaw", name, sensors.RoarPyRosRollPitchYawSensor)
+    def attach_local_velocimeter_sensor(self, name: str = "carla_local_velocimeter_sensor"):
+        return self._keep(sensors.RoarPyRosLocalVelocimeterSensor(self, name))
 
-    def attach_location_in_world_sensor(self, name: str = "location_in_world"):
-        return self._attach_simple("location", name, sensors.RoarPyRosLocationInWorldSensor)
+    def attach_roll_pitch_yaw_sensor(self, name: str = "carla_rpy_sensor"):
+        return self._keep(sensors.RoarPyRosRollPitchYawSensor(self, name))
+
+    def attach_framequat_sensor(self, name: str = "carla_framequat_sensor"):
+        # As ROAR_PY's CARLA backend makes it: a quaternion read from a roll-pitch-yaw sensor of its own.
+        return self._keep(rpi.RoarPyFrameQuatSensorFromRollPitchYaw(
+            sensors.RoarPyRosRollPitchYawSensor(self, "carla_rpy_sensor"), name=name))
+
+    def attach_location_in_world_sensor(self, name: str = "carla_location_in_world_sensor"):
+        return self._keep(sensors.RoarPyRosLocationInWorldSensor(self, name))
 
     def attach_gnss_sensor(self, noise_altitude_bias: float = 0.0, noise_altitude_std: float = 0.0,
                            noise_latitude_bias: float = 0.0, noise_latitude_std: float = 0.0,
                            noise_longitude_bias: float = 0.0, noise_longitude_std: float = 0.0, noise_seed: int = 0,
-                           control_timestep: float = 0.0, name: str = "gnss"):
-        if noise_altitude_bias or noise_latitude_bias or noise_longitude_bias:
-            raise ValueError("attach_gnss_sensor: roar_sim's GNSS has noise but no bias; "
-                             "noise_*_bias must be 0")
+                           control_timestep: float = 0.0, name: str = "carla_gnss_sensor"):
+        """CARLA's GNSS: standard deviations and biases of latitude and longitude in degrees, of altitude in
+        metres (roar_sim's noise is in metres: one degree of latitude is 111,320 m)."""
         metres_per_degree = 111_320.0
+        bias = tuple(_finite_vector([noise_altitude_bias, noise_latitude_bias, noise_longitude_bias],
+                                    "attach_gnss_sensor: noise_*_bias"))
         spec = {"horizontal_noise_std": float(max(noise_latitude_std, noise_longitude_std) * metres_per_degree),
                 "vertical_noise_std": float(noise_altitude_std), "seed": int(noise_seed)}
-        return self._attach_simple("gnss", name, sensors.RoarPyRosGNSSSensor, spec, control_timestep)
-
-    def attach_occupancy_map_sensor(self, width: int = 84, height: int = 84, x_res: float = 0.5, y_res: float = 0.5,
-                                    name: str = "occupancy_map", width_in_world: float = None,
-                                    height_in_world: float = None):
-        """A bird's-eye map width x height pixels of x_res by y_res metres each (or width_in_world by
-        height_in_world metres in all), centred on the car, forward up: road 255, other cars 128, else 0."""
-        width_m = float(width_in_world) if width_in_world is not None else float(width) * float(x_res)
-        height_m = float(height_in_world) if height_in_world is not None else float(height) * float(y_res)
-        rate = self._rate(0.0, "attach_occupancy_map_sensor")
+        rate = self._rate(control_timestep, "attach_gnss_sensor")
         sim_name = self._sim_sensor_name(name)
-        spec = {"name": sim_name, "type": "occupancy_map", "rate": rate, "image_width": int(width),
-                "image_height": int(height), "width_m": width_m, "height_m": height_m}
-        return self._attach(spec, lambda: sensors.RoarPyRosOccupancyMapSensor(self, name, sim_name, int(width),
-                                                                                 int(height), rate))
+        return self._attach({"name": sim_name, "type": "gnss", "rate": rate, **spec},
+                            lambda: sensors.RoarPyRosGNSSSensor(self, name, sim_name, rate, bias))
+
+    def attach_occupancy_map_sensor(self, width: int, height: int, width_in_world: float, height_in_world: float,
+                                    name: str = "carla_occupancy_map_sensor"):
+        """ROAR_PY's occupancy map: the road drawn from the map's waypoints on a width x height image covering
+        width_in_world x height_in_world metres around the car, its forward up (road 255, else 0)."""
+        for value, what in ((width, "width"), (height, "height")):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value <= 0:
+                raise ValueError(f"attach_occupancy_map_sensor: {what} must be a positive int, got {value!r}")
+        for value, what in ((width_in_world, "width_in_world"), (height_in_world, "height_in_world")):
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"attach_occupancy_map_sensor: {what} must be positive metres, got {value!r}")
+        producer = rpi.RoarPyOccupancyMapProducer(self._world.maneuverable_waypoints, int(width), int(height),
+                                                  float(width_in_world), float(height_in_world))
+        return self._keep(sensors.RoarPyRosOccupancyMapSensor(self, producer, name))
 
     def remove_sensor(self, sensor: rpi.RoarPySensor):
         if sensor not in self._sensors:
-            raise ValueError(f"remove_sensor: {sensor.name!r} is not a sensor of '{self.name}'")
+            raise RuntimeError(f"Sensor {sensor.name!r} not found on '{self.name}'")
         sensor.close()
 
     def _sensor_closed(self, sensor):
         if sensor in self._sensors:
             self._sensors.remove(sensor)
+        with self._lock:
+            self._pending_collisions.pop(id(sensor), None)
         sim_name = getattr(sensor, "sim_name", None)
         if sim_name and not self._closed and self._world._instance._sim_alive():
             from roar_ros.srv import DetachSensor

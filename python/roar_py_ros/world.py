@@ -89,15 +89,18 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return info
 
     def _set_stepping(self, **fields):
+        """Changes roar_sim's stepping; fields not given are kept (the pace too: 0 there is flat out)."""
         from roar_ros.srv import SetStepping
 
+        fields.setdefault("real_time_factor", -1.0)
         response = self._services.call("/roar_sim/set_stepping", SetStepping, check=False, **fields)
         if not response.success:
             raise ValueError(f"roar_sim refused the stepping settings: {response.message}")
         self._mode, self._control_dt, self._physics_dt = response.mode, response.control_dt, response.physics_dt
 
     def set_asynchronous(self, asynchronous: bool):
-        """Asynchronous: roar_sim runs on by itself at real time; synchronous: one control step per step()."""
+        """Asynchronous: roar_sim runs on by itself at wall-clock time, as CARLA's server does; synchronous:
+        one control step per step(). Either order with set_control_steps gives the same."""
         self._check_open()
         self._set_stepping(mode="async" if asynchronous else "step", real_time_factor=1.0 if asynchronous else -1.0)
 
@@ -105,17 +108,13 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     def is_asynchronous(self) -> bool:
         return self._mode == "async"
 
-    def set_control_steps(self, control_timestep: float, control_subtimestep: float = None, *,
-                          control_substimestep: float = None):
-        """The control step and the physics substep (s). A control step of 0 (ROAR_PY's variable step in
-        asynchronous mode) keeps roar_sim's: roar_sim's control step is always fixed."""
+    def set_control_steps(self, control_timestep: float, control_substimestep: float):
+        """The control step and the physics substep (s); the pace is left alone. A control step of 0
+        (CARLA's variable step, for asynchronous mode) keeps roar_sim's: its control step is always fixed."""
         self._check_open()
-        sub = control_subtimestep if control_subtimestep is not None else control_substimestep
         values = {}
         for value, field, what in ((control_timestep, "control_dt", "control_timestep"),
-                                   (sub, "physics_dt", "control_subtimestep")):
-            if value is None:
-                continue
+                                   (control_substimestep, "physics_dt", "control_substimestep")):
             if not np.isfinite(value) or value < 0:
                 raise ValueError(f"set_control_steps: {what} must be >= 0 s, got {value}")
             if value > 0:
@@ -129,8 +128,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return self._control_dt
 
     @property
-    def control_subtimestep(self) -> float:
+    def contorl_subtimestep(self) -> float:
+        """ROAR_PY's spelling."""
         return self._physics_dt
+
+    control_subtimestep = contorl_subtimestep
 
     @property
     def last_tick_elapsed_seconds(self) -> float:
@@ -226,10 +228,10 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
 
     # ---- actors ---------------------------------------------------------------------------------------------
     def spawn_vehicle(self, blueprint_id: str, location: np.ndarray, roll_pitch_yaw: np.ndarray,
-                      auto_gear: bool = True, name: str = "vehicle", rgba: typing.Optional[np.ndarray] = None
+                      auto_gear: bool = True, name: str = "carla_vehicle", rgba: typing.Optional[np.ndarray] = None
                       ) -> RoarPyRosVehicle:
-        """A car of a blueprint (vehicle.tesla.model3, vehicle.audi.a2, vehicle.roar.racecar) at location,
-        heading the yaw of roll_pitch_yaw; the ground sets its height, roll and pitch. rgba: 0..255."""
+        """A car of a blueprint (see get_blueprints) at location and roll_pitch_yaw as given, as CARLA spawns
+        it: above the road it falls onto it (never below it). rgba: 0..255."""
         self._check_open()
         from geometry_msgs.msg import Pose
         from roar_ros.srv import GetWorldInfo, SpawnVehicle
@@ -251,10 +253,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
             ros_name, n = f"{base}_{n}", n + 1
         pose = Pose()
         pose.position.x, pose.position.y, pose.position.z = loc
-        q = conversions.rpy_to_quaternion([0.0, 0.0, rpy[2]])
+        q = conversions.rpy_to_quaternion(rpy)
         pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = q
         response = self._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=ros_name,
-                                       model=str(blueprint_id), spawn_point=-1, pose=pose, colour=colour)
+                                       model=str(blueprint_id), spawn_point=-1, pose=pose, as_given=True,
+                                       colour=colour)
         if not response.success:
             raise ValueError(f"spawn_vehicle('{blueprint_id}'): {response.message}")
         info = next(v for v in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles
@@ -265,7 +268,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return vehicle
 
     def attach_camera_sensor(self, target_datatype, location, roll_pitch_yaw, fov=90.0, image_width=800,
-                             image_height=600, control_timestep=0.0, attachment_type=None, name="camera",
+                             image_height=600, control_timestep=0.0, attachment_type=None, name="carla_camera",
                              bind_to: typing.Optional[RoarPyRosVehicle] = None):
         return self._bound(bind_to, "attach_camera_sensor").attach_camera_sensor(
             target_datatype, location, roll_pitch_yaw, fov, image_width, image_height, control_timestep,
@@ -275,7 +278,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
                             rotation_frequency=10.0, upper_fov=10.0, lower_fov=-30.0, horizontal_fov=360.0,
                             atmosphere_attenuation_rate=0.004, dropoff_general_rate=0.45,
                             dropoff_intensity_limit_below=0.8, control_timestep=0.0, noise_std=0.0,
-                            attachment_type=None, name="lidar", bind_to: typing.Optional[RoarPyRosVehicle] = None):
+                            attachment_type=None, name="carla_lidar_sensor",
+                            bind_to: typing.Optional[RoarPyRosVehicle] = None):
         return self._bound(bind_to, "attach_lidar_sensor").attach_lidar_sensor(
             location, roll_pitch_yaw, num_lasers, max_distance, points_per_second, rotation_frequency, upper_fov,
             lower_fov, horizontal_fov, atmosphere_attenuation_rate, dropoff_general_rate,
@@ -285,6 +289,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         if not isinstance(bind_to, RoarPyRosVehicle):
             raise ValueError(f"{what}: roar_sim's sensors ride on a car: pass bind_to=<a vehicle of this world>")
         return bind_to
+
+    def _actor_named(self, ros_name: typing.Optional[str]) -> typing.Optional[RoarPyRosVehicle]:
+        """This world's car of a roar_sim name, or None (barriers, the ground, cars of other programs)."""
+        vehicle = self._vehicles.get(ros_name) if ros_name else None
+        return None if vehicle is None or vehicle.is_closed() else vehicle
 
     def get_actors(self) -> typing.List[RoarPyRosVehicle]:
         return [v for v in self._vehicles.values() if not v.is_closed()]
@@ -325,9 +334,10 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         else:
             pose = Pose()
             pose.position.x, pose.position.y, pose.position.z = location
-            q = conversions.rpy_to_quaternion([0.0, 0.0, roll_pitch_yaw[2]])
+            q = conversions.rpy_to_quaternion(roll_pitch_yaw)
             pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = q
-            self._services.call("/roar_sim/reset_vehicle", ResetVehicle, name=vehicle.ros_name, spawn_point=-1, pose=pose)
+            self._services.call("/roar_sim/reset_vehicle", ResetVehicle, name=vehicle.ros_name, spawn_point=-1, pose=pose,
+                                as_given=True)
         self._observe([vehicle])
 
     def _set_velocity(self, vehicle, linear, angular):

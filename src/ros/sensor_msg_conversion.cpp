@@ -94,6 +94,25 @@ sensor_msgs::PointCloud2 toPointCloud2(const std::vector<sensors::LidarPoint>& p
   return cloud;
 }
 
+sensor_msgs::PointCloud2 toRadarCloud(const std::vector<sensors::RadarDetection>& detections, const ros::Time& stamp,
+                                      const std::string& frame) {
+  static_assert(sizeof(sensors::RadarDetection) == 16, "velocity, azimuth, altitude, depth as four packed floats");
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header.stamp = stamp;
+  cloud.header.frame_id = frame;
+  sensor_msgs::PointCloud2Modifier modifier(cloud);
+  modifier.setPointCloud2Fields(4, "velocity", 1, sensor_msgs::PointField::FLOAT32, "azimuth", 1,
+                                sensor_msgs::PointField::FLOAT32, "altitude", 1, sensor_msgs::PointField::FLOAT32,
+                                "depth", 1, sensor_msgs::PointField::FLOAT32);
+  modifier.resize(detections.size());
+  cloud.height = 1;
+  cloud.width = static_cast<unsigned>(detections.size());
+  cloud.is_dense = true;
+  if (!detections.empty())
+    std::memcpy(cloud.data.data(), detections.data(), detections.size() * sizeof(sensors::RadarDetection));
+  return cloud;
+}
+
 sensor_msgs::Imu toImu(const sensors::ImuSample& s, const sensors::ImuSpec& spec, const ros::Time& stamp,
                        const std::string& frame) {
   sensor_msgs::Imu imu;

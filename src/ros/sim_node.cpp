@@ -152,7 +152,7 @@ std::string SimNode::sensorSetPath(const std::string& set) const {
 
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
                          const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env,
-                         int spawn_point) {
+                         int spawn_point, sim::Placement placement) {
   checkVehicleName(name);
   if (io_.count(name)) throw sim::SpawnError("a vehicle named '" + name + "' already exists");
   const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
@@ -179,7 +179,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   }
   if (!looks_.count(params.model))
     looks_[params.model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + params.model + ".urdf");
-  world_->spawnVehicle(name, params, pose);  // the last step that can refuse: overlap, no ground
+  world_->spawnVehicle(name, params, pose, placement);  // the last step that can refuse: overlap, no ground
   VehicleIo io;
   io.spawned = {params.model, sensor_set, (colour.array() < 0).any() ? paint(spawned_count_) : colour, agent_env,
                 spawn_point};
@@ -299,8 +299,10 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return poses;
   for (auto& [name, io] : io_) {
-    poses[name] = sensors::poseOf(world_->vehicleState(name));
+    const sim::VehicleState state = world_->vehicleState(name);
+    poses[name] = sensors::poseOf(state);
     scene_->setVehiclePose(io.scene_id, poses[name]);
+    scene_->setVehicleVelocity(io.scene_id, state.linear_velocity, state.angular_velocity);
   }
   scene_->commit();
   return poses;

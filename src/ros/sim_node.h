@@ -72,7 +72,8 @@ class SimNode {
   // (no car in the physics world, no topic) and the error says why. A negative colour: the next of the palette.
   void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
                   const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
-                  const std::string& agent_env = "", int spawn_point = -1);
+                  const std::string& agent_env = "", int spawn_point = -1,
+                  sim::Placement placement = sim::Placement::kOnGround);
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
   void markLostDrivers();

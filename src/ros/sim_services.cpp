@@ -19,6 +19,11 @@ namespace {
 
 Eigen::Vector3d vectorOf(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
+// A spawn point is always set on the road; a pose as asked.
+sim::Placement placementOf(int spawn_point, bool as_given) {
+  return spawn_point < 0 && as_given ? sim::Placement::kAsGiven : sim::Placement::kOnGround;
+}
+
 }  // namespace
 
 bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res) {
@@ -29,7 +34,8 @@ bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehic
     }
     const Eigen::Vector3f colour = c.a > 0 ? Eigen::Vector3f(c.r, c.g, c.b) : Eigen::Vector3f(-1, -1, -1);
     addVehicle(req.name, req.model.empty() ? options_.default_model : req.model,
-               requestedPose(req.spawn_point, req.pose), req.sensor_set, colour, "", req.spawn_point);
+               requestedPose(req.spawn_point, req.pose), req.sensor_set, colour, "", req.spawn_point,
+               placementOf(req.spawn_point, req.as_given));
     res.success = true;
     res.message = "spawned " + req.name;
   } catch (const std::exception& e) {
@@ -52,7 +58,8 @@ bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::Destro
 bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
   try {
     if (!io_.count(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
-    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose));
+    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose),
+                         placementOf(req.spawn_point, req.as_given));
     res.success = true;
     res.message = "reset " + req.name;
   } catch (const std::exception& e) {

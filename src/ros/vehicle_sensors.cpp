@@ -36,6 +36,9 @@ void VehicleSensors::attach(const sensors::SensorSpec& spec, double now) {
     case sensors::SensorType::kLidar:
       p.main = nh_.advertise<sensor_msgs::PointCloud2>(base + "lidar/" + spec.name + "/points", queue);
       break;
+    case sensors::SensorType::kRadar:
+      p.main = nh_.advertise<sensor_msgs::PointCloud2>(base + "radar/" + spec.name + "/detections", queue);
+      break;
     case sensors::SensorType::kImu:
       p.main = nh_.advertise<sensor_msgs::Imu>(base + spec.name, queue);
       break;
@@ -99,6 +102,12 @@ void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp,
                            const std::vector<sensors::LidarPoint>& points) {
   last_stamps_[spec.name] = stamp;
   publishers_.at(spec.name).main.publish(toPointCloud2(points, toRosTime(stamp), frameOf(spec)));
+}
+
+void VehicleSensors::radar(const sensors::SensorSpec& spec, double stamp,
+                           const std::vector<sensors::RadarDetection>& detections) {
+  last_stamps_[spec.name] = stamp;
+  publishers_.at(spec.name).main.publish(toRadarCloud(detections, toRosTime(stamp), frameOf(spec)));
 }
 
 void VehicleSensors::imu(const sensors::SensorSpec& spec, double stamp, const sensors::ImuSample& sample) {

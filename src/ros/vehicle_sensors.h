@@ -9,6 +9,7 @@
 //                             sensor frame in map)
 //   location                  <vehicle>/<name> (geometry_msgs/PointStamped, map frame)
 //   occupancy_map             <vehicle>/occupancy_map/<name>/image (mono8), frame <vehicle>/<name>
+//   radar     <vehicle>/radar/<name>/detections (velocity, azimuth, altitude, depth), frame <vehicle>/<name>
 #include <geometry_msgs/TransformStamped.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
@@ -42,6 +43,8 @@ class VehicleSensors : public sensors::SensorSink {
   void velocity(const sensors::SensorSpec& spec, double stamp, const sensors::Velocity& v) override;
   void vector(const sensors::SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) override;
   void occupancy(const sensors::SensorSpec& spec, double stamp, const sensors::OccupancyFrame& frame) override;
+  void radar(const sensors::SensorSpec& spec, double stamp,
+             const std::vector<sensors::RadarDetection>& detections) override;
   // The stamp of each sensor's newest reading (0 before its first), by sensor name.
   const std::map<std::string, double>& lastStamps() const { return last_stamps_; }
 

@@ -29,6 +29,18 @@ float cellNoise(double x, double y, double cell) {
   return static_cast<float>(h & 0xFFFFFF) / static_cast<float>(0x1000000);
 }
 
+// Cars' meshes are closed with outward faces: a hit on a face turned away from the ray is the inside of a
+// body, which no one sees (ray_scene_test ACameraInsideACarSeesOutOfIt).
+void frontFacesOnly(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const float facing = RTCRayN_dir_x(args->ray, args->N, i) * RTCHitN_Ng_x(args->hit, args->N, i) +
+                         RTCRayN_dir_y(args->ray, args->N, i) * RTCHitN_Ng_y(args->hit, args->N, i) +
+                         RTCRayN_dir_z(args->ray, args->N, i) * RTCHitN_Ng_z(args->hit, args->N, i);
+    if (facing > 0.0f) args->valid[i] = 0;
+  }
+}
+
 RTCGeometry triangleGeometry(RTCDevice device, const track::TriangleMesh& mesh, unsigned mask) {
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -54,6 +66,9 @@ struct RayScene::Impl {
     unsigned instance = RTC_INVALID_GEOMETRY_ID;
     std::vector<Eigen::Vector3f> colours;
     Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // base_link in the map
+    Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();
+    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
   };
   struct KerbPrim {
     int segment;
@@ -149,6 +164,7 @@ struct RayScene::Impl {
       out->albedo = v.colours[prim];
       out->reflectivity = 0.5f;
       out->semantic = SemanticClass::kVehicle;
+      out->vehicle = instance_to_vehicle.at(inst);
       out->normal = v.rotation * out->normal;  // Embree reports instanced normals in the car's frame
       return;
     }
@@ -221,6 +237,8 @@ int RayScene::addVehicle(const VisualMesh& looks, const Eigen::Vector3f& paint) 
   Impl::Vehicle v;
   v.scene = rtcNewScene(w.device);
   RTCGeometry body = triangleGeometry(w.device, looks.mesh, 0xFFFFFFFFu);
+  rtcSetGeometryIntersectFilterFunction(body, frontFacesOnly);
+  rtcCommitGeometry(body);
   rtcAttachGeometry(v.scene, body);
   rtcReleaseGeometry(body);
   rtcCommitScene(v.scene);
@@ -252,9 +270,23 @@ void RayScene::setVehiclePose(int id, const Eigen::Isometry3d& pose) {
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 3; ++r) xfm[c * 3 + r] = m(r, c);
   v.rotation = m.leftCols<3>();
+  v.origin = pose.translation();
   RTCGeometry inst = rtcGetGeometry(w.scene, v.instance);
   rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
   rtcCommitGeometry(inst);
+}
+
+void RayScene::setVehicleVelocity(int id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular) {
+  Impl::Vehicle& v = impl_->vehicles.at(id);
+  v.linear_velocity = linear;
+  v.angular_velocity = angular;
+}
+
+Eigen::Vector3d RayScene::velocityAt(int id, const Eigen::Vector3d& point) const {
+  const auto it = impl_->vehicles.find(id);
+  if (it == impl_->vehicles.end()) return Eigen::Vector3d::Zero();
+  const Impl::Vehicle& v = it->second;
+  return v.linear_velocity + v.angular_velocity.cross(point - v.origin);
 }
 
 void RayScene::commit() { rtcCommitScene(impl_->scene); }

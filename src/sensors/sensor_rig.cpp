@@ -18,6 +18,7 @@ struct SensorRig::Sensor {
   Sensor(const SensorSpec& s, double now) : spec(s), rng(s.seed) {
     if (s.type == SensorType::kLidar) lidar = std::make_unique<SpinningLidar>(s.lidar, s.seed);
     if (s.type == SensorType::kOccupancyMap) occupancy = std::make_unique<OccupancyMapRenderer>(s.occupancy);
+    if (s.type == SensorType::kRadar) radar = std::make_unique<Radar>(s.radar, s.seed);
     markDone(now);
   }
   // Due at multiples of the period: k / rate, so the schedule never drifts.
@@ -37,6 +38,8 @@ struct SensorRig::Sensor {
   std::vector<LidarPoint> points;
   std::unique_ptr<OccupancyMapRenderer> occupancy;
   OccupancyFrame occupancy_frame;
+  std::unique_ptr<Radar> radar;
+  std::vector<RadarDetection> detections;
 };
 
 struct SensorRig::CameraGroup {
@@ -157,17 +160,21 @@ void SensorRig::sampleRays(double time, const RayScene& scene, const Eigen::Isom
     Sensor& lead = *g->members.front();
     if (!lead.due(time)) continue;
     for (Sensor* m : g->members) m->markDone(time);
-    g->renderer->render(scene, base_in_map * mountTransform(lead.spec.mount), own_vehicle, g->channels, &g->frame);
+    g->renderer->render(scene, base_in_map * mountTransform(lead.spec.mount), -1, g->channels, &g->frame);
     for (Sensor* m : g->members) sink.camera(m->spec, time, g->frame, g->renderer->intrinsics());
   }
   for (auto& s : sensors_) {
     const SensorType type = s->spec.type;
-    if ((type != SensorType::kLidar && type != SensorType::kOccupancyMap) || !s->due(time)) continue;
+    if (!castsRays(type) || isCamera(type) || !s->due(time)) continue;
     const double last = s->markDone(time);
     const Eigen::Isometry3d sensor_in_map = base_in_map * mountTransform(s->spec.mount);
     if (type == SensorType::kLidar) {
       s->lidar->scan(scene, sensor_in_map, own_vehicle, time - last, &s->points);
       sink.lidar(s->spec, time, s->points);
+    } else if (type == SensorType::kRadar) {
+      const Eigen::Vector3d velocity = scene.velocityAt(own_vehicle, sensor_in_map.translation());
+      s->radar->scan(scene, sensor_in_map, velocity, own_vehicle, time - last, &s->detections);
+      sink.radar(s->spec, time, s->detections);
     } else {
       s->occupancy->render(scene, sensor_in_map, own_vehicle, &s->occupancy_frame);
       sink.occupancy(s->spec, time, s->occupancy_frame);

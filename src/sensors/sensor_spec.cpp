@@ -28,6 +28,7 @@ constexpr TypeEntry kTypes[] = {
     {"roll_pitch_yaw", SensorType::kRollPitchYaw},
     {"location", SensorType::kLocation},
     {"occupancy_map", SensorType::kOccupancyMap},
+    {"radar", SensorType::kRadar},
 };
 
 using Section = config::YamlSection<SensorSpecError>;
@@ -40,6 +41,7 @@ constexpr double kMinSensorRate = 0.01;   // Hz: a reading every 100 s; slower, 
 constexpr int kMaxImageSide = 4096;
 constexpr long kMaxImagePixels = 4096L * 2048L;  // 8.4 million rays a frame
 constexpr double kMaxLidarPointsPerSecond = 1e7;
+constexpr double kMaxRadarPointsPerSecond = 1e6;
 constexpr int kMaxOccupancySide = 2048;
 
 Eigen::Vector3d readVector3(Section& s, const char* key) {
@@ -70,7 +72,8 @@ bool isCamera(SensorType type) {
 }
 
 bool castsRays(SensorType type) {
-  return isCamera(type) || type == SensorType::kLidar || type == SensorType::kOccupancyMap;
+  return isCamera(type) || type == SensorType::kLidar || type == SensorType::kOccupancyMap ||
+         type == SensorType::kRadar;
 }
 
 SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
@@ -127,6 +130,14 @@ SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
       s.read("lower_fov", &l.lower_fov);
       s.read("horizontal_fov", &l.horizontal_fov);
       s.read("noise_std", &l.noise_std);
+      break;
+    }
+    case SensorType::kRadar: {
+      auto& r = spec.radar;
+      s.read("horizontal_fov", &r.horizontal_fov);
+      s.read("vertical_fov", &r.vertical_fov);
+      s.read("points_per_second", &r.points_per_second);
+      s.read("max_distance", &r.max_distance);
       break;
     }
     case SensorType::kImu:
@@ -214,6 +225,16 @@ void validate(const SensorSpec& spec, const std::string& source) {
     if (!(l.horizontal_fov > 0 && l.horizontal_fov <= 360))
       fail("horizontal_fov", show(l.horizontal_fov) + " is outside (0, 360] degrees");
     range("noise_std", l.noise_std, 0, 10, " m");
+  }
+  if (spec.type == SensorType::kRadar) {
+    const auto& r = spec.radar;
+    if (!(r.horizontal_fov > 0 && r.horizontal_fov < 180))
+      fail("horizontal_fov", show(r.horizontal_fov) + " must be in (0, 180) degrees");
+    if (!(r.vertical_fov > 0 && r.vertical_fov < 180))
+      fail("vertical_fov", show(r.vertical_fov) + " must be in (0, 180) degrees");
+    range("points_per_second", r.points_per_second, 1, kMaxRadarPointsPerSecond, "");
+    if (!(r.max_distance > 0) || r.max_distance > 1000)
+      fail("max_distance", show(r.max_distance) + " is outside (0, 1000] m");
   }
   if (spec.type == SensorType::kImu) {
     range("accel_noise_std", spec.imu.accel_noise_std, 0, 100, " m/s^2");

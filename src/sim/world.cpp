@@ -178,7 +178,7 @@ struct World::Impl {
     return std::isfinite(road) ? road : top;
   }
 
-  btTransform placement(const std::string& name, const VehicleParams& params, const Pose& pose) const {
+  btTransform placement(const std::string& name, const VehicleParams& params, const Pose& pose, Placement how) const {
     const double yaw = yawOf(pose.orientation);
     const auto mine = footprint(params, pose.position.head<2>(), yaw, 0.3);
     for (const auto& [other, s] : vehicles) {
@@ -202,6 +202,12 @@ struct World::Impl {
     }
     btTransform t;
     t.setIdentity();
+    if (how == Placement::kAsGiven) {
+      const Eigen::Quaterniond q = pose.orientation.normalized();
+      t.setOrigin(btVector3(pose.position.x(), pose.position.y(), std::max(z, asked_z)));
+      t.setRotation(btQuaternion(q.x(), q.y(), q.z(), q.w()));
+      return t;
+    }
     t.setOrigin(btVector3(pose.position.x(), pose.position.y(), z));
     t.setRotation(btQuaternion(btVector3(0, 0, 1), yaw));
     return t;
@@ -283,11 +289,11 @@ World::~World() {
 const track::Track& World::track() const { return impl_->track; }
 const WorldOptions& World::options() const { return impl_->options; }
 
-void World::spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose) {
+void World::spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose, Placement placement) {
   auto& w = *impl_;
   if (name.empty()) throw SpawnError("a vehicle needs a name");
   if (w.vehicles.count(name)) throw SpawnError("a vehicle named '" + name + "' already exists");
-  const btTransform at = w.placement(name, params, pose);
+  const btTransform at = w.placement(name, params, pose, placement);
   Impl::Slot slot;
   slot.dynamics = std::make_unique<VehicleDynamics>(name, params, w.dynamics.get(), w.next_vehicle_index++, at);
   slot.last_control_time = time();
@@ -299,10 +305,10 @@ void World::destroyVehicle(const std::string& name) {
   impl_->vehicles.erase(name);
 }
 
-void World::resetVehicle(const std::string& name, const Pose& pose) {
+void World::resetVehicle(const std::string& name, const Pose& pose, Placement placement) {
   auto& w = *impl_;
   Impl::Slot& slot = w.slot(name);
-  slot.dynamics->reset(w.placement(name, slot.dynamics->params(), pose));
+  slot.dynamics->reset(w.placement(name, slot.dynamics->params(), pose, placement));
   slot.has_control = false;
   slot.last_control_time = time();
   slot.contacts.clear();

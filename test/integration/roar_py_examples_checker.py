@@ -98,7 +98,8 @@ class RoarPyExamples(unittest.TestCase):
     def test_01_rl_loop_with_a_camera(self):
         out, stopped = self.harness.run("ex01_rl_loop.py", budget=300)
         self.assertTrue(stopped, "the loop ran until the step budget")
-        self.assertIn("Observation space: Dict('camera': Box(0, 255, (84, 84, 3), uint8))", out)
+        # A camera attached without a name has ROAR_PY's CARLA backend's default name.
+        self.assertIn("Observation space: Dict('carla_camera': Box(0, 255, (84, 84, 3), uint8))", out)
         self.assertIn("'steer': Box(-1.0, 1.0, (1,), float32)", out)
         track = np.array(self.harness.tracks[self.harness.last_cars[0].ros_name])
         self.assertGreater(np.linalg.norm(track[-1] - track[0]), 20.0, "half throttle moves the car")

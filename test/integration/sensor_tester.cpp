@@ -204,7 +204,7 @@ TEST(Sensors, HostileAttachRequestsAreRefusedByNameAndTheSimulatorLivesOn) {
       {"{name: huge, type: camera_rgb, image_width: 8192, image_height: 8192}", "image_width"},
       {"{name: blind, type: camera_rgb, fov: .nan}", "fov"},
       {"{name: fast, type: lidar, rate: 1e9}", "rate"},
-      {"{name: odd, type: radar}", "type"},
+      {"{name: odd, type: sonar}", "type"},
       {"{name: broken, type: camera_rgb, x: [", "sensor_yaml"},
       {"", "sensor_yaml"},
       {"{name: '" + std::string(100000, 'a') + "', type: gnss}", "sensor_yaml is longer than"},

@@ -141,6 +141,41 @@ TEST(Camera, ACarInFrontIsSeenButNotTheCarCarryingTheCamera) {
   EXPECT_NE(centreClass(f), SemanticClass::kVehicle);
 }
 
+// Cars are seen from outside only: a camera inside a body sees out of it, as a hood camera does in CARLA.
+TEST(Camera, ACameraInsideACarSeesOutOfIt) {
+  const auto track = test::stadiumTrack();
+  sensors::RayScene scene(track);
+  const int ego = scene.addVehicle(test::sedanLooks(), {0.1f, 0.2f, 0.8f});
+  scene.setVehiclePose(ego, test::poseAt(200, 0, 0));
+  scene.commit();
+  CameraRenderer camera(spec(84, 84));
+  CameraFrame f;
+  camera.render(scene, test::poseAt(200.6, 0, 1.0), -1, all(), &f);  // inside ego, its own car not left out
+  EXPECT_NE(centreClass(f), SemanticClass::kVehicle);
+  EXPECT_GT(f.depth[42 * 84 + 42], 20.0f) << "the road far ahead, not the inside of the bonnet";
+}
+
+// ROAR's runner and examples mount their camera behind and above the car, pitched 10 degrees down: in
+// CARLA that picture shows the car, and their viewers are built on it (the sensor rig renders cameras so).
+TEST(Camera, AChaseCameraSeesTheCarItRidesOn) {
+  const auto track = test::stadiumTrack();
+  sensors::RayScene scene(track);
+  const int ego = scene.addVehicle(test::sedanLooks(), {0.1f, 0.2f, 0.8f});
+  scene.setVehiclePose(ego, test::poseAt(200, 0, 0));
+  scene.commit();
+  CameraRenderer camera(spec(84, 84));
+  CameraFrame f;
+  const Eigen::Isometry3d chase = test::poseAt(200 - 2 * 2.35, 0, 3 * 0.7, 0, 10 * M_PI / 180);
+  camera.render(scene, chase, -1, all(), &f);
+  int car_pixels = 0;
+  for (std::size_t i = 0; i < f.semantic.size(); ++i) car_pixels += f.semantic[i] == 6;
+  // Seen from 2.35 m behind its tail and 2.1 m up: rows 48 to 63 of 84, below the middle.
+  EXPECT_GT(car_pixels, 400) << "the car's tail and roof below the middle of the image";
+  EXPECT_EQ(static_cast<SemanticClass>(f.semantic[55 * 84 + 42]), SemanticClass::kVehicle);
+  camera.render(scene, chase, ego, all(), &f);
+  EXPECT_NE(static_cast<SemanticClass>(f.semantic[55 * 84 + 42]), SemanticClass::kVehicle) << "left out on request";
+}
+
 TEST(Camera, TheImageLooksLikeATrack) {
   const auto track = test::stadiumTrack();
   sensors::RayScene scene(track);

@@ -40,7 +40,7 @@ TEST(SensorSpec, BadFieldsAreNamedWithTheSensor) {
       std::string::npos);
   EXPECT_NE(parseError("{name: l, type: lidar, upper_fov: -40}").find("upper_fov: must be above lower_fov"),
             std::string::npos);
-  EXPECT_NE(parseError("{name: r, type: radar}").find("sensor 'r': type: unknown type 'radar'"), std::string::npos);
+  EXPECT_NE(parseError("{name: r, type: sonar}").find("sensor 'r': type: unknown type 'sonar'"), std::string::npos);
   EXPECT_NE(parseError("{name: i, type: imu, rate: 0}").find("sensor 'i': rate: 0 is outside [0.01, 10000] Hz"),
             std::string::npos);
   EXPECT_NE(parseError("{name: i, type: imu, x: abc}").find("sensor 'i': x: is not a number"), std::string::npos);

@@ -57,6 +57,34 @@ TEST(World, TimingChangesAtRunTimeKeepTheClockGoingForward) {
   EXPECT_LT(world.vehicleState("ego").speed, 0.05) << "the parked car stays parked across the change";
 }
 
+// CARLA spawns an actor at the transform asked and lets it fall: ROAR's competition runner spawns its car
+// a metre above the first waypoint and waits 20 ticks.
+TEST(World, SpawnedAsGivenAboveTheRoadFallsOntoIt) {
+  const auto track = test::openGround();
+  World world(track, {});
+  Pose high = at(10, 20, 0.5);
+  high.position.z() = 1.0;
+  world.spawnVehicle("ego", test::sedan(), high, sim::Placement::kAsGiven);
+  EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), 1.0, 1e-9) << "placed at the height asked";
+  world.step();
+  EXPECT_LT(world.vehicleState("ego").pose.position.z(), 1.0) << "it falls";
+  EXPECT_LT(world.vehicleState("ego").linear_velocity.z(), -0.2);
+  for (int i = 0; i < 40; ++i) world.step();
+  const auto s = world.vehicleState("ego");
+  EXPECT_NEAR(s.pose.position.z(), -0.02, 0.01) << "and comes to rest on the road";
+  EXPECT_LT(s.speed, 0.05);
+  Pose below = at(30, 20);
+  below.position.z() = -3.0;
+  world.spawnVehicle("low", test::sedan(), below, sim::Placement::kAsGiven);
+  EXPECT_GT(world.vehicleState("low").pose.position.z(), -0.1) << "never below the ground";
+  Pose tilted = at(10, 20, 0.0);
+  tilted.position.z() = 0.5;
+  tilted.orientation = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY());
+  world.resetVehicle("ego", tilted, sim::Placement::kAsGiven);
+  const Eigen::Vector3d fwd = world.vehicleState("ego").pose.orientation * Eigen::Vector3d::UnitX();
+  EXPECT_NEAR(std::asin(-fwd.z()), 0.2, 1e-6) << "pitch as given";
+}
+
 TEST(World, SpawnRestsOnTheGroundAtTheRideHeight) {
   const auto track = test::openGround();
   World world(track, {});

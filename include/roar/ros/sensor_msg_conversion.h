@@ -13,6 +13,7 @@
 #include "roar/sensors/inertial.h"
 #include "roar/sensors/lidar.h"
 #include "roar/sensors/occupancy_map.h"
+#include "roar/sensors/radar.h"
 
 namespace roar::ros_bridge {
 
@@ -24,6 +25,9 @@ sensor_msgs::CameraInfo toCameraInfo(const sensors::CameraIntrinsics& k, const r
 // x, y, z, intensity as float32, 16 bytes a point, in the sensor's frame.
 sensor_msgs::PointCloud2 toPointCloud2(const std::vector<sensors::LidarPoint>& points, const ros::Time& stamp,
                                        const std::string& frame);
+// CARLA's radar measurement as a cloud: velocity, azimuth, altitude, depth as float32, 16 bytes a detection.
+sensor_msgs::PointCloud2 toRadarCloud(const std::vector<sensors::RadarDetection>& detections, const ros::Time& stamp,
+                                      const std::string& frame);
 sensor_msgs::Imu toImu(const sensors::ImuSample& sample, const sensors::ImuSpec& spec, const ros::Time& stamp,
                        const std::string& frame);
 sensor_msgs::NavSatFix toNavSatFix(const sensors::GnssFix& fix, const sensors::GnssSpec& spec, const ros::Time& stamp,

@@ -1,7 +1,9 @@
 #pragma once
 // The ray-casting scene shared by cameras and LiDAR: the track (road with markings, kerbs in the corners,
 // barriers, ground) and every car, in Embree (Intel's CPU ray tracer). Cars are instances of their visual
-// mesh, moved each tick. A sensor never sees its own car (Embree ray masks).
+// mesh, moved each tick, seen from outside only (a camera inside a car's body sees out of it). A cast can
+// leave one car out (Embree ray masks): LiDAR, radar and the occupancy map never see their own car;
+// cameras do, as CARLA's do.
 #include <Eigen/Geometry>
 #include <memory>
 #include <vector>
@@ -25,6 +27,7 @@ struct RayHit {
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();   // surface colour, linear RGB 0..1
   float reflectivity = 0.0f;                          // LiDAR return strength of the material, 0..1
   SemanticClass semantic = SemanticClass::kSky;
+  int vehicle = -1;  // the car hit (its id in the scene), -1: the track
 };
 
 class RayScene {
@@ -38,6 +41,10 @@ class RayScene {
   int addVehicle(const VisualMesh& looks, const Eigen::Vector3f& paint);
   void removeVehicle(int id);
   void setVehiclePose(int id, const Eigen::Isometry3d& base_link_in_map);
+  // base_link's velocities (m/s, rad/s, map frame), for what the radar measures; zero until set.
+  void setVehicleVelocity(int id, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
+  // The velocity (m/s, map frame) of a point of car `id` (-1, the track: zero).
+  Eigen::Vector3d velocityAt(int id, const Eigen::Vector3d& point) const;
   // Makes moved and added cars visible to the next casts.
   void commit();
 

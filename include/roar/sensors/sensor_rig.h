@@ -1,9 +1,9 @@
 #pragma once
 // The sensors of one car. Motion sensors (IMU, GNSS, velocimeter, accelerometer, gyroscope, roll-pitch-yaw,
 // location) are sampled after physics substeps, so they may run up to the physics rate; cameras, LiDAR and
-// occupancy maps are cast once per control tick when due, so their rate may not exceed the control rate. Cameras on one
-// mount with the same intrinsics and rate share one cast. Readings go to a SensorSink (the ROS node publishes them;
-// tests collect them).
+// radar and occupancy maps are cast once per control tick when due, so their rate may not exceed the control rate.
+// Cameras on one mount with the same intrinsics and rate share one cast. Readings go to a SensorSink (the ROS node
+// publishes them; tests collect them).
 #include <Eigen/Geometry>
 #include <memory>
 #include <random>
@@ -14,6 +14,7 @@
 #include "roar/sensors/inertial.h"
 #include "roar/sensors/lidar.h"
 #include "roar/sensors/occupancy_map.h"
+#include "roar/sensors/radar.h"
 #include "roar/sensors/sensor_spec.h"
 
 namespace roar::sensors {
@@ -29,6 +30,7 @@ class SensorSink {
   // Accelerometer, gyroscope, roll_pitch_yaw and location (see sampleVector).
   virtual void vector(const SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) = 0;
   virtual void occupancy(const SensorSpec& spec, double stamp, const OccupancyFrame& frame) = 0;
+  virtual void radar(const SensorSpec& /*spec*/, double /*stamp*/, const std::vector<RadarDetection>& /*detections*/) {}
 };
 
 struct RigTiming {
@@ -56,7 +58,8 @@ class SensorRig {
 
   // After every physics substep, at simulated time `time`.
   void sampleMotion(double time, const BodyMotion& motion, SensorSink& sink);
-  // After every control tick, with the scene's cars at this tick's poses.
+  // After every control tick, with the scene's cars at this tick's poses (and velocities, for the radar).
+  // Cameras see the car they are on; LiDAR, radar and occupancy maps do not.
   void sampleRays(double time, const RayScene& scene, const Eigen::Isometry3d& base_in_map, int own_vehicle,
                   SensorSink& sink);
 

@@ -25,13 +25,14 @@ enum class SensorType {
   kGyroscope,
   kRollPitchYaw,
   kLocation,
-  kOccupancyMap
+  kOccupancyMap,
+  kRadar
 };
 
 const char* typeName(SensorType type);
 bool isCamera(SensorType type);
-// Cameras, LiDAR and the occupancy map cast rays once per control tick; the others sample the car's
-// motion after physics substeps.
+// Cameras, LiDAR, radar and the occupancy map cast rays once per control tick; the others sample the
+// car's motion after physics substeps.
 bool castsRays(SensorType type);
 
 struct Mount {
@@ -55,6 +56,15 @@ struct LidarSpec {
   double lower_fov = -30.0;          // deg
   double horizontal_fov = 360.0;     // deg
   double noise_std = 0.0;            // m, range noise
+};
+
+// CARLA's radar (sensor.other.radar) and its defaults: rays spread over an elliptical cone, each hit a
+// detection with its velocity along the line of sight.
+struct RadarSpec {
+  double horizontal_fov = 30.0;  // deg
+  double vertical_fov = 30.0;    // deg
+  double points_per_second = 1500.0;
+  double max_distance = 100.0;  // m
 };
 
 struct ImuSpec {
@@ -95,6 +105,7 @@ struct SensorSpec {
   double rate = 20.0;  // Hz
   CameraSpec camera;
   LidarSpec lidar;
+  RadarSpec radar;
   ImuSpec imu;
   GnssSpec gnss;
   VectorSpec vector;

@@ -31,6 +31,11 @@ struct Pose {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
+// How a car is put at a pose. kOnGround: at its x, y and yaw, set on the ground (z, roll and pitch from
+// it). kAsGiven: at the whole pose (never below the ground), as CARLA spawns and teleports actors: a car
+// above the road falls onto it (world_test SpawnedAsGivenAboveTheRoadFallsOntoIt).
+enum class Placement { kOnGround, kAsGiven };
+
 struct WheelState {
   double angular_velocity = 0.0;  // rad/s about the axle, positive rolling forward
   double steer_angle = 0.0;       // rad
@@ -91,11 +96,12 @@ class World {
   const track::Track& track() const;
   const WorldOptions& options() const;
 
-  // Places the car at rest on the ground at the pose's x, y and yaw (z, roll and pitch are taken from
-  // the ground). Throws SpawnError with the reason: a taken name, overlap with another car, no ground.
-  void spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose);
+  // Places the car at rest at the pose (see Placement). Throws SpawnError with the reason: a taken name,
+  // overlap with another car, no ground.
+  void spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose,
+                    Placement placement = Placement::kOnGround);
   void destroyVehicle(const std::string& name);  // throws SpawnError for an unknown name
-  void resetVehicle(const std::string& name, const Pose& pose);
+  void resetVehicle(const std::string& name, const Pose& pose, Placement placement = Placement::kOnGround);
   // Sets base_link's velocities (m/s and rad/s, map frame), the wheels rolling with the road; throws
   // std::invalid_argument for velocities that are not finite or beyond 150 m/s and 20 rad/s.
   void setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);

@@ -1,0 +1,190 @@
+"""ROAR_PY's base: the sensor every backend implements, and sensor data that crosses to other machines.
+
+``RoarPyRemoteSupportedSensorData.to_data``/``from_data`` serialise a reading in the schemes of ROAR_PY
+(pyserde's dict, JSON, YAML, TOML and MessagePack, each optionally zlib-compressed): a dataclass's fields
+by name, NumPy arrays as nested lists, as pyserde writes them; readings with a ``to_data`` of their own
+(camera images and occupancy maps as JPEG) override it. ROAR_PY's remote protocol sends readings as
+``MSGPACK_COMPRESSED`` (test_roar_py_remote.py).
+"""
+import dataclasses
+import enum
+import json
+import typing
+import zlib
+
+import numpy as np
+
+from . import spaces
+
+_ObsT = typing.TypeVar("_ObsT")
+
+
+class RoarPyRemoteSupportedSensorSerializationScheme(enum.Enum):
+    DICT = 1
+    JSON = 2
+    YAML = 4
+    TOML = 8
+    MSGPACK = 16
+    INTERNAL_COMPRESSED = 64
+    JSON_COMPRESSED = 2 | 64
+    YAML_COMPRESSED = 4 | 64
+    TOML_COMPRESSED = 8 | 64
+    MSGPACK_COMPRESSED = 16 | 64
+
+
+_Scheme = RoarPyRemoteSupportedSensorSerializationScheme
+
+
+def to_plain(value):
+    """pyserde's to_dict of a value: dataclasses as dicts of their fields, arrays and tuples as lists."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: to_plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, (list, tuple)):
+        return [to_plain(v) for v in value]
+    if isinstance(value, dict):
+        return {k: to_plain(v) for k, v in value.items()}
+    return value
+
+
+def from_plain(cls, data):
+    """A dataclass from its to_plain form: fields annotated np.ndarray become arrays."""
+    if not isinstance(data, dict):
+        raise ValueError(f"{cls.__name__}: serialised data must be a mapping of its fields, got {type(data).__name__}")
+    hints = typing.get_type_hints(cls)
+    values = {}
+    for f in dataclasses.fields(cls):
+        if f.name not in data:
+            if f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING:
+                continue
+            raise ValueError(f"{cls.__name__}: serialised data has no field '{f.name}'")
+        value = data[f.name]
+        if hints.get(f.name) is np.ndarray and value is not None:
+            value = np.asarray(value)
+        values[f.name] = value
+    return cls(**values)
+
+
+def _encode(plain, scheme: _Scheme) -> bytes:
+    kind = scheme.value & ~_Scheme.INTERNAL_COMPRESSED.value
+    if kind == _Scheme.JSON.value:
+        return json.dumps(plain).encode("utf-8")
+    if kind == _Scheme.YAML.value:
+        import yaml
+
+        return yaml.safe_dump(plain).encode("utf-8")
+    if kind == _Scheme.TOML.value:
+        import toml
+
+        return toml.dumps(plain).encode("utf-8")
+    if kind == _Scheme.MSGPACK.value:
+        import msgpack
+
+        return msgpack.packb(plain, use_bin_type=True)
+    raise NotImplementedError(f"serialisation scheme {scheme.name}")
+
+
+def _decode(data: bytes, scheme: _Scheme):
+    kind = scheme.value & ~_Scheme.INTERNAL_COMPRESSED.value
+    if kind == _Scheme.JSON.value:
+        return json.loads(data.decode("utf-8"))
+    if kind == _Scheme.YAML.value:
+        import yaml
+
+        return yaml.safe_load(data.decode("utf-8"))
+    if kind == _Scheme.TOML.value:
+        import toml
+
+        return toml.loads(data.decode("utf-8"))
+    if kind == _Scheme.MSGPACK.value:
+        import msgpack
+
+        return msgpack.unpackb(data, raw=False, strict_map_key=False)
+    raise NotImplementedError(f"serialisation scheme {scheme.name}")
+
+
+class RoarPyRemoteSupportedSensorData:
+    """Sensor data that serialises for ROAR_PY's remote protocol; registered by class name."""
+
+    _supported_data_types: typing.Dict[str, typing.Type["RoarPyRemoteSupportedSensorData"]] = {}
+
+    def to_data(self, scheme: RoarPyRemoteSupportedSensorSerializationScheme) -> typing.Any:
+        plain = to_plain(self)
+        if scheme == _Scheme.DICT:
+            return plain
+        data = _encode(plain, scheme)
+        if scheme.value & _Scheme.INTERNAL_COMPRESSED.value:
+            data = zlib.compress(data)
+        return data
+
+    @classmethod
+    def from_data(cls, data: typing.Any,
+                  scheme: RoarPyRemoteSupportedSensorSerializationScheme) -> "RoarPyRemoteSupportedSensorData":
+        if hasattr(cls, "from_data_custom"):
+            return cls.from_data_custom(data, scheme)
+        if scheme == _Scheme.DICT:
+            return from_plain(cls, data)
+        if scheme.value & _Scheme.INTERNAL_COMPRESSED.value:
+            data = zlib.decompress(data)
+        return from_plain(cls, _decode(data, scheme))
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        raise NotImplementedError()
+
+    def convert_obs_to_gym_obs(self):
+        raise NotImplementedError()
+
+
+def remote_support_sensor_data_register(cls):
+    RoarPyRemoteSupportedSensorData._supported_data_types[cls.__name__] = cls
+    return cls
+
+
+class RoarPySensor(typing.Generic[_ObsT]):
+    """A sensor: ``receive_observation`` waits for its reading of the current step."""
+
+    sensordata_type: typing.Type = object
+
+    def __init__(self, name: str, control_timestep: float = 0.0):
+        self.name = name
+        self._control_timestep = control_timestep
+
+    @property
+    def control_timestep(self) -> float:
+        return self._control_timestep
+
+    @control_timestep.setter
+    def control_timestep(self, value: float):
+        self._control_timestep = value
+
+    def get_gym_observation_spec(self) -> spaces.Space:
+        raise NotImplementedError()
+
+    async def receive_observation(self) -> _ObsT:
+        raise NotImplementedError()
+
+    def get_last_observation(self) -> typing.Optional[_ObsT]:
+        raise NotImplementedError()
+
+    def convert_obs_to_gym_obs(self, obs: _ObsT):
+        return obs.convert_obs_to_gym_obs()
+
+    def get_last_gym_observation(self) -> typing.Optional[typing.Any]:
+        obs = self.get_last_observation()
+        return None if obs is None else self.convert_obs_to_gym_obs(obs)
+
+    def close(self):
+        raise NotImplementedError()
+
+    def is_closed(self) -> bool:
+        raise NotImplementedError()
+
+    def __del__(self):
+        try:
+            if not self.is_closed():
+                self.close()
+        except Exception:  # noqa: BLE001 - nothing may escape a finaliser
+            pass

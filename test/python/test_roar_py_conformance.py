@@ -1,0 +1,167 @@
+"""ROAR_PY's interface, name by name: every public name of ROAR_PY's roar_py_interface (at ROAR_PY's head:
+its worlds, actors, sensors, base, wrappers and visualizations packages) exists here, and the methods
+ROAR's programs call take ROAR_PY's arguments in ROAR_PY's order (extra trailing keyword arguments
+allowed). The backend's names are roar_py_carla's (RoarPyCarlaWorld, RoarPyCarlaActor, RoarPyCarlaVehicle,
+RoarPyCarlaInstance). A failure names what is missing or different."""
+import inspect
+
+import pytest
+
+import roar_py_interface as rpi
+import roar_py_ros
+
+# roar_py_interface's public names, package by package, as ROAR_PY's __init__ files export them.
+ROAR_PY_NAMES = {
+    "worlds": ["RoarPyWorld", "RoarPyWorldResettable", "RoarPyWaypoint", "RoarPyWaypointsProjection",
+               "RoarPyWaypointsTracker", "RoarPyOccupancyMapProducer"],
+    "actors": ["RoarPyActor", "RoarPyResettableActor", "RoarPyVehicleAutoGearActor", "RoarPyVehicleManualGearActor"],
+    "sensors": ["RoarPyAccelerometerSensor", "RoarPyAccelerometerSensorData", "RoarPyCameraSensor",
+                "RoarPyCameraSensorData", "RoarPyCameraSensorDataGreyscale", "RoarPyCameraSensorDataRGB",
+                "RoarPyCameraSensorDataDepth", "RoarPyCameraSensorDataSemanticSegmentation",
+                "RoarPyCollisionSensor", "RoarPyCollisionSensorData", "RoarPyGNSSSensor", "RoarPyGNSSSensorData",
+                "RoarPyGyroscopeSensor", "RoarPyGyroscopeSensorData", "RoarPyFrameQuatSensor",
+                "RoarPyFrameQuatSensorData", "RoarPyRollPitchYawSensor", "RoarPyRollPitchYawSensorData",
+                "RoarPyFrameQuatSensorFromRollPitchYaw", "RoarPyRollPitchYawSensorFromFrameQuat", "RoarPyLiDARSensor",
+                "RoarPyLiDARSensorData", "RoarPyLocationInWorldSensor", "RoarPyLocationInWorldSensorData",
+                "RoarPyOccupancyMapSensor", "RoarPyOccupancyMapSensorData", "RoarPyOccupancyMapSensorImpl",
+                "RoarPyVelocimeterSensor", "RoarPyVelocimeterSensorData", "RoarPyCustomLambdaSensor",
+                "RoarPyCustomLambdaSensorData", "RoarPyRadarSensor", "RoarPyRadarSensorData"],
+    "base": ["RoarPySensor", "RoarPyRemoteSupportedSensorData", "RoarPyRemoteSupportedSensorSerializationScheme"],
+    "wrappers": ["RoarPyWrapper", "RoarPyActorWrapper", "RoarPySensorWrapper", "RoarPyWorldWrapper",
+                 "RoarPyThreadSafeWrapper", "roar_py_thread_sync", "RoarPyAddItemWrapper", "roar_py_append_item",
+                 "roar_py_remove_item", "RoarPyActorSensorFilterWrapper"],
+    "visualizations": ["RoarPyVisualizer"],
+}
+
+# (object, method, ROAR_PY's parameters after self in order, with defaults where it has them).
+SIGNATURES = [
+    (rpi.RoarPyActor, "__init__", [("name", None), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
+    (rpi.RoarPyVehicleAutoGearActor, "__init__",
+     [("name", "vehicle_autogear"), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
+    (rpi.RoarPyVehicleManualGearActor, "__init__",
+     [("name", "vehicle_manualgear"), ("control_timestep", 0.05), ("force_real_control_timestep", False),
+      ("num_gears", 6)]),
+    (rpi.RoarPySensor, "__init__", [("name", None), ("control_timestep", None)]),
+    (rpi.RoarPyCameraSensor, "__init__", [("name", None), ("control_timestep", None), ("target_data_type", None)]),
+    (rpi.RoarPyFrameQuatSensor, "__init__", [("control_timestep", None), ("name", "framequat_sensor")]),
+    (rpi.RoarPyRollPitchYawSensorFromFrameQuat, "__init__", [("framequat_sensor", None), ("name", None)]),
+    (rpi.RoarPyFrameQuatSensorFromRollPitchYaw, "__init__", [("rpy_sensor", None), ("name", None)]),
+    (rpi.RoarPyOccupancyMapSensor, "__init__", [("name", "occupancy_map_sensor")]),
+    (rpi.RoarPyOccupancyMapSensorImpl, "__init__",
+     [("producer", None), ("location_sensor", None), ("rotation_sensor", None), ("name", "occupancy_map_sensor")]),
+    (rpi.RoarPyCustomLambdaSensor, "__init__", [("name", None), ("control_timestep", None), ("data_space", None)]),
+    (rpi.RoarPyOccupancyMapProducer, "__init__",
+     [("waypoints", None), ("width", None), ("height", None), ("width_world", None), ("height_world", None)]),
+    (rpi.RoarPyOccupancyMapProducer, "plot_occupancy_map", [("location_2d", None), ("rotation_yaw", None)]),
+    (rpi.RoarPyWaypoint, "__init__", [("location", None), ("roll_pitch_yaw", None), ("lane_width", None)]),
+    (rpi.RoarPyWaypointsTracker, "__init__", [("waypoints", None), ("current_traced_index", 0)]),
+    (rpi.RoarPyWaypointsTracker, "trace_point", [("point", None), ("start_idx", 0)]),
+    (rpi.RoarPyWaypointsTracker, "trace_forward_projection", [("projection", None), ("distance", None)]),
+    (rpi.RoarPyWaypointsTracker, "delta_distance_projection", [("projection_origin", None),
+                                                               ("projection_destination", None)]),
+    (rpi.RoarPyWaypointsTracker, "get_interpolated_waypoint", [("projection", None)]),
+    (rpi.RoarPyWaypointsTracker, "total_distance_from_first_waypoint", [("projection_result", None)]),
+    (rpi.RoarPyWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", None)]),
+    (rpi.RoarPyActorWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPyActorWrapper")]),
+    (rpi.RoarPySensorWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPySensorWrapper")]),
+    (rpi.RoarPyWorldWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPyWorldWrapper")]),
+    (rpi.RoarPyThreadSafeWrapper, "__init__", [("wrapped_object", None), ("tslock", None)]),
+    (rpi.RoarPyAddItemWrapper, "__init__", [("wrapped_object", None), ("add_callback", None),
+                                            ("remove_callback", None)]),
+    (rpi.RoarPyActorSensorFilterWrapper, "__init__",
+     [("wrapped_object", None), ("exclude_sensors", None), ("wrapper_name", "RoarPyActorSensorFilterWrapper")]),
+    (rpi.RoarPyVisualizer, "__init__", [("actor", None)]),
+    # roar_py_carla's backend.
+    (roar_py_ros.RoarPyRosWorld, "spawn_vehicle", [("blueprint_id", None), ("location", None), ("roll_pitch_yaw", None),
+                                                   ("auto_gear", True), ("name", "carla_vehicle"), ("rgba", None)]),
+    (roar_py_ros.RoarPyRosWorld, "set_control_steps", [("control_timestep", None), ("control_substimestep", None)]),
+    (roar_py_ros.RoarPyRosWorld, "set_asynchronous", [("asynchronous", None)]),
+    (roar_py_ros.RoarPyRosWorld, "get_geolocation", [("location", None)]),
+    (roar_py_ros.RoarPyRosWorld, "attach_camera_sensor",
+     [("target_datatype", None), ("location", None), ("roll_pitch_yaw", None), ("fov", 90.0), ("image_width", 800),
+      ("image_height", 600), ("control_timestep", 0.0), ("attachment_type", None), ("name", "carla_camera"),
+      ("bind_to", None)]),
+    (roar_py_ros.RoarPyRosWorld, "remove_actor", [("actor", None)]),
+    (roar_py_ros.RoarPyRosWorld, "remove_sensor", [("sensor", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_camera_sensor",
+     [("target_datatype", None), ("location", None), ("roll_pitch_yaw", None), ("fov", 90.0), ("image_width", 800),
+      ("image_height", 600), ("control_timestep", 0.0), ("attachment_type", None), ("name", "carla_camera")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_collision_sensor",
+     [("location", None), ("roll_pitch_yaw", None), ("attachment_type", None), ("name", "carla_collision_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_accelerometer_sensor", [("name", "carla_accelerometer_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_velocimeter_sensor", [("name", "carla_velocimeter_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_local_velocimeter_sensor", [("name", "carla_local_velocimeter_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_gnss_sensor",
+     [("noise_altitude_bias", 0.0), ("noise_altitude_std", 0.0), ("noise_latitude_bias", 0.0),
+      ("noise_latitude_std", 0.0), ("noise_longitude_bias", 0.0), ("noise_longitude_std", 0.0), ("noise_seed", 0),
+      ("control_timestep", 0.0), ("name", "carla_gnss_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_lidar_sensor",
+     [("location", None), ("roll_pitch_yaw", None), ("num_lasers", 32), ("max_distance", 10.0),
+      ("points_per_second", 56000), ("rotation_frequency", 10.0), ("upper_fov", 10.0), ("lower_fov", -30.0),
+      ("horizontal_fov", 360.0), ("atmosphere_attenuation_rate", 0.004), ("dropoff_general_rate", 0.45),
+      ("dropoff_intensity_limit_below", 0.8), ("control_timestep", 0.0), ("noise_std", 0.0),
+      ("attachment_type", None), ("name", "carla_lidar_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_roll_pitch_yaw_sensor", [("name", "carla_rpy_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_framequat_sensor", [("name", "carla_framequat_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_gyroscope_sensor", [("name", "carla_gyroscope_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_location_in_world_sensor", [("name", "carla_location_in_world_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "attach_occupancy_map_sensor",
+     [("width", None), ("height", None), ("width_in_world", None), ("height_in_world", None),
+      ("name", "carla_occupancy_map_sensor")]),
+    (roar_py_ros.RoarPyRosVehicle, "remove_sensor", [("sensor", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "set_transform", [("new_location", None), ("new_rotation", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "set_3d_location", [("new_location", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "set_roll_pitch_yaw", [("new_rotation_rpy", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "set_linear_3d_velocity", [("target_linear_velocity", None)]),
+    (roar_py_ros.RoarPyRosVehicle, "set_angular_velocity", [("target_angular_velocity", None)]),
+    (roar_py_ros.RoarPyRosInstance, "load_world", [("map_name", None), ("reset_settings", True)]),
+    (roar_py_ros.RoarPyRosInstance, "reload_world", [("reset_settings", True)]),
+]
+
+# roar_py_carla's methods and properties that ROAR's programs use, on each backend class.
+BACKEND_MEMBERS = {
+    roar_py_ros.RoarPyRosWorld: ["is_asynchronous", "get_actors", "get_sensors", "maneuverable_waypoints",
+                                 "comprehensive_waypoints", "last_tick_elapsed_seconds", "step", "spawn_points",
+                                 "control_timestep", "contorl_subtimestep", "map_name", "attach_lidar_sensor"],
+    roar_py_ros.RoarPyRosVehicle: ["get_3d_location", "get_roll_pitch_yaw", "get_linear_3d_velocity",
+                                   "get_angular_velocity", "get_acceleration", "bounding_box", "get_action_spec",
+                                   "apply_action", "receive_observation", "get_last_observation",
+                                   "get_gym_observation_spec", "get_last_gym_observation", "convert_obs_to_gym_obs",
+                                   "get_sensors", "reset", "close", "is_closed", "num_gears", "auto_gear",
+                                   "control_timestep", "force_real_control_timestep"],
+    roar_py_ros.RoarPyRosInstance: ["world", "get_available_maps", "get_client_version", "get_server_version",
+                                    "close", "is_closed"],
+}
+
+
+@pytest.mark.parametrize("package", sorted(ROAR_PY_NAMES))
+def test_every_public_name_of_roar_py_is_here(package):
+    missing = [name for name in ROAR_PY_NAMES[package] if not hasattr(rpi, name)]
+    assert missing == [], f"roar_py_interface ({package}) lacks {missing}"
+
+
+def test_the_count_of_roar_py_names():
+    # ROAR_PY's 53 public classes, the projection's namedtuple and the three wrappers' marking functions.
+    names = [getattr(rpi, name) for names in ROAR_PY_NAMES.values() for name in names]
+    classes = [n for n in names if isinstance(n, type) and not issubclass(n, tuple)]
+    assert len(names) == 57 and len(classes) == 53
+
+
+@pytest.mark.parametrize("owner,method,expected", SIGNATURES,
+                         ids=[f"{o.__name__}.{m}" for o, m, _ in SIGNATURES])
+def test_methods_take_roar_pys_arguments_in_order(owner, method, expected):
+    parameters = [p for p in inspect.signature(getattr(owner, method)).parameters.values() if p.name != "self"]
+    names = [p.name for p in parameters]
+    assert names[:len(expected)] == [name for name, _ in expected], f"{owner.__name__}.{method}{tuple(names)}"
+    for parameter, (name, default) in zip(parameters, expected):
+        if default is not None:
+            assert parameter.default == default, f"{owner.__name__}.{method}: {name} defaults to {parameter.default!r}"
+    for extra in parameters[len(expected):]:
+        assert extra.default is not inspect.Parameter.empty, f"{owner.__name__}.{method}: extra '{extra.name}' required"
+
+
+@pytest.mark.parametrize("owner", list(BACKEND_MEMBERS), ids=lambda o: o.__name__)
+def test_the_backend_has_roar_py_carlas_members(owner):
+    missing = [name for name in BACKEND_MEMBERS[owner] if not hasattr(owner, name) and
+               name not in getattr(owner, "__annotations__", {}) and name not in ("bounding_box", "auto_gear", "world")]
+    assert missing == [], f"{owner.__name__} lacks {missing}"

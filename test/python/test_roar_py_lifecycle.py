@@ -1,0 +1,68 @@
+"""Nothing a ROAR_PY program started is left behind when it ends, however it ends: a program that makes
+a RoarPyRosInstance with no ROS master about starts its own stack (roslaunch, rosmaster, rosout, roar_sim,
+waypoint_server); after a normal exit, an exception, SIGINT, SIGTERM or SIGKILL every one of those
+processes is gone and its log folder removed."""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "python", "roar_py_ros"))
+import watchdog  # noqa: E402
+
+PROGRAM = """
+import sys, time
+import roar_py_ros
+instance = roar_py_ros.RoarPyRosInstance(map_name="roar_sprint")
+print(instance._private.process.pid, instance._private.log_dir, flush=True)
+sys.stdin.readline()
+if sys.argv[1] == "exception":
+    raise RuntimeError("the program failed")
+if sys.argv[1] == "exit":
+    sys.exit(0)
+time.sleep(600)
+"""
+
+
+def start_program(how: str):
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    program = subprocess.Popen([sys.executable, "-c", PROGRAM, how], env=env, stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    line = program.stdout.readline().split()
+    assert len(line) == 2, f"the program did not start its stack: {program.stderr.read() if program.poll() else ''}"
+    return program, int(line[0]), line[1]
+
+
+def stack_of(roslaunch_pid: int) -> list:
+    """roslaunch and its processes, once its five nodes are up."""
+    deadline = time.time() + 30
+    tree = []
+    while time.time() < deadline:
+        tree = [roslaunch_pid] + watchdog.descendants(roslaunch_pid)
+        if len(tree) >= 5:
+            break
+        time.sleep(0.2)
+    return tree
+
+
+@pytest.mark.parametrize("how", ["exit", "exception", "SIGINT", "SIGTERM", "SIGKILL"])
+def test_a_program_leaves_nothing_running_however_it_ends(how):
+    program, roslaunch_pid, log_dir = start_program(how)
+    tree = stack_of(roslaunch_pid)
+    names = sorted(open(f"/proc/{p}/comm").read().strip() for p in tree if watchdog.alive(p))
+    assert any("roar_sim" in n for n in names) and any("rosmaster" in n or "python" in n for n in names), names
+    if how in ("exit", "exception"):
+        program.stdin.write("go\n")
+        program.stdin.flush()
+    else:
+        program.send_signal(getattr(signal, how))
+    program.wait(timeout=60)
+    deadline = time.time() + 30
+    while time.time() < deadline and (any(watchdog.alive(p) for p in tree) or os.path.exists(log_dir)):
+        time.sleep(0.2)
+    left = [p for p in tree if watchdog.alive(p)]
+    assert left == [], f"after {how}: still running {left}"
+    assert not os.path.exists(log_dir), f"after {how}: {log_dir} is left"
