@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
-"""Speed of a ROAR_PY program on roar_sim: a Python loop of world.step(), receive_observation() and
-apply_action() in synchronous mode at 20 Hz control, everything (this process, roar_sim it starts) on one
-core. Prints steps per second and times real time for the state sensors (location, velocimeter,
-roll-pitch-yaw, accelerometer, gyroscope, collision), then with an 84x84 RGB camera added; the reference,
-measured in the same run, is the same number of bare /roar_sim/step calls from rospy (no sensors, no
-ROAR_PY layer).
+"""Speed of ROAR's competition set-up on roar_sim: the official runner's car and sensors (a
+vehicle.tesla.model3 with a 1024x768 chase camera, location, velocimeter, roll-pitch-yaw, a 50x50
+occupancy map and collision) driven by a loop of the runner's shape (world.step(), receive_observation(),
+an action) in synchronous mode at 20 Hz control on Monza, this process and the roar_sim it starts on one
+core. Prints steps per second and times real time for an entry that reads only location, velocity and
+rotation (the camera's frames never read, so never rendered), then for one that reads the camera's
+pixels every tick; the reference, measured in the same run, is the same number of bare /roar_sim/step
+calls from rospy (no sensors, no ROAR_PY layer).
 
-    /usr/bin/python3 bench/roar_py_bench.py [--steps N] [--cores 1]
+    /usr/bin/python3 bench/roar_py_bench.py [--steps N] [--cores 1] [--camera 1024x768]
 """
 import argparse
 import asyncio
@@ -19,17 +21,35 @@ import roar_py_interface as rpi
 import roar_py_ros
 
 CONTROL_DT = 0.05
-ACTION = {"throttle": np.array([0.6]), "steer": np.array([0.0]), "brake": np.array([0.0]),
-          "hand_brake": np.array([0]), "reverse": np.array([0])}
+ACTION = {"throttle": 0.5, "steer": 0.0, "brake": 0.0, "hand_brake": 0.0, "reverse": 0, "target_gear": 0}
 
 
-async def loop(world, vehicle, steps: int) -> float:
+def runner_sensors(vehicle, camera_size):
+    """The official runner's sensors, with its arguments."""
+    extent = vehicle.bounding_box.extent
+    camera = vehicle.attach_camera_sensor(rpi.RoarPyCameraSensorDataRGB, np.array([-2.0 * extent[0], 0.0, 3.0 * extent[2]]),
+                                          np.array([0, 10 / 180.0 * np.pi, 0]), image_width=camera_size[0],
+                                          image_height=camera_size[1])
+    sensors = {"camera": camera, "location": vehicle.attach_location_in_world_sensor(),
+               "velocity": vehicle.attach_velocimeter_sensor(), "rpy": vehicle.attach_roll_pitch_yaw_sensor(),
+               "occupancy": vehicle.attach_occupancy_map_sensor(50, 50, 2.0, 2.0),
+               "collision": vehicle.attach_collision_sensor(np.zeros(3), np.zeros(3))}
+    return sensors
+
+
+async def loop(world, vehicle, sensors, steps: int, read_camera: bool) -> float:
     started = time.perf_counter()
     for _ in range(steps):
+        await vehicle.receive_observation()
+        location = sensors["location"].get_last_gym_observation()
+        velocity = sensors["velocity"].get_last_gym_observation()
+        rotation = sensors["rpy"].get_last_gym_observation()
+        if read_camera:
+            sensors["camera"].get_last_observation().get_image()
+        steer = float(np.clip(0.01 * rotation[2] + 0.0 * location[0], -1, 1))
+        await vehicle.apply_action({**ACTION, "throttle": 0.5 if np.linalg.norm(velocity) < 20 else 0.0,
+                                    "steer": steer})
         await world.step()
-        obs = await vehicle.receive_observation()
-        vehicle.convert_obs_to_gym_obs(obs)
-        await vehicle.apply_action(ACTION)
     return time.perf_counter() - started
 
 
@@ -43,49 +63,42 @@ async def bare_steps(instance, vehicle, steps: int) -> float:
     return time.perf_counter() - started
 
 
-def state_sensors(vehicle):
-    vehicle.attach_location_in_world_sensor()
-    vehicle.attach_velocimeter_sensor()
-    vehicle.attach_roll_pitch_yaw_sensor()
-    vehicle.attach_accelerometer_sensor()
-    vehicle.attach_gyroscope_sensor()
-    vehicle.attach_collision_sensor()
-
-
 def report(name: str, steps: int, seconds: float, reference: float):
     rate = steps / seconds
-    print(f"{name:44s} {rate:8.0f} steps/s  {rate * CONTROL_DT:6.1f}x real time  "
-          f"{seconds / reference:5.2f}x the bare step's time")
+    print(f"{name:52s} {rate:8.0f} steps/s  {rate * CONTROL_DT:6.1f}x real time  "
+          f"{seconds / reference:5.2f}x the bare step's time", flush=True)
 
 
-async def main(steps: int, cores: int):
+async def main(steps: int, cores: int, camera_size):
     os.sched_setaffinity(0, set(range(cores)))  # roar_sim, started from here, inherits it
-    instance = roar_py_ros.RoarPyRosInstance(map_name="roar_ring")
+    instance = roar_py_ros.RoarPyRosInstance(map_name="monza")
     try:
         world = instance.world
-        world.set_asynchronous(False)
         world.set_control_steps(CONTROL_DT, 0.005)
-        location, rpy = world.spawn_points[0]
-        vehicle = world.spawn_vehicle("vehicle.tesla.model3", location, rpy)
+        world.set_asynchronous(False)
+        waypoints = world.maneuverable_waypoints
+        vehicle = world.spawn_vehicle("vehicle.tesla.model3", waypoints[0].location + np.array([0, 0, 1]),
+                                      waypoints[0].roll_pitch_yaw, True)
         await vehicle.apply_action(ACTION)
         await bare_steps(instance, vehicle, 50)  # warm-up
         reference = await bare_steps(instance, vehicle, steps)
-        print(f"one car on Roar Ring, {steps} steps of {CONTROL_DT} s, {cores} core(s), pid {os.getpid()}")
+        print(f"the official runner's set-up on Monza, {steps} steps of {CONTROL_DT} s, {cores} core(s), "
+              f"camera {camera_size[0]}x{camera_size[1]}")
         report("bare /roar_sim/step (reference)", steps, reference, reference)
-        state_sensors(vehicle)
-        await loop(world, vehicle, 50)
-        report("ROAR_PY loop, state sensors", steps, await loop(world, vehicle, steps), reference)
-        vehicle.attach_camera_sensor(rpi.RoarPyCameraSensorDataRGB, np.array([0.6, 0.0, 1.5]), np.zeros(3),
-                                     image_width=84, image_height=84)
-        await loop(world, vehicle, 50)
-        report("ROAR_PY loop, state sensors + 84x84 camera", steps, await loop(world, vehicle, steps), reference)
+        sensors = runner_sensors(vehicle, camera_size)
+        await loop(world, vehicle, sensors, 50, False)
+        report("runner's sensors, entry reads location/velocity/rpy", steps,
+               await loop(world, vehicle, sensors, steps, False), reference)
+        report("runner's sensors, entry reads the camera every tick", steps,
+               await loop(world, vehicle, sensors, steps, True), reference)
     finally:
         instance.close()
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description="ROAR_PY loop speed on roar_sim")
-    parser.add_argument("--steps", type=int, default=2000)
+    parser = argparse.ArgumentParser(description="ROAR's competition set-up: loop speed on roar_sim")
+    parser.add_argument("--steps", type=int, default=1000)
     parser.add_argument("--cores", type=int, default=1)
+    parser.add_argument("--camera", default="1024x768")
     args = parser.parse_args()
-    asyncio.run(main(args.steps, args.cores))
+    asyncio.run(main(args.steps, args.cores, tuple(int(v) for v in args.camera.split("x"))))

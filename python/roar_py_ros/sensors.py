@@ -24,21 +24,48 @@ SIM_NODE = "/roar_sim"
 READING_TIMEOUT = 30.0  # wall seconds a reading roar_sim announced may take to arrive
 
 
-class RosSensorMixin:
-    """What every roar_py_ros sensor shares: its car, its roar_sim name, its topic and its last reading."""
+class _VehicleSensor:
+    """What every roar_py_ros sensor shares: its car, its last reading, and closing."""
 
-    def _setup(self, vehicle, sim_name: str, topic: typing.Optional[str], msg_class, convert):
+    def _own(self, vehicle, sim_name):
         self._vehicle = vehicle
         self.sim_name = sim_name
+        self._last_obs = None
+        self._closed = False
+
+    def _check_open(self):
+        if self._closed:
+            raise RuntimeError(f"sensor '{self.name}' is closed")
+        self._vehicle._check_open()
+
+    def _release(self):
+        """What a sensor gives back when closed, beyond its place on the car."""
+
+    def get_last_observation(self):
+        return self._last_obs
+
+    def close(self):
+        if not self._closed:
+            self._closed = True
+            self._release()
+            self._vehicle._sensor_closed(self)
+
+    def is_closed(self) -> bool:
+        return self._closed
+
+
+class RosSensorMixin(_VehicleSensor):
+    """A sensor read from its roar_sim topic: its topic, its newest message and the stamp it returned."""
+
+    def _setup(self, vehicle, sim_name: str, topic: typing.Optional[str], msg_class, convert):
+        self._own(vehicle, sim_name)
         self.topic = topic
         self._convert = convert
         self._cond = threading.Condition()
         self._msg = None
         self._msg_stamp = -1.0
         self._returned_stamp = -1.0
-        self._last_obs = None
         self._last_obs_stamp = None
-        self._closed = False
         self._sub = None
         if topic is not None:
             self._sub = rospy.Subscriber(topic, msg_class, self._on_message, queue_size=4, tcp_nodelay=True,
@@ -60,11 +87,6 @@ class RosSensorMixin:
             self._msg = msg
             self._msg_stamp = msg.header.stamp.to_sec()
             self._cond.notify_all()
-
-    def _check_open(self):
-        if self._closed:
-            raise RuntimeError(f"sensor '{self.name}' is closed")
-        self._vehicle._check_open()
 
     async def receive_observation(self):
         self._check_open()
@@ -97,30 +119,65 @@ class RosSensorMixin:
                 self._cond.wait(min(remaining, 0.5))
             return self._msg, self._msg_stamp
 
-    def get_last_observation(self):
-        return self._last_obs
-
-    def close(self):
-        if self._closed:
-            return
-        self._closed = True
+    def _release(self):
         if self._sub is not None:
             self._sub.unregister()
-        self._vehicle._sensor_closed(self)
-
-    def is_closed(self) -> bool:
-        return self._closed
 
 
-class RoarPyRosCameraSensor(RosSensorMixin, rpi.RoarPyCameraSensor):
+def _lazy_camera_class(base: type, field: str) -> type:
+    """A subclass of a camera data class whose image (`field`) is rendered on its first read."""
+
+    class Lazy(base):
+        def __init__(self, render, size: typing.Tuple[int, int]):
+            object.__setattr__(self, "_render", render)
+            object.__setattr__(self, "_size", size)
+            object.__setattr__(self, "_image", None)
+            if base is data.RoarPyCameraSensorDataSemanticSegmentation:
+                self.ss_label_color_map = dict(data.CARLA_SEMANTIC_LABEL_COLOR_MAP)
+
+        def _pixels(self):
+            if self._image is None:
+                object.__setattr__(self, "_image", getattr(self._render(), field))
+            return self._image
+
+        def _store(self, value):
+            object.__setattr__(self, "_image", value)
+
+        def get_size(self) -> typing.Tuple[int, int]:
+            return self._size
+
+        def __repr__(self):
+            # Not the dataclass's: asyncio and debuggers print results, and that must not render.
+            state = "rendered" if self._image is not None else "rendered when first read"
+            return f"{base.__name__}({self._size[0]}x{self._size[1]}, {state})"
+
+    setattr(Lazy, field, property(Lazy._pixels, Lazy._store))
+    Lazy.__name__ = Lazy.__qualname__ = base.__name__
+    Lazy.__module__ = base.__module__
+    return Lazy
+
+
+_LAZY_CAMERA_DATA = {cls: _lazy_camera_class(cls, field) for cls, field in (
+    (data.RoarPyCameraSensorDataRGB, "image_rgb"), (data.RoarPyCameraSensorDataGreyscale, "image_greyscale"),
+    (data.RoarPyCameraSensorDataDepth, "image_depth"),
+    (data.RoarPyCameraSensorDataSemanticSegmentation, "image_ss"))}
+
+
+class RoarPyRosCameraSensor(_VehicleSensor, rpi.RoarPyCameraSensor):
+    """ROAR_PY's camera on roar_sim's on-demand camera. In synchronous mode receive_observation returns at
+    once with the frame of the step, rendered (/roar_sim/render_sensor) when the program first reads its
+    pixels, so a frame nobody reads costs nothing (the runner's 1024x768 camera most entries never look
+    at); the pixels are those the camera would have published at that tick (test_roar_py_ros
+    test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame). In asynchronous mode its newest
+    frame is rendered at once. rviz or rosbag subscribing to its topic makes it render every frame."""
+
     def __init__(self, vehicle, name, sim_name, target_datatype, fov, width, height, rate):
         rpi.RoarPyCameraSensor.__init__(self, name, 1.0 / rate, target_datatype)
-        from sensor_msgs.msg import Image
-
+        self._own(vehicle, sim_name)
+        self.topic = f"/{vehicle.ros_name}/camera/{sim_name}/image"
         self.target_datatype = target_datatype
         self._fov, self._width, self._height = fov, width, height
-        self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/camera/{sim_name}/image", Image,
-                    lambda m: conversions.camera_data(m, target_datatype))
+        self._last_stamp = None
 
     @property
     def image_size_width(self) -> int:
@@ -134,6 +191,36 @@ class RoarPyRosCameraSensor(RosSensorMixin, rpi.RoarPyCameraSensor):
     def fov(self) -> float:
         return self._fov
 
+    def _wait_connected(self):
+        pass  # no topic: frames are asked for
+
+    def _render(self, stamp: float):
+        from roar_ros.srv import RenderSensor
+
+        self._check_open()
+        response = self._vehicle._world._services.call(
+            "/roar_sim/render_sensor", RenderSensor, check=False, vehicle=self._vehicle.ros_name,
+            sensor=self.sim_name, stamp=rospy.Time.from_sec(stamp))
+        if not response.success:
+            raise RuntimeError(f"sensor '{self.name}': {response.message}")
+        return conversions.camera_data(response.image, self.target_datatype)
+
+    async def receive_observation(self):
+        self._check_open()
+        world = self._vehicle._world
+        if world.is_asynchronous:
+            self._last_obs, self._last_stamp = self._render(0.0), None
+            return self._last_obs
+        expected = self._vehicle._expected_stamp(self.sim_name)
+        if expected is None:
+            # No step since the camera came: tick once so that it has a frame (CARLA would block).
+            await world.step()
+            expected = self._vehicle._expected_stamp(self.sim_name)
+        if self._last_obs is None or self._last_stamp != expected:
+            self._last_obs = _LAZY_CAMERA_DATA[self.target_datatype](
+                lambda: self._render(expected), (self._width, self._height))
+            self._last_stamp = expected
+        return self._last_obs
 
 
 class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
@@ -198,32 +285,17 @@ class RoarPyRosRadarSensor(RosSensorMixin, rpi.RoarPyRadarSensor):
         return self._spec["max_distance"]
 
 
-class _StateSensor:
+class _StateSensor(_VehicleSensor):
     """A sensor that reads the car's state (ROAR_PY's CARLA backend reads the actor the same way)."""
 
     def __init__(self, vehicle, read):
-        self._vehicle = vehicle
+        self._own(vehicle, None)
         self._read = read
-        self.sim_name = None
-        self._closed = False
-        self._last_obs = None
 
     async def receive_observation(self):
-        if self._closed:
-            raise RuntimeError(f"sensor '{self.name}' is closed")
+        self._check_open()
         self._last_obs = self._read(self._vehicle)
         return self._last_obs
-
-    def get_last_observation(self):
-        return self._last_obs
-
-    def close(self):
-        if not self._closed:
-            self._closed = True
-            self._vehicle._sensor_closed(self)
-
-    def is_closed(self) -> bool:
-        return self._closed
 
 
 def _state_sensor(base, read, doc: str):
@@ -268,56 +340,37 @@ RoarPyRosGyroscopeSensor = _state_sensor(
     "The car's angular velocity in the world frame (rad/s).")
 
 
-class RoarPyRosOccupancyMapSensor(rpi.RoarPyOccupancyMapSensor):
+class RoarPyRosOccupancyMapSensor(_VehicleSensor, rpi.RoarPyOccupancyMapSensor):
     """ROAR_PY's CARLA occupancy map: the road drawn from the map's waypoints around the car, forward up."""
 
     def __init__(self, vehicle, producer: rpi.RoarPyOccupancyMapProducer, name: str):
-        super().__init__(name)
-        self._vehicle = vehicle
+        rpi.RoarPyOccupancyMapSensor.__init__(self, name)
+        self._own(vehicle, None)
         self.producer = producer
-        self.sim_name = None
-        self._closed = False
-        self._last_data = None
 
     def get_gym_observation_spec(self):
         return data.RoarPyOccupancyMapSensorData.gym_observation_space(self.producer.width, self.producer.height)
 
     async def receive_observation(self):
-        if self._closed:
-            raise RuntimeError(f"sensor '{self.name}' is closed")
+        self._check_open()
         location = self._vehicle.get_3d_location()[:2]
         yaw = self._vehicle.get_roll_pitch_yaw()[2]
-        self._last_data = data.RoarPyOccupancyMapSensorData.from_image(self.producer.plot_occupancy_map(location, yaw))
-        return self._last_data
-
-    def get_last_observation(self):
-        return self._last_data
-
-    def close(self):
-        if not self._closed:
-            self._closed = True
-            self._vehicle._sensor_closed(self)
-
-    def is_closed(self) -> bool:
-        return self._closed
+        self._last_obs = data.RoarPyOccupancyMapSensorData.from_image(self.producer.plot_occupancy_map(location, yaw))
+        return self._last_obs
 
 
-class RoarPyRosCollisionSensor(rpi.RoarPyCollisionSensor):
+
+class RoarPyRosCollisionSensor(_VehicleSensor, rpi.RoarPyCollisionSensor):
     """The car's contacts since the last observation (CARLA's sensor keeps its latest event until read):
     impulses summed (N s, world frame), other_actor the car of this world hit hardest (None for barriers,
     the ground and cars not of this world, as CARLA's backend gives None for actors it does not know)."""
 
     def __init__(self, vehicle, name):
         rpi.RoarPyCollisionSensor.__init__(self, name, 0.0)
-        self._vehicle = vehicle
-        self.sim_name = None
-        self._closed = False
-        self._last_obs = None
+        self._own(vehicle, None)
 
     async def receive_observation(self):
-        if self._closed:
-            raise RuntimeError(f"sensor '{self.name}' is closed")
-        self._vehicle._check_open()
+        self._check_open()
         events = self._vehicle._take_collisions(self)
         impulse = np.zeros(3)
         other, hardest = None, -1.0
@@ -328,14 +381,3 @@ class RoarPyRosCollisionSensor(rpi.RoarPyCollisionSensor):
                 hardest, other = float(np.linalg.norm(push)), event.other
         self._last_obs = data.RoarPyCollisionSensorData(self._vehicle, self._vehicle._world._actor_named(other), impulse)
         return self._last_obs
-
-    def get_last_observation(self):
-        return self._last_obs
-
-    def close(self):
-        if not self._closed:
-            self._closed = True
-            self._vehicle._sensor_closed(self)
-
-    def is_closed(self) -> bool:
-        return self._closed

@@ -276,7 +276,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         rate = self._rate(control_timestep, "attach_camera_sensor")
         sim_name = self._sim_sensor_name(name)
         spec = {"name": sim_name, "type": kinds[target_datatype], **self._mount(location, roll_pitch_yaw, "attach_camera_sensor"),
-                "rate": rate, "fov": float(fov), "image_width": int(image_width), "image_height": int(image_height)}
+                "rate": rate, "fov": float(fov), "image_width": int(image_width), "image_height": int(image_height),
+                "on_demand": True}
         return self._attach(spec, lambda: sensors.RoarPyRosCameraSensor(
             self, name, sim_name, target_datatype, float(fov), int(image_width), int(image_height), rate))
 

@@ -81,7 +81,8 @@ sim::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
   }
   const double speed = std::max(0.0, in.speed);
 
-  control.steer = std::clamp(steeringAngle(in, projection.s, speed) / options_.max_steer_angle, -1.0, 1.0);
+  const double lock = options_.max_steer_angle * vehicle::steeringShare(options_.steering_curve, std::abs(speed));
+  control.steer = std::clamp(steeringAngle(in, projection.s, speed) / lock, -1.0, 1.0);
 
   const planning::TrajectoryPoint ahead =
       planning::sampleAt(trajectory_, projection.s + speed * options_.speed_preview);

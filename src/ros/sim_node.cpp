@@ -74,6 +74,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   serve("get_world_info", &SimNode::onGetWorldInfo);
   serve("get_geolocation", &SimNode::onGetGeolocation);
   serve("draw_debug", &SimNode::onDrawDebug);
+  serve("render_sensor", &SimNode::onRenderSensor);
   ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s, mode %s",
            track_->info().name.c_str(), track_->length(), io_.size(), options_.world.control_dt,
            options_.world.physics_dt, modeName().c_str());
@@ -93,6 +94,7 @@ void SimNode::loadMap(const std::string& folder, const std::string& reason) {
   auto world = std::make_unique<sim::World>(*track, options_.world, clock);
   auto scene = std::make_unique<sensors::RayScene>(*track);
   io_.clear();  // the cars go (their agents refer to the old track)
+  scene_ticks_.clear();
   world_ = std::move(world);
   scene_ = std::move(scene);
   track_ = std::move(track);
@@ -298,14 +300,30 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   bool any = false;
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return poses;
+  SceneTick kept;
+  kept.time = world_->time();
   for (auto& [name, io] : io_) {
     const sim::VehicleState state = world_->vehicleState(name);
     poses[name] = sensors::poseOf(state);
-    scene_->setVehiclePose(io.scene_id, poses[name]);
-    scene_->setVehicleVelocity(io.scene_id, state.linear_velocity, state.angular_velocity);
+    kept.cars[name] = {poses[name], state.linear_velocity, state.angular_velocity};
+  }
+  poseRayScene(kept);
+  scene_ticks_.push_back(std::move(kept));
+  while (scene_ticks_.size() > kKeptSceneTicks) scene_ticks_.pop_front();
+  return poses;
+}
+
+void SimNode::poseRayScene(const SceneTick& tick) {
+  for (auto& [name, io] : io_) {
+    const auto car = tick.cars.find(name);
+    if (car == tick.cars.end()) {
+      scene_->setVehiclePose(io.scene_id, Eigen::Isometry3d(Eigen::Translation3d(0, 0, -1e5)));
+      continue;
+    }
+    scene_->setVehiclePose(io.scene_id, car->second.pose);
+    scene_->setVehicleVelocity(io.scene_id, car->second.linear, car->second.angular);
   }
   scene_->commit();
-  return poses;
 }
 
 void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses) {

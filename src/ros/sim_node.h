@@ -10,6 +10,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <array>
+#include <deque>
 #include <map>
 #include <memory>
 
@@ -27,6 +28,7 @@
 #include "roar_ros/GetWorldInfo.h"
 #include "roar_ros/ListMaps.h"
 #include "roar_ros/LoadMap.h"
+#include "roar_ros/RenderSensor.h"
 #include "roar_ros/ResetEpisode.h"
 #include "roar_ros/ResetVehicle.h"
 #include "roar_ros/SetStepping.h"
@@ -38,6 +40,18 @@
 #include "vehicle_sensors.h"
 
 namespace roar::ros_bridge {
+
+// Ticks of the ray scene's state kept for frames rendered after their tick: 10 s at 20 Hz.
+constexpr std::size_t kKeptSceneTicks = 200;
+
+struct SceneTick {
+  struct Car {
+    Eigen::Isometry3d pose;
+    Eigen::Vector3d linear, angular;
+  };
+  double time = 0.0;
+  std::map<std::string, Car> cars;
+};
 
 class SimNode {
  public:
@@ -134,6 +148,9 @@ class SimNode {
   bool onGetWorldInfo(roar_ros::GetWorldInfo::Request& req, roar_ros::GetWorldInfo::Response& res);
   bool onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros::GetGeolocation::Response& res);
   bool onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res);
+  bool onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res);
+  // Puts the ray scene's cars where they were at a kept tick (cars spawned since: out of sight).
+  void poseRayScene(const struct SceneTick& tick);
 
   ros::NodeHandle nh_, private_nh_;
   SimNodeOptions options_;
@@ -154,6 +171,9 @@ class SimNode {
   ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;
   std::unique_ptr<sim::RecorderPacing> recorder_pacing_;
+  // The ray scene's state (every car's pose and velocities) at each of the last kKeptSceneTicks ticks, for
+  // on-demand camera frames rendered after their tick (/roar_sim/render_sensor).
+  std::deque<SceneTick> scene_ticks_;
   std::map<std::string, ros::Subscriber> recorded_subs_;  // each recorder's progress, by its node's name
 };
 

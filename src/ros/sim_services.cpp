@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "roar/ros/msg_conversion.h"
+#include "roar/ros/sensor_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
 #include "roar/sensors/inertial.h"
 #include "roar/sim/vehicle_config.h"
@@ -350,6 +351,39 @@ bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros:
     res.altitude.push_back(fix.altitude);
   }
   res.success = true;
+  return true;
+}
+
+bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res) {
+  try {
+    const auto io = io_.find(req.vehicle);
+    if (io == io_.end()) throw sim::SpawnError("no vehicle named '" + req.vehicle + "'");
+    sensors::SensorRig& rig = io->second.sensors->rig();
+    const double stamp = req.stamp.isZero() ? rig.lastSampled(req.sensor) : req.stamp.toSec();
+    const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
+                                   [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
+    if (tick == scene_ticks_.end() || !tick->cars.count(req.vehicle)) {
+      throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
+                                  (scene_ticks_.empty()
+                                       ? std::string(" (no tick since the car's sensors came)")
+                                       : " (the last " + std::to_string(scene_ticks_.size()) +
+                                             " ticks are: t = " + std::to_string(scene_ticks_.front().time) + " to " +
+                                             std::to_string(scene_ticks_.back().time) + " s)"));
+    }
+    const bool past = &*tick != &scene_ticks_.back();
+    if (past) poseRayScene(*tick);
+    sensors::SensorType type = sensors::SensorType::kCameraRgb;
+    for (const auto& spec : rig.specs()) {
+      if (spec.name == req.sensor) type = spec.type;
+    }
+    const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, tick->cars.at(req.vehicle).pose, nullptr);
+    if (past) poseRayScene(scene_ticks_.back());
+    res.image = toImage(frame, type, toRosTime(stamp), req.vehicle + "/" + req.sensor + "_optical");
+    res.success = true;
+    res.message = "rendered " + req.vehicle + "/" + req.sensor + " at t = " + std::to_string(stamp);
+  } catch (const std::exception& e) {
+    return refuse(res, "render_sensor", e.what());
+  }
   return true;
 }
 

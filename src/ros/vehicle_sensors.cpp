@@ -98,6 +98,12 @@ void VehicleSensors::camera(const sensors::SensorSpec& spec, double stamp, const
   pub.publish(toImage(frame, spec.type, t, optical), toCameraInfo(k, t, optical));
 }
 
+bool VehicleSensors::wanted(const sensors::SensorSpec& spec) {
+  return publishers_.at(spec.name).camera.getNumSubscribers() > 0;
+}
+
+void VehicleSensors::deferred(const sensors::SensorSpec& spec, double stamp) { last_stamps_[spec.name] = stamp; }
+
 void VehicleSensors::lidar(const sensors::SensorSpec& spec, double stamp,
                            const std::vector<sensors::LidarPoint>& points) {
   last_stamps_[spec.name] = stamp;

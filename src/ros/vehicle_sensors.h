@@ -1,6 +1,8 @@
 #pragma once
 // The sensors of one simulated car on ROS: its SensorRig, and the publishers its readings go to.
-//   cameras   <vehicle>/camera/<name>/image (+ camera_info), frame <vehicle>/<name>_optical (image_transport)
+//   cameras   <vehicle>/camera/<name>/image (+ camera_info), frame <vehicle>/<name>_optical (image_transport);
+//             an on-demand camera publishes only while its topic has a subscriber (/roar_sim/render_sensor
+//             renders its frames for the asking)
 //   lidar     <vehicle>/lidar/<name>/points, frame <vehicle>/<name>
 //   imu, gnss <vehicle>/<name>, frame <vehicle>/<name>
 //   velocimeter <vehicle>/<name>/twist (sensor frame) and <vehicle>/<name>/twist_map (map frame)
@@ -45,6 +47,9 @@ class VehicleSensors : public sensors::SensorSink {
   void occupancy(const sensors::SensorSpec& spec, double stamp, const sensors::OccupancyFrame& frame) override;
   void radar(const sensors::SensorSpec& spec, double stamp,
              const std::vector<sensors::RadarDetection>& detections) override;
+  // An on-demand camera is rendered at its tick when its topic has a subscriber (rviz, rosbag).
+  bool wanted(const sensors::SensorSpec& spec) override;
+  void deferred(const sensors::SensorSpec& spec, double stamp) override;
   // The stamp of each sensor's newest reading (0 before its first), by sensor name.
   const std::map<std::string, double>& lastStamps() const { return last_stamps_; }
 

@@ -160,6 +160,12 @@ void SensorRig::sampleRays(double time, const RayScene& scene, const Eigen::Isom
     Sensor& lead = *g->members.front();
     if (!lead.due(time)) continue;
     for (Sensor* m : g->members) m->markDone(time);
+    bool wanted = false;
+    for (Sensor* m : g->members) wanted = wanted || !m->spec.camera.on_demand || sink.wanted(m->spec);
+    if (!wanted) {
+      for (Sensor* m : g->members) sink.deferred(m->spec, time);
+      continue;
+    }
     g->renderer->render(scene, base_in_map * mountTransform(lead.spec.mount), -1, g->channels, &g->frame);
     for (Sensor* m : g->members) sink.camera(m->spec, time, g->frame, g->renderer->intrinsics());
   }
@@ -180,6 +186,26 @@ void SensorRig::sampleRays(double time, const RayScene& scene, const Eigen::Isom
       sink.occupancy(s->spec, time, s->occupancy_frame);
     }
   }
+}
+
+const CameraFrame& SensorRig::renderCamera(const std::string& name, const RayScene& scene,
+                                           const Eigen::Isometry3d& base_in_map, CameraIntrinsics* intrinsics) {
+  for (auto& g : camera_groups_) {
+    for (Sensor* m : g->members) {
+      if (m->spec.name != name) continue;
+      g->renderer->render(scene, base_in_map * mountTransform(m->spec.mount), -1, g->channels, &g->frame);
+      if (intrinsics) *intrinsics = g->renderer->intrinsics();
+      return g->frame;
+    }
+  }
+  throw SensorSpecError("sensor '" + name + "': the car has no camera of that name");
+}
+
+double SensorRig::lastSampled(const std::string& name) const {
+  for (const auto& s : sensors_) {
+    if (s->spec.name == name) return s->last_time;
+  }
+  throw SensorSpecError("sensor '" + name + "': the car has no sensor of that name");
 }
 
 }  // namespace roar::sensors

@@ -119,6 +119,7 @@ SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
       s.read("fov", &spec.camera.fov_deg);
       s.read("image_width", &spec.camera.width);
       s.read("image_height", &spec.camera.height);
+      s.read("on_demand", &spec.camera.on_demand);
       break;
     case SensorType::kLidar: {
       auto& l = spec.lidar;

@@ -63,6 +63,32 @@ double above(Section& s, const std::string& key, double lo, double hi, const std
   return v;
 }
 
+// steering.speed_curve_kmh_share (optional): CARLA's steering curve, [km/h, share] pairs of rising speed.
+vehicle::SteeringCurve readSpeedCurve(Section& steering, const std::string& source) {
+  vehicle::SteeringCurve curve;
+  if (!steering.has("speed_curve_kmh_share")) return curve;
+  const YAML::Node node = steering.raw("speed_curve_kmh_share");
+  const std::string where = source + ": steering.speed_curve_kmh_share";
+  if (!node.IsSequence() || node.size() < 1) throw VehicleConfigError(where + ": must list [km/h, share] pairs");
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string field = where + "[" + std::to_string(i) + "]";
+    double kmh = 0.0, share = 0.0;
+    try {
+      if (!node[i].IsSequence() || node[i].size() != 2) throw YAML::Exception(YAML::Mark(), "");
+      kmh = node[i][0].as<double>();
+      share = node[i][1].as<double>();
+    } catch (const YAML::Exception&) {
+      throw VehicleConfigError(field + ": must be [km/h, share]");
+    }
+    if (!(kmh >= 0 && kmh <= 500) || !(share > 0 && share <= 1))
+      throw VehicleConfigError(field + ": [" + show(kmh) + ", " + show(share) + "] is outside [0, 500] km/h, (0, 1]");
+    if (!curve.empty() && kmh / 3.6 <= curve.back().first)
+      throw VehicleConfigError(field + ": speeds must rise along the curve");
+    curve.emplace_back(kmh / 3.6, share);
+  }
+  return curve;
+}
+
 bool flag(Section& s, const std::string& key, bool fallback) {
   bool v = fallback;
   s.read(key, &v);
@@ -186,8 +212,9 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.brakes.rear_grip_share = inRange(brakes, "rear_grip_share", 0, 1);
   brakes.finish();
 
-  p.steering.max_angle = above(steering, "max_angle_rad", 0, 1.2, " rad");
+  p.steering.max_angle = above(steering, "max_angle_rad", 0, 1.4, " rad");
   p.steering.max_rate = above(steering, "max_rate_rad_per_s", 0, 20, " rad/s");
+  p.steering.speed_curve = readSpeedCurve(steering, yaml_path);
   steering.finish();
 
   p.suspension.stiffness = inRange(suspension, "stiffness_n_per_m", 1e3, 1e6, " N/m");
@@ -196,6 +223,7 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.suspension.droop = above(suspension, "droop_m", 0, 0.5, " m");
   p.suspension.anti_roll_front = inRange(suspension, "anti_roll_front_n_per_m", 0, 1e6, " N/m");
   p.suspension.anti_roll_rear = inRange(suspension, "anti_roll_rear_n_per_m", 0, 1e6, " N/m");
+  if (suspension.has("roll_influence")) p.suspension.roll_influence = inRange(suspension, "roll_influence", 0, 1);
   suspension.finish();
 
   for (const char* direction : {"longitudinal", "lateral"}) {
@@ -210,7 +238,7 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.tyre.load_sensitivity = inRange(tyre, "load_sensitivity", 0, 1);
   p.tyre.rolling_resistance = inRange(tyre, "rolling_resistance", 0, 0.1);
   p.tyre.wheel_inertia = above(tyre, "wheel_inertia_kg_m2", 0, 50, " kg m^2");
-  if (tyre.has("grip")) p.tyre.grip = above(tyre, "grip", 0, 3);
+  if (tyre.has("grip")) p.tyre.grip = above(tyre, "grip", 0, 5);
   tyre.finish();
 
   p.aero.drag_area = inRange(aero, "drag_area_m2", 0, 10, " m^2");

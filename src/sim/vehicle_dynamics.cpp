@@ -166,7 +166,9 @@ std::array<double, 4> VehicleDynamics::wheelSteerAngles() const {
 }
 
 void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
-  const double target = control_.steer * params_.steering.max_angle;
+  const btVector3 velocity = body_->getLinearVelocity();
+  const double forward_speed = std::abs(velocity.dot(body_->getCenterOfMassTransform().getBasis().getColumn(0)));
+  const double target = control_.steer * params_.steering.maxAngleAt(forward_speed);
   const double max_change = params_.steering.max_rate * dt;
   steering_ += std::clamp(target - steering_, -max_change, max_change);
   const auto angles = wheelSteerAngles();
@@ -303,7 +305,10 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
 
   const double slip_ratio = (omega * r - vx) / denom;
   const TyreForce tyre = tyre_.force(slip_ratio, slip_angle, load, mu);
-  body_->applyForce(up * load + fwd * tyre.longitudinal + left * tyre.lateral, rel);
+  body_->applyForce(up * load, rel);
+  // Tyre forces act at the contact patch, or lifted towards the centre of mass's height (roll_influence).
+  const btVector3 tyre_point = rel - up * (up.dot(rel) * (1.0 - susp.roll_influence));
+  body_->applyForce(fwd * tyre.longitudinal + left * tyre.lateral, tyre_point);
 
   st.angular_velocity = omega;
   st.load = load;

@@ -15,6 +15,7 @@ double TimeTrialResult::best_lap() const {
 control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base) {
   base.wheelbase = vehicle.wheelbase();
   base.max_steer_angle = vehicle.steering.max_angle;
+  base.steering_curve = vehicle.steering.speed_curve;
   base.front_axle = vehicle.wheels[0].position.x();
   return base;
 }

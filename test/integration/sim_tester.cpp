@@ -199,7 +199,7 @@ TEST(SimNode, SpawnDestroyAndResetServices) {
   EXPECT_FALSE(unknown.response.success);
   EXPECT_NE(unknown.response.message.find("unknown vehicle model or blueprint 'bus'"), std::string::npos)
       << unknown.response.message;
-  EXPECT_NE(unknown.response.message.find("sedan (vehicle.tesla.model3)"), std::string::npos)
+  EXPECT_NE(unknown.response.message.find("carla_model3 (vehicle.tesla.model3)"), std::string::npos)
       << unknown.response.message;
 
   ros::NodeHandle nh;

@@ -71,7 +71,7 @@ def test_blueprints_spawn_and_unknown_ones_are_listed(world):
     assert extents[0][0] > extents[1][0], "the sedan is longer than the hatchback"
     assert extents[2][2] < extents[1][2], "the race car is lower than the hatchback"
     assert len(world.get_actors()) == 3
-    with pytest.raises(ValueError, match=r"vehicle\.bus.*hatchback \(vehicle\.audi\.a2\)"):
+    with pytest.raises(ValueError, match=r"vehicle\.bus.*carla_a2 \(vehicle\.audi\.a2\)"):
         spawn(world, "vehicle.bus", 5)
     with pytest.raises(ValueError, match="rgba channels"):
         spawn(world, "vehicle.audi.a2", 6, rgba=np.array([300, 0, 0, 255]))
@@ -139,6 +139,48 @@ def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
     assert car.get_angular_velocity()[2] < 0
     car.remove_sensor(lidar)
     assert lidar.is_closed() and len(list(car.get_sensors())) == 12
+
+
+def test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame(world):
+    import rospy
+    from sensor_msgs.msg import Image
+
+    car = spawn(world)
+    camera = car.attach_camera_sensor(RGB, np.array([-4.8, 0.0, 1.8]), np.array([0.0, 0.17, 0.0]),
+                                      image_width=96, image_height=64)
+    renders = []
+    real_render = camera._render
+    camera._render = lambda stamp: renders.append(stamp) or real_render(stamp)
+    published = {}
+    sub = rospy.Subscriber(camera.topic, Image, lambda m: published.__setitem__(round(m.header.stamp.to_sec(), 3), m))
+    try:
+        deadline = time.time() + 10
+        while sub.get_num_connections() == 0 and time.time() < deadline:
+            time.sleep(0.01)
+        time.sleep(0.3)
+        run(car.apply_action(GO))
+        run(world.step())
+        first = run(camera.receive_observation())
+        stamp = round(world.last_tick_elapsed_seconds, 3)
+        assert renders == [] and first.get_size() == (96, 64), "received, sized, not rendered"
+        for _ in range(5):
+            run(car.apply_action(GO))
+            run(world.step())
+        late = first.to_gym()  # read five ticks later: the frame of its own tick
+        assert len(renders) == 1 and first.to_gym() is late, "rendered once, on the first read"
+        deadline = time.time() + 10
+        while stamp not in published and time.time() < deadline:
+            time.sleep(0.01)
+        reference = roar_py_ros.conversions.camera_data(published[stamp], RGB).image_rgb
+        assert np.array_equal(late, reference), "the pixels the camera published at that tick"
+        # The car it rides on is in the picture (a chase camera, as ROAR's runner mounts it).
+        semantic = np.asarray(late)
+        assert semantic.std() > 5
+    finally:
+        sub.unregister()
+    old = first.__class__(lambda: camera._render(0.001), (96, 64))
+    with pytest.raises(RuntimeError, match="no frame of t = 0.001"):
+        old.to_gym()
 
 
 def test_a_car_spawned_above_the_road_falls_onto_it_as_in_carla(world):

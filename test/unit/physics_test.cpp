@@ -93,11 +93,10 @@ constexpr ClassFigures kClasses[] = {
     {"racecar", 2.6, 4.0, 240, 270, 1.35, 1.9},      // Formula 3: 3.1 s, ~255 km/h, ~1.6 g at 100 km/h
 };
 
-// A steady skid pad: the car drives a 40 m circle (pure pursuit on it) at a speed held for 5 s, the speed
+// A steady skid pad: the car drives a 40 m circle (or kRadius) (pure pursuit on it) at a speed held for 5 s, the speed
 // rising 0.25 m/s a level; the grip is v^2 / R of the fastest level it held (within 1.5 m of the circle and
 // 0.5 m/s of the speed over the level's last 3 s).
-double skidpadG(const std::string& model) {
-  constexpr double kRadius = 40.0;
+double skidpadG(const std::string& model, double kRadius = 40.0) {
   Drive d(1.0, model);
   const auto& p = d.world.vehicleParams("ego");
   const Eigen::Vector2d centre(0.0, kRadius);  // the car starts at the origin heading +x: a left-hand circle
@@ -116,7 +115,7 @@ double skidpadG(const std::string& model) {
       const double alpha = std::atan2(aim.y() - pos.y(), aim.x() - pos.x()) - yaw;
       const double wheel_angle = std::atan2(2.0 * p.wheelbase() * std::sin(alpha), lookahead);
       sim::VehicleControl c;
-      c.steer = std::clamp(wheel_angle / p.steering.max_angle, -1.0, 1.0);
+      c.steer = std::clamp(wheel_angle / p.steering.maxAngleAt(s.forward_speed), -1.0, 1.0);
       const double error = target - s.forward_speed;
       integral = std::clamp(integral + error * 0.05, -5.0, 5.0);
       const double command = 0.3 * error + 0.1 * integral;
@@ -160,6 +159,60 @@ TEST(Physics, EveryBlueprintMeetsItsClassFigures) {
     RecordProperty(std::string(car.model) + "_skidpad_g", std::to_string(skidpad));
     std::printf("%s: 0-100 km/h %.2f s, top speed %.1f km/h, skid pad %.3f g\n", car.model, zero_to_100, top, skidpad);
   }
+}
+
+// CARLA's vehicle.tesla.model3 as ROAR's competition entries know it (config/vehicles/carla_model3.yaml):
+// CARLA's physics-control figures, and the cornering and braking ROAR's entries are tuned to.
+TEST(Physics, CarlaModel3ReproducesCarlasFigures) {
+  const sim::VehicleParams p = test::vehicle("vehicle.tesla.model3");
+  EXPECT_EQ(p.model, "carla_model3");
+  EXPECT_NEAR(p.chassis.mass, 1847.0, 1e-9) << "CARLA's mass";
+  EXPECT_NEAR(p.steering.max_angle, 70 * M_PI / 180, 1e-3) << "CARLA's max_steer_angle";
+  EXPECT_NEAR(p.steering.maxAngleAt(120 / 3.6), 0.7 * p.steering.max_angle, 1e-9) << "CARLA's steering curve";
+  EXPECT_NEAR(p.steering.maxAngleAt(40 / 3.6), 0.85 * p.steering.max_angle, 1e-9);
+  EXPECT_EQ(p.gearbox.ratios.size(), 1u) << "a single-speed electric drive";
+  EXPECT_NEAR(p.chassis.box_size.x() / 2, 2.396, 0.01) << "CARLA's bounding box, half its length";
+  Drive d(1.0, "carla_model3");
+  int ticks = 0;
+  while (d.state().speed < 100 / 3.6 && ticks < 600) d.run(throttle(1.0)), ++ticks;
+  const double zero_to_100 = ticks * 0.05;
+  while (d.state().speed < 200 / 3.6) d.run(throttle(1.0));
+  sim::VehicleControl brake;
+  brake.brake = 1.0;
+  const double from = d.state().speed;
+  d.run(brake, 20);
+  const double braking = (from - d.state().speed) / 1.0;  // over the second from 200 km/h
+  d.run(throttle(1.0), 2400);
+  const double top = d.state().speed * 3.6;
+  const double skidpad = skidpadG("carla_model3");
+  std::printf(
+      "carla_model3: 0-100 km/h %.2f s, top speed %.1f km/h, braking %.2f m/s^2 (%.2f km/h a tick), skid pad %.2f g\n",
+      zero_to_100, top, braking, braking * 0.05 * 3.6, skidpad);
+  EXPECT_GT(skidpad, 2.7) << "CARLA's tyre friction: ROAR's entries corner at 2.75 to 3.4 g";
+  EXPECT_LT(skidpad, 3.5);
+  EXPECT_NEAR(braking * 0.05 * 3.6, 2.4, 0.3) << "ROAR's entries brake for 2.4 km/h a tick";
+  EXPECT_GT(top, 285.0) << "ROAR's entries plan up to 300 km/h";
+  EXPECT_LT(top, 310.0);
+  EXPECT_LT(zero_to_100, 5.0);
+}
+
+// CARLA's vehicle.audi.a2: the A2's mass on CARLA's tyres and steering.
+TEST(Physics, CarlaA2ReproducesCarlasFigures) {
+  const sim::VehicleParams p = test::vehicle("vehicle.audi.a2");
+  EXPECT_EQ(p.model, "carla_a2");
+  EXPECT_NEAR(p.steering.max_angle, 70 * M_PI / 180, 1e-3) << "CARLA's max_steer_angle";
+  EXPECT_NEAR(p.steering.maxAngleAt(150 / 3.6), 0.7 * p.steering.max_angle, 1e-9) << "CARLA's steering curve";
+  Drive d(1.0, "carla_a2");
+  while (d.state().speed < 100 / 3.6) d.run(throttle(1.0));
+  sim::VehicleControl brake;
+  brake.brake = 1.0;
+  const double from = d.state().speed;
+  d.run(brake, 10);
+  const double braking = (from - d.state().speed) / 0.5;
+  const double skidpad = skidpadG("carla_a2", 15.0);  // 55 kW holds 3 g only on a small circle
+  std::printf("carla_a2: braking %.2f m/s^2, skid pad %.2f g\n", braking, skidpad);
+  EXPECT_GT(skidpad, 2.4) << "CARLA's tyre friction (the front tyres also drive the car round the circle)";
+  EXPECT_NEAR(braking, 13.0, 1.0) << "as carla_model3";
 }
 
 TEST(Physics, AccelerationAndTopSpeedArePlausibleForASportsSedan) {

@@ -33,26 +33,29 @@ TEST(VehicleConfig, UnknownModelListsTheKnownOnes) {
   const auto msg = errorOf(
       [] { sim::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles"); });
   EXPECT_NE(msg.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("hatchback (vehicle.audi.a2), racecar (vehicle.roar.racecar), sedan (vehicle.tesla.model3)"),
+  EXPECT_NE(msg.find("carla_a2 (vehicle.audi.a2), carla_model3 (vehicle.tesla.model3), hatchback, racecar "
+                     "(vehicle.roar.racecar), sedan"),
             std::string::npos)
       << msg;
 }
 
 TEST(VehicleConfig, BlueprintIdsNameTheirModels) {
   const std::string urdf = test::sourceDir() + "/urdf", config = test::sourceDir() + "/config/vehicles";
-  EXPECT_EQ(sim::resolveVehicleModel("vehicle.tesla.model3", urdf, config), "sedan");
-  EXPECT_EQ(sim::resolveVehicleModel("vehicle.audi.a2", urdf, config), "hatchback");
+  // ROAR_PY programs' blueprints are CARLA's cars; the road cars keep their own names.
+  EXPECT_EQ(sim::resolveVehicleModel("vehicle.tesla.model3", urdf, config), "carla_model3");
+  EXPECT_EQ(sim::resolveVehicleModel("vehicle.audi.a2", urdf, config), "carla_a2");
+  EXPECT_EQ(sim::resolveVehicleModel("hatchback", urdf, config), "hatchback");
   EXPECT_EQ(sim::resolveVehicleModel("vehicle.roar.racecar", urdf, config), "racecar");
   EXPECT_EQ(sim::resolveVehicleModel("sedan", urdf, config), "sedan");
   const auto a2 = sim::loadVehicleModel("vehicle.audi.a2", urdf, config);
-  EXPECT_EQ(a2.model, "hatchback");
+  EXPECT_EQ(a2.model, "carla_a2");
   EXPECT_EQ(a2.blueprint, "vehicle.audi.a2");
   EXPECT_EQ(a2.front_drive_share, 1.0) << "front-wheel drive";
   const auto racecar = sim::loadVehicleModel("racecar", urdf, config);
   EXPECT_EQ(racecar.front_drive_share, 0.0) << "rear-wheel drive";
   EXPECT_GT(racecar.aero.downforce_area, 2.0);
   EXPECT_LT(racecar.chassis.mass, 800.0);
-  EXPECT_EQ(sim::listVehicleModels(urdf, config).size(), 3u);
+  EXPECT_EQ(sim::listVehicleModels(urdf, config).size(), 5u);
 }
 
 TEST(VehicleConfig, BrokenUrdfIsAClearError) {

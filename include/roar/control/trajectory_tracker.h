@@ -8,6 +8,7 @@
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
 #include "roar/sim/vehicle_control.h"
+#include "roar/vehicle/steering_curve.h"
 
 namespace roar::control {
 
@@ -17,14 +18,15 @@ struct TrackerOptions {
   // Pure pursuit by measurement (roar_bench, 3 circuits): the same lap times as Stanley within 0.4%, and
   // 20-30% less tracking error.
   LateralMethod lateral = LateralMethod::kPurePursuit;
-  double wheelbase = 2.875;        // m
-  double front_axle = 2.875;       // m ahead of base_link
-  double stanley_gain = 2.5;       // 1/s: cross-track gain (rad of steering per m of error at 1 m/s)
-  double stanley_softening = 2.0;  // m/s added to the speed under the cross-track term (gentle when slow)
-  double steer_preview = 0.1;      // s: the line's curvature is read this far ahead (steering lag)
-  double max_steer_angle = 0.61;   // rad at steer = 1
-  double lookahead_min = 6.0;      // m
-  double lookahead_time = 0.3;     // s: lookahead = max(min, time * speed)
+  double wheelbase = 2.875;               // m
+  double front_axle = 2.875;              // m ahead of base_link
+  double stanley_gain = 2.5;              // 1/s: cross-track gain (rad of steering per m of error at 1 m/s)
+  double stanley_softening = 2.0;         // m/s added to the speed under the cross-track term (gentle when slow)
+  double steer_preview = 0.1;             // s: the line's curvature is read this far ahead (steering lag)
+  double max_steer_angle = 0.61;          // rad at steer = 1
+  vehicle::SteeringCurve steering_curve;  // share of max_steer_angle by speed (the car's); empty: all of it
+  double lookahead_min = 6.0;             // m
+  double lookahead_time = 0.3;            // s: lookahead = max(min, time * speed)
   // Steering added per rad/s of yaw rate missing from what the pursuit arc asks (v * kappa): pure pursuit
   // alone weaves when braking hard from high speed.
   double yaw_rate_gain = 0.1;  // rad per rad/s

@@ -31,6 +31,10 @@ class SensorSink {
   virtual void vector(const SensorSpec& spec, double stamp, const Eigen::Vector3d& reading) = 0;
   virtual void occupancy(const SensorSpec& spec, double stamp, const OccupancyFrame& frame) = 0;
   virtual void radar(const SensorSpec& /*spec*/, double /*stamp*/, const std::vector<RadarDetection>& /*detections*/) {}
+  // An on-demand camera is rendered at its due tick only when its frames are wanted now; otherwise its
+  // frame of that tick is left to renderCamera and the sink told its stamp.
+  virtual bool wanted(const SensorSpec& /*spec*/) { return true; }
+  virtual void deferred(const SensorSpec& /*spec*/, double /*stamp*/) {}
 };
 
 struct RigTiming {
@@ -62,6 +66,13 @@ class SensorRig {
   // Cameras see the car they are on; LiDAR, radar and occupancy maps do not.
   void sampleRays(double time, const RayScene& scene, const Eigen::Isometry3d& base_in_map, int own_vehicle,
                   SensorSink& sink);
+  // Camera `name`'s frame with the scene as it is and the car at base_in_map: what sampleRays renders at a
+  // tick in that state, to the bit (sensor_rig_test AnOnDemandFrameIsTheFrameSampledAtItsTick). Throws
+  // SensorSpecError for a name that is no camera of this rig.
+  const CameraFrame& renderCamera(const std::string& name, const RayScene& scene, const Eigen::Isometry3d& base_in_map,
+                                  CameraIntrinsics* intrinsics);
+  // The time of the sensor's newest due tick (before its first: the time it was added).
+  double lastSampled(const std::string& name) const;
 
  private:
   struct Sensor;

@@ -44,6 +44,9 @@ struct CameraSpec {
   double fov_deg = 90.0;  // horizontal field of view
   int width = 800;
   int height = 600;
+  // Rendered only when its frames are wanted (someone subscribes) or asked for after the tick
+  // (SensorRig::renderCamera): a frame nobody reads costs nothing. ROAR_PY programs' cameras are so.
+  bool on_demand = false;
 };
 
 // ROAR_PY's (CARLA's) LiDAR parameters.

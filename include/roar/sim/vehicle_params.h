@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "roar/vehicle/steering_curve.h"
+
 namespace roar::sim {
 
 struct ChassisParams {
@@ -35,6 +37,11 @@ struct SuspensionParams {
   // understeer at the limit, as road cars are set up.
   double anti_roll_front = 25000.0;
   double anti_roll_rear = 8000.0;
+  // How much of the tyres' roll and pitch moment the body feels: 1, the tyre forces act at the contact
+  // patches (a real car); below 1 they act that share of the way from the centre of mass's height down to
+  // the road, as a game-physics vehicle lifts its tyre-force point (CARLA's PhysX cars corner at 3 g
+  // without rolling over; physics_test CarlaModel3CornersAtCarlaGripWithoutRollingOver).
+  double roll_influence = 1.0;
 };
 
 struct TyreParams {
@@ -81,8 +88,10 @@ struct BrakeParams {
 };
 
 struct SteeringParams {
-  double max_angle = 0.61;  // rad, road wheel angle at steer = 1
-  double max_rate = 2.5;    // rad/s
+  double max_angle = 0.61;             // rad, road wheel angle at steer = 1
+  double max_rate = 2.5;               // rad/s
+  vehicle::SteeringCurve speed_curve;  // share of max_angle by speed (CARLA's steering curve); empty: all of it
+  double maxAngleAt(double speed) const { return max_angle * vehicle::steeringShare(speed_curve, speed); }
 };
 
 struct AeroParams {
