@@ -140,14 +140,16 @@ class RoarPyResettableActor:
 
 def vehicle_action_spec(auto_gear: bool = True, num_gears: int = 6) -> spaces.Dict:
     """ROAR_PY's vehicle actions: throttle, steer (positive right), brake, hand_brake, reverse, and
-    target_gear for a manual gearbox."""
-    spec = collections.OrderedDict([
-        ("throttle", spaces.Box(low=0.0, high=1.0, shape=(1,))),
-        ("steer", spaces.Box(low=-1.0, high=1.0, shape=(1,))),
-        ("brake", spaces.Box(low=0.0, high=1.0, shape=(1,))),
-        ("hand_brake", spaces.Box(low=0.0, high=1.0, shape=(1,))),
-        ("reverse", spaces.MultiBinary(1)),
-    ])
+    target_gear for a manual gearbox. A plain dict as ROAR_PY's, so the Dict space sorts its keys (brake
+    first) and flattened actions have ROAR_PY's layout (test_roar_py_interface
+    test_vehicle_action_spec_flattens_in_roar_pys_order)."""
+    spec = {
+        "throttle": spaces.Box(low=0.0, high=1.0, shape=(1,)),
+        "steer": spaces.Box(low=-1.0, high=1.0, shape=(1,)),
+        "brake": spaces.Box(low=0.0, high=1.0, shape=(1,)),
+        "hand_brake": spaces.Box(low=0.0, high=1.0, shape=(1,)),
+        "reverse": spaces.MultiBinary(1),
+    }
     if not auto_gear:
         spec["target_gear"] = spaces.Discrete(num_gears, start=1)
     return spaces.Dict(spec)

@@ -6,6 +6,7 @@ by name, NumPy arrays as nested lists, as pyserde writes them; readings with a `
 (camera images and occupancy maps as JPEG) override it. ROAR_PY's remote protocol sends readings as
 ``MSGPACK_COMPRESSED`` (test_roar_py_remote.py).
 """
+import collections.abc
 import dataclasses
 import enum
 import json
@@ -50,22 +51,101 @@ def to_plain(value):
     return value
 
 
-def from_plain(cls, data):
-    """A dataclass from its to_plain form: fields annotated np.ndarray become arrays."""
-    if not isinstance(data, dict):
-        raise ValueError(f"{cls.__name__}: serialised data must be a mapping of its fields, got {type(data).__name__}")
+class SerialisedDataError(ValueError):
+    """Serialised data that does not fit its type; the message names the field (``Class.field[key]``)."""
+
+
+def from_plain(cls, data, where: typing.Optional[str] = None):
+    """A value of type ``cls`` from its to_plain form, as pyserde's from_dict reads it: dataclasses from
+    mappings of their fields (unknown keys ignored, missing ones refused), ``Optional``, ``List``, ``Dict``,
+    ``np.ndarray`` from nested lists of numbers, and numbers, strings and booleans checked."""
+    return _from_plain(cls, data, where or getattr(cls, "__name__", str(cls)))
+
+
+def _from_plain(hint, value, where: str):
+    if hint is typing.Any or isinstance(hint, typing.TypeVar):
+        return value
+    origin = typing.get_origin(hint)
+    if origin is typing.Union:
+        return _from_union(typing.get_args(hint), value, where)
+    if origin in (list, typing.List, collections.abc.Sequence, collections.abc.Iterable):
+        return [_from_plain(_arg(hint, 0), v, f"{where}[{i}]") for i, v in enumerate(_sequence(value, where))]
+    if origin in (dict, typing.Dict, collections.abc.Mapping):
+        key_hint, value_hint = _arg(hint, 0), _arg(hint, 1)
+        return {_from_plain(key_hint, k, f"{where} key {k!r}"): _from_plain(value_hint, v, f"{where}[{k!r}]")
+                for k, v in _mapping(value, where).items()}
+    if origin is tuple:
+        return tuple(_from_plain(_arg(hint, 0), v, f"{where}[{i}]") for i, v in enumerate(_sequence(value, where)))
+    if dataclasses.is_dataclass(hint):
+        return _from_dataclass(hint, value, where)
+    return _from_scalar(hint, value, where)
+
+
+def _arg(hint, index: int):
+    args = typing.get_args(hint)
+    return args[index] if len(args) > index else typing.Any
+
+
+def _from_union(members, value, where: str):
+    if value is None and type(None) in members:
+        return None
+    errors = []
+    for member in (m for m in members if m is not type(None)):
+        try:
+            return _from_plain(member, value, where)
+        except SerialisedDataError as error:
+            errors.append(str(error))
+    raise SerialisedDataError(errors[0] if len(errors) == 1 else f"{where}: {value!r} fits none of {members}")
+
+
+def _sequence(value, where: str):
+    if not isinstance(value, (list, tuple)):
+        raise SerialisedDataError(f"{where}: expected a list, got {type(value).__name__}")
+    return value
+
+
+def _mapping(value, where: str):
+    if not isinstance(value, dict):
+        raise SerialisedDataError(f"{where}: expected a mapping, got {type(value).__name__}")
+    return value
+
+
+def _from_dataclass(cls, value, where: str):
+    fields = _mapping(value, where)
     hints = typing.get_type_hints(cls)
     values = {}
     for f in dataclasses.fields(cls):
-        if f.name not in data:
+        if f.name not in fields:
             if f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING:
                 continue
-            raise ValueError(f"{cls.__name__}: serialised data has no field '{f.name}'")
-        value = data[f.name]
-        if hints.get(f.name) is np.ndarray and value is not None:
-            value = np.asarray(value)
-        values[f.name] = value
+            raise SerialisedDataError(f"{where}: no field '{f.name}'")
+        values[f.name] = _from_plain(hints.get(f.name, typing.Any), fields[f.name], f"{where}.{f.name}")
     return cls(**values)
+
+
+def _from_scalar(hint, value, where: str):
+    if hint is np.ndarray:
+        try:
+            array = np.array(value)
+        except (ValueError, TypeError) as error:
+            raise SerialisedDataError(f"{where}: expected nested lists of numbers ({error})") from None
+        if array.dtype.kind not in "biuf":
+            raise SerialisedDataError(f"{where}: expected nested lists of numbers, got {array.dtype} values")
+        return array
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise SerialisedDataError(f"{where}: expected a number, got {type(value).__name__}")
+        return float(value)
+    if hint is int or hint is bool or hint is str or hint is bytes:
+        if type(value) is not hint:
+            raise SerialisedDataError(f"{where}: expected {hint.__name__}, got {type(value).__name__}")
+        return value
+    if isinstance(hint, type) and issubclass(hint, enum.Enum):
+        try:
+            return hint(value)
+        except ValueError:
+            raise SerialisedDataError(f"{where}: {value!r} is no {hint.__name__}") from None
+    return value
 
 
 def _encode(plain, scheme: _Scheme) -> bytes:

@@ -260,6 +260,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         return {"x": float(loc[0]), "y": float(loc[1]), "z": float(loc[2]),
                 "roll": float(rpy[0]), "pitch": float(rpy[1]), "yaw": float(rpy[2])}
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_camera_sensor(self, target_datatype: typing.Type[rpi.RoarPyCameraSensorData], location: np.ndarray,
                              roll_pitch_yaw: np.ndarray, fov: float = 90.0, image_width: int = 800,
                              image_height: int = 600, control_timestep: float = 0.0, attachment_type=None,
@@ -281,6 +283,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         return self._attach(spec, lambda: sensors.RoarPyRosCameraSensor(
             self, name, sim_name, target_datatype, float(fov), int(image_width), int(image_height), rate))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_lidar_sensor(self, location: np.ndarray, roll_pitch_yaw: np.ndarray, num_lasers: int = 32,
                             max_distance: float = 10.0, points_per_second: int = 56000,
                             rotation_frequency: float = 10.0, upper_fov: float = 10.0, lower_fov: float = -30.0,
@@ -298,6 +302,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                 "rate": rate, **lidar}
         return self._attach(spec, lambda: sensors.RoarPyRosLiDARSensor(self, name, sim_name, lidar, rate))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_radar_sensor(self, location: np.ndarray, roll_pitch_yaw: np.ndarray, horizontal_fov: float = 30.0,
                             vertical_fov: float = 30.0, points_per_second: int = 1500, max_distance: float = 100.0,
                             control_timestep: float = 0.0, attachment_type=None,
@@ -312,6 +318,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                 "rate": rate, **radar}
         return self._attach(spec, lambda: sensors.RoarPyRosRadarSensor(self, name, sim_name, radar, rate))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_collision_sensor(self, location: np.ndarray = None, roll_pitch_yaw: np.ndarray = None,
                                 attachment_type=None, name: str = "carla_collision_sensor") -> rpi.RoarPyCollisionSensor:
         sensor = self._keep(sensors.RoarPyRosCollisionSensor(self, name))
@@ -319,29 +327,45 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
             self._pending_collisions[id(sensor)] = []
         return sensor
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_accelerometer_sensor(self, name: str = "carla_accelerometer_sensor"):
         return self._keep(sensors.RoarPyRosAccelerometerSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_gyroscope_sensor(self, name: str = "carla_gyroscope_sensor"):
         return self._keep(sensors.RoarPyRosGyroscopeSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_velocimeter_sensor(self, name: str = "carla_velocimeter_sensor"):
         return self._keep(sensors.RoarPyRosVelocimeterSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_local_velocimeter_sensor(self, name: str = "carla_local_velocimeter_sensor"):
         return self._keep(sensors.RoarPyRosLocalVelocimeterSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_roll_pitch_yaw_sensor(self, name: str = "carla_rpy_sensor"):
         return self._keep(sensors.RoarPyRosRollPitchYawSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_framequat_sensor(self, name: str = "carla_framequat_sensor"):
         # As ROAR_PY's CARLA backend makes it: a quaternion read from a roll-pitch-yaw sensor of its own.
         return self._keep(rpi.RoarPyFrameQuatSensorFromRollPitchYaw(
             sensors.RoarPyRosRollPitchYawSensor(self, "carla_rpy_sensor"), name=name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_location_in_world_sensor(self, name: str = "carla_location_in_world_sensor"):
         return self._keep(sensors.RoarPyRosLocationInWorldSensor(self, name))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_gnss_sensor(self, noise_altitude_bias: float = 0.0, noise_altitude_std: float = 0.0,
                            noise_latitude_bias: float = 0.0, noise_latitude_std: float = 0.0,
                            noise_longitude_bias: float = 0.0, noise_longitude_std: float = 0.0, noise_seed: int = 0,
@@ -358,6 +382,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         return self._attach({"name": sim_name, "type": "gnss", "rate": rate, **spec},
                             lambda: sensors.RoarPyRosGNSSSensor(self, name, sim_name, rate, bias))
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_occupancy_map_sensor(self, width: int, height: int, width_in_world: float, height_in_world: float,
                                     name: str = "carla_occupancy_map_sensor"):
         """ROAR_PY's occupancy map: the road drawn from the map's waypoints on a width x height image covering
@@ -372,6 +398,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
                                                   float(width_in_world), float(height_in_world))
         return self._keep(sensors.RoarPyRosOccupancyMapSensor(self, producer, name))
 
+    @rpi.roar_py_remove_item
+    @rpi.roar_py_thread_sync
     def remove_sensor(self, sensor: rpi.RoarPySensor):
         if sensor not in self._sensors:
             raise RuntimeError(f"Sensor {sensor.name!r} not found on '{self.name}'")

@@ -1,4 +1,6 @@
 """roar_sim's world as ROAR_PY's: its map's waypoints and spawn points, its clock and stepping, its cars."""
+import asyncio
+import math
 import threading
 import time
 import typing
@@ -13,6 +15,11 @@ from .connection import RoarSimError
 from .vehicle import RoarPyRosVehicle, _finite_vector, ros_safe
 
 WAIT_TIMEOUT = 30.0  # wall seconds
+ASYNC_POLL = 0.002  # wall seconds between looks at the clock in asynchronous mode
+# The longest physics substep (s): CARLA's tyre friction is too stiff for roar_sim's explicit step beyond
+# it (physics_test ASpunUpWheelLandsWithoutThrowingTheCarBack); CARLA's own substeps are at most as long as
+# asked, so shorter ones are what a program asked for.
+MAX_SUBSTEP = 0.005
 
 
 class RoarPyRosWorld(rpi.RoarPyWorld):
@@ -109,16 +116,26 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return self._mode == "async"
 
     def set_control_steps(self, control_timestep: float, control_substimestep: float):
-        """The control step and the physics substep (s); the pace is left alone. A control step of 0
-        (CARLA's variable step, for asynchronous mode) keeps roar_sim's: its control step is always fixed."""
+        """The control step and the longest physics substep (s), as CARLA's fixed_delta_seconds and
+        max_substep_delta_time; the pace is left alone. A control step of 0 (CARLA's variable step, for
+        asynchronous mode) keeps roar_sim's: its control step is always fixed. Substeps are at most
+        MAX_SUBSTEP long, and divide the control step evenly."""
         self._check_open()
-        values = {}
-        for value, field, what in ((control_timestep, "control_dt", "control_timestep"),
-                                   (control_substimestep, "physics_dt", "control_substimestep")):
+        for value, what in ((control_timestep, "control_timestep"), (control_substimestep, "control_substimestep")):
             if not np.isfinite(value) or value < 0:
                 raise ValueError(f"set_control_steps: {what} must be >= 0 s, got {value}")
-            if value > 0:
-                values[field] = float(value)
+        values = {}
+        if control_timestep > 0:
+            values["control_dt"] = float(control_timestep)
+        if control_substimestep > 0:
+            control_dt = values.get("control_dt", self._control_dt)
+            whole = control_dt / control_substimestep
+            if abs(whole - round(whole)) > 1e-6 or whole < 1 - 1e-9:
+                # ROAR_PY's CARLA backend asserts the same.
+                raise ValueError(f"set_control_steps: the control step ({control_dt} s) must be a whole multiple of "
+                                 f"control_substimestep ({control_substimestep} s)")
+            substeps = math.ceil(control_dt / min(control_substimestep, MAX_SUBSTEP) - 1e-9)
+            values["physics_dt"] = control_dt / substeps
         self._set_stepping(**values)
         for vehicle in self._vehicles.values():
             vehicle.control_timestep = self._control_dt
@@ -144,9 +161,13 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         """Synchronous: simulates one control step (every car's last action held) and returns its length.
         Asynchronous: waits for roar_sim's next tick and returns the simulated time since the last step."""
         self._check_open()
+        # Yields to the event loop once a step, as CARLA's backend does: a Ctrl-C (asyncio cancels the main
+        # task) and the program's other tasks get their turn (test_roar_py_lifecycle
+        # test_ctrl_c_ends_a_program_whose_steps_never_wait).
+        await asyncio.sleep(0)
         before = self._sim_time
         if self.is_asynchronous:
-            self._wait(lambda: self._clock > before + 1e-9, "a tick of roar_sim")
+            await self._next_tick(before)
             with self._cond:
                 self._sim_time = self._clock
             return self._sim_time - before
@@ -164,6 +185,23 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         self._take_snapshots(response.vehicles)
         self._sim_time = response.stamp.to_sec()
         return self._sim_time - before
+
+    async def _next_tick(self, after: float):
+        """Until roar_sim's clock passes after, letting the program's other tasks run meanwhile."""
+        start = time.time()
+        next_alive_check = start + 0.5
+        while True:
+            with self._cond:
+                if self._clock > after + 1e-9:
+                    return
+            now = time.time()
+            if now > next_alive_check:
+                next_alive_check = now + 0.5
+                if not self._instance._sim_alive():
+                    raise RoarSimError("roar_sim has gone away while waiting for a tick of roar_sim")
+            if now > start + WAIT_TIMEOUT:
+                raise RoarSimError(f"no tick of roar_sim within {WAIT_TIMEOUT:.0f} s")
+            await asyncio.sleep(ASYNC_POLL)
 
     def _take_snapshots(self, snapshots):
         by_name = {v.ros_name: v for v in self._vehicles.values()}
@@ -227,6 +265,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return out[0] if single else out
 
     # ---- actors ---------------------------------------------------------------------------------------------
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def spawn_vehicle(self, blueprint_id: str, location: np.ndarray, roll_pitch_yaw: np.ndarray,
                       auto_gear: bool = True, name: str = "carla_vehicle", rgba: typing.Optional[np.ndarray] = None
                       ) -> RoarPyRosVehicle:
@@ -267,6 +307,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         self._observe([vehicle])
         return vehicle
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_camera_sensor(self, target_datatype, location, roll_pitch_yaw, fov=90.0, image_width=800,
                              image_height=600, control_timestep=0.0, attachment_type=None, name="carla_camera",
                              bind_to: typing.Optional[RoarPyRosVehicle] = None):
@@ -274,6 +316,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
             target_datatype, location, roll_pitch_yaw, fov, image_width, image_height, control_timestep,
             attachment_type, name)
 
+    @rpi.roar_py_append_item
+    @rpi.roar_py_thread_sync
     def attach_lidar_sensor(self, location, roll_pitch_yaw, num_lasers=32, max_distance=10.0, points_per_second=56000,
                             rotation_frequency=10.0, upper_fov=10.0, lower_fov=-30.0, horizontal_fov=360.0,
                             atmosphere_attenuation_rate=0.004, dropoff_general_rate=0.45,
@@ -299,13 +343,22 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return [v for v in self._vehicles.values() if not v.is_closed()]
 
     def get_sensors(self) -> typing.List[rpi.RoarPySensor]:
+        """The sensors not on a car, as ROAR_PY's CARLA world lists them: none, every roar_sim sensor
+        rides on a car (get_all_sensors lists those)."""
+        return []
+
+    def get_all_sensors(self) -> typing.List[rpi.RoarPySensor]:
         return [s for v in self.get_actors() for s in v.get_sensors()]
 
+    @rpi.roar_py_remove_item
+    @rpi.roar_py_thread_sync
     def remove_actor(self, actor: RoarPyRosVehicle):
         if actor not in self._vehicles.values():
             raise ValueError(f"remove_actor: {actor!r} is not an actor of this world")
         actor.close()
 
+    @rpi.roar_py_remove_item
+    @rpi.roar_py_thread_sync
     def remove_sensor(self, sensor: rpi.RoarPySensor):
         for vehicle in self.get_actors():
             if sensor in vehicle._sensors:

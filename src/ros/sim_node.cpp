@@ -300,17 +300,22 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   bool any = false;
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return poses;
-  SceneTick kept;
-  kept.time = world_->time();
-  for (auto& [name, io] : io_) {
-    const sim::VehicleState state = world_->vehicleState(name);
-    poses[name] = sensors::poseOf(state);
-    kept.cars[name] = {poses[name], state.linear_velocity, state.angular_velocity};
-  }
+  SceneTick kept = sceneNow();
+  for (const auto& [name, car] : kept.cars) poses[name] = car.pose;
   poseRayScene(kept);
   scene_ticks_.push_back(std::move(kept));
   while (scene_ticks_.size() > kKeptSceneTicks) scene_ticks_.pop_front();
   return poses;
+}
+
+SceneTick SimNode::sceneNow() const {
+  SceneTick now;
+  now.time = world_->time();
+  for (const auto& [name, io] : io_) {
+    const sim::VehicleState state = world_->vehicleState(name);
+    now.cars[name] = {sensors::poseOf(state), state.linear_velocity, state.angular_velocity};
+  }
+  return now;
 }
 
 void SimNode::poseRayScene(const SceneTick& tick) {

@@ -151,6 +151,10 @@ class SimNode {
   bool onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res);
   // Puts the ray scene's cars where they were at a kept tick (cars spawned since: out of sight).
   void poseRayScene(const struct SceneTick& tick);
+  // Every car's pose and velocities now.
+  SceneTick sceneNow() const;
+  // The kept tick of a stamp that has the car, or std::invalid_argument saying which ticks are kept.
+  const SceneTick* keptSceneTick(double stamp, const std::string& vehicle) const;
 
   ros::NodeHandle nh_, private_nh_;
   SimNodeOptions options_;

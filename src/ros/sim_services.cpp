@@ -359,32 +359,38 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
     const auto io = io_.find(req.vehicle);
     if (io == io_.end()) throw sim::SpawnError("no vehicle named '" + req.vehicle + "'");
     sensors::SensorRig& rig = io->second.sensors->rig();
-    const double stamp = req.stamp.isZero() ? rig.lastSampled(req.sensor) : req.stamp.toSec();
-    const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
-                                   [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
-    if (tick == scene_ticks_.end() || !tick->cars.count(req.vehicle)) {
-      throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
-                                  (scene_ticks_.empty()
-                                       ? std::string(" (no tick since the car's sensors came)")
-                                       : " (the last " + std::to_string(scene_ticks_.size()) +
-                                             " ticks are: t = " + std::to_string(scene_ticks_.front().time) + " to " +
-                                             std::to_string(scene_ticks_.back().time) + " s)"));
-    }
-    const bool past = &*tick != &scene_ticks_.back();
-    if (past) poseRayScene(*tick);
     sensors::SensorType type = sensors::SensorType::kCameraRgb;
     for (const auto& spec : rig.specs()) {
       if (spec.name == req.sensor) type = spec.type;
     }
+    // Stamp 0 is the frame of now (asynchronous readers): the world as it is, whether or not a tick's
+    // scene was kept since the camera came (test_roar_py_ros test_an_asynchronous_camera_sees_now).
+    const SceneTick now = sceneNow();
+    const SceneTick* tick = &now;
+    if (!req.stamp.isZero()) tick = keptSceneTick(req.stamp.toSec(), req.vehicle);
+    const bool newest = !scene_ticks_.empty() && tick == &scene_ticks_.back();
+    if (!newest) poseRayScene(*tick);
     const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, tick->cars.at(req.vehicle).pose, nullptr);
-    if (past) poseRayScene(scene_ticks_.back());
-    res.image = toImage(frame, type, toRosTime(stamp), req.vehicle + "/" + req.sensor + "_optical");
+    if (!newest && !scene_ticks_.empty()) poseRayScene(scene_ticks_.back());
+    res.image = toImage(frame, type, toRosTime(tick->time), req.vehicle + "/" + req.sensor + "_optical");
     res.success = true;
-    res.message = "rendered " + req.vehicle + "/" + req.sensor + " at t = " + std::to_string(stamp);
+    res.message = "rendered " + req.vehicle + "/" + req.sensor + " at t = " + std::to_string(tick->time);
   } catch (const std::exception& e) {
     return refuse(res, "render_sensor", e.what());
   }
   return true;
+}
+
+const SceneTick* SimNode::keptSceneTick(double stamp, const std::string& vehicle) const {
+  const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
+                                 [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
+  if (tick != scene_ticks_.end() && tick->cars.count(vehicle)) return &*tick;
+  throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
+                              (scene_ticks_.empty()
+                                   ? std::string(" (no tick since the car's sensors came)")
+                                   : " (the last " + std::to_string(scene_ticks_.size()) +
+                                         " ticks are: t = " + std::to_string(scene_ticks_.front().time) + " to " +
+                                         std::to_string(scene_ticks_.back().time) + " s)"));
 }
 
 bool SimNode::onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res) {

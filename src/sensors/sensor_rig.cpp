@@ -201,11 +201,4 @@ const CameraFrame& SensorRig::renderCamera(const std::string& name, const RaySce
   throw SensorSpecError("sensor '" + name + "': the car has no camera of that name");
 }
 
-double SensorRig::lastSampled(const std::string& name) const {
-  for (const auto& s : sensors_) {
-    if (s->spec.name == name) return s->last_time;
-  }
-  throw SensorSpecError("sensor '" + name + "': the car has no sensor of that name");
-}
-
 }  // namespace roar::sensors

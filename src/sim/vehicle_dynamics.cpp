@@ -301,6 +301,12 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
     omega = wheel.omega + dt * (free_torque - std::copysign(resist, wheel.omega)) / inertia / implicit;
     if (omega * wheel.omega < 0) omega = 0.0;  // the brakes stop the wheel, they do not turn it back
   }
+  // Past the tyre's peak the linearisation gives no damping: the road's grip may bring the wheel to roll
+  // with the road within a substep, never spin it past that (a spun-up wheel landing under a landing's load
+  // went to negative slip and the tyre threw the car backwards: physics_test
+  // ASpunUpWheelLandsWithoutThrowingTheCarBack).
+  const double slip_after = (omega * r - vx) / denom;
+  if (slip_now * slip_after < 0 && std::abs(slip_now) > tyre_.peakSlipRatio()) omega = vx / r;
   wheel.omega = omega;
 
   const double slip_ratio = (omega * r - vx) / denom;

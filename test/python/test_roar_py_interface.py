@@ -63,8 +63,9 @@ def test_flatten_and_unflatten_round_trip_in_gymnasiums_layout():
               "brake": np.array([0.0], np.float32), "hand_brake": np.array([1.0], np.float32),
               "reverse": np.array([1], np.int8), "target_gear": np.int64(3)}
     flat = spaces.flatten(spec, action)
-    # Boxes as they are, MultiBinary as 0/1, a Discrete(6, start=1) as a one-hot of 6: gymnasium's layout.
-    assert flat.tolist() == [0.25, -0.5, 0.0, 1.0, 1.0, 0, 0, 1, 0, 0, 0]
+    # In the keys' order (sorted, as ROAR_PY's spec is built): Boxes as they are, MultiBinary as 0/1, a
+    # Discrete(6, start=1) as a one-hot of 6: gymnasium's layout.
+    assert flat.tolist() == [0.0, 1.0, 1.0, -0.5, 0, 0, 1, 0, 0, 0, 0.25]
     assert spaces.flatdim(spec) == 11 and spaces.flatten_space(spec).shape == (11,)
     back = spaces.unflatten(spec, flat)
     assert int(back["target_gear"]) == 3 and back["steer"][0] == pytest.approx(-0.5)
@@ -143,6 +144,15 @@ def test_switches_read_as_roar_pys_carla_backend_reads_them():
     manual = reader(auto_gear=False)
     control = conversions.to_vehicle_control(manual.read({**GO, "target_gear": np.int64(3)}), auto_gear=False)
     assert control.manual_gear_shift and control.gear == 3
+
+
+def test_vehicle_action_spec_flattens_in_roar_pys_order():
+    # ROAR_PY builds the spec from a plain dict, which gymnasium's Dict sorts: RL policies trained on
+    # flattened actions, and ROAR_PY's remote protocol, depend on that layout.
+    spec = rpi.vehicle_action_spec(auto_gear=False)
+    assert list(spec.spaces) == ["brake", "hand_brake", "reverse", "steer", "target_gear", "throttle"]
+    flat = spaces.flatten(rpi.vehicle_action_spec(), {**GO, "brake": np.array([0.1])})
+    assert flat.tolist() == pytest.approx([0.1, 0.0, 0.0, 0.25, 0.4])
 
 
 def test_what_carla_cannot_take_is_refused_naming_the_field():

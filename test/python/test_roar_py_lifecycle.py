@@ -66,3 +66,39 @@ def test_a_program_leaves_nothing_running_however_it_ends(how):
     left = [p for p in tree if watchdog.alive(p)]
     assert left == [], f"after {how}: still running {left}"
     assert not os.path.exists(log_dir), f"after {how}: {log_dir} is left"
+
+
+STEPPING_PROGRAM = """
+import asyncio, sys, time
+import roar_py_ros
+
+async def main():
+    instance = roar_py_ros.RoarPyRosInstance(map_name="roar_sprint")
+    world = instance.world
+    world.set_asynchronous(sys.argv[1] == "async")
+    try:
+        print("stepping", flush=True)
+        while True:
+            await world.step()
+            time.sleep(0.08)  # slower than roar_sim's clock: in asynchronous mode the next tick is always there
+    finally:
+        instance.close()
+        print("closed", flush=True)
+
+asyncio.run(main())
+"""
+
+
+@pytest.mark.parametrize("mode", ["sync", "async"])
+def test_ctrl_c_ends_a_program_whose_steps_never_wait(mode):
+    # asyncio delivers Ctrl-C by cancelling the main task where it next waits; ROAR_PY's CARLA backend
+    # waits in every step, so one Ctrl-C ends its programs (and their finally blocks run).
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    program = subprocess.Popen([sys.executable, "-c", STEPPING_PROGRAM, mode], env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    assert program.stdout.readline().strip() == "stepping", program.stderr.read() if program.poll() else ""
+    time.sleep(1.0)
+    program.send_signal(signal.SIGINT)
+    out, err = program.communicate(timeout=30)
+    assert "closed" in out, err[-2000:]
+    assert "KeyboardInterrupt" in err

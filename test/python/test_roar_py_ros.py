@@ -139,6 +139,8 @@ def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
     assert car.get_angular_velocity()[2] < 0
     car.remove_sensor(lidar)
     assert lidar.is_closed() and len(list(car.get_sensors())) == 12
+    # As ROAR_PY's CARLA world: get_sensors lists the sensors on no car (roar_sim has none).
+    assert world.get_sensors() == [] and world.get_all_sensors() == list(car.get_sensors())
 
 
 def test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame(world):
@@ -181,6 +183,20 @@ def test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame(world
     old = first.__class__(lambda: camera._render(0.001), (96, 64))
     with pytest.raises(RuntimeError, match="no frame of t = 0.001"):
         old.to_gym()
+
+
+def test_an_asynchronous_camera_sees_now(world):
+    # ROAR_PY's manual control reads its camera right after attaching it, in asynchronous mode: the frame of
+    # now, though no tick has passed since the camera came.
+    car = spawn(world)
+    world.set_asynchronous(True)
+    try:
+        camera = car.attach_camera_sensor(RGB, np.array([-4.8, 0.0, 1.8]), np.array([0.0, 0.17, 0.0]),
+                                          image_width=96, image_height=64)
+        frame = run(camera.receive_observation())
+        assert frame.get_size() == (96, 64) and np.asarray(frame.image_rgb).std() > 5
+    finally:
+        world.set_asynchronous(False)
 
 
 def test_a_car_spawned_above_the_road_falls_onto_it_as_in_carla(world):
@@ -282,8 +298,8 @@ def test_closed_vehicles_and_sensors_say_so(world):
 
 def test_stepping_settings_change_at_run_time(world):
     car = spawn(world)
-    world.set_control_steps(0.1, 0.01)
-    assert world.control_timestep == pytest.approx(0.1) and world.contorl_subtimestep == pytest.approx(0.01)
+    world.set_control_steps(0.1, 0.0025)
+    assert world.control_timestep == pytest.approx(0.1) and world.contorl_subtimestep == pytest.approx(0.0025)
     assert run(world.step()) == pytest.approx(0.1)
     world.set_control_steps(control_timestep=0.05, control_substimestep=0.005)
     world.set_asynchronous(True)
@@ -298,6 +314,21 @@ def test_stepping_settings_change_at_run_time(world):
     world.set_asynchronous(False)
     assert not world.is_asynchronous
     assert run(world.step()) == pytest.approx(0.05)
+
+
+def test_substeps_are_at_most_5_ms_as_carla_allows(world):
+    # CARLA's max_substep_delta_time is the longest substep; CARLA's tyres need 5 ms here (physics_test
+    # ASpunUpWheelLandsWithoutThrowingTheCarBack). ROAR_PY's example controller asks for 10 ms.
+    from roar_ros.srv import GetWorldInfo
+
+    try:
+        world.set_control_steps(0.0, 0.01)
+        assert world.contorl_subtimestep == pytest.approx(0.005) and world.control_timestep == pytest.approx(0.05)
+        assert world._services.call("/roar_sim/get_world_info", GetWorldInfo).physics_dt == pytest.approx(0.005)
+        world.set_control_steps(0.03, 0.01)
+        assert world.contorl_subtimestep == pytest.approx(0.005), "six substeps of a 30 ms step"
+    finally:
+        world.set_control_steps(0.05, 0.005)
 
 
 @pytest.mark.parametrize("order", ["asynchronous first", "control steps first"])

@@ -215,6 +215,32 @@ TEST(Physics, CarlaA2ReproducesCarlasFigures) {
   EXPECT_NEAR(braking, 13.0, 1.0) << "as carla_model3";
 }
 
+TEST(Physics, ASpunUpWheelLandsWithoutThrowingTheCarBack) {
+  // ROAR_PY's example controller: vehicle.audi.a2 spawned a metre above the road, floored from the start,
+  // so its front wheels spin up in the air and land at 60 rad/s. At 5 ms substeps: at 10 ms CARLA's grippy
+  // tyres are too stiff for the explicit step (roar_py_ros takes at most 5 ms: test_roar_py_ros
+  // test_substeps_are_at_most_5_ms_as_carla_allows).
+  for (const std::string model : {"carla_a2", "carla_model3", "hatchback"}) {
+    SCOPED_TRACE(model);
+    sim::WorldOptions o = Drive::options();
+    o.physics_dt = 0.005;
+    track::Track track = test::circleTrack(300.0);  // on the road's mesh, as on a map
+    sim::World world(track, o);
+    sim::Pose above;
+    above.position = Eigen::Vector3d(300.0, 0.0, 1.0);
+    above.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+    world.spawnVehicle("ego", test::vehicle(model), above, sim::Placement::kAsGiven);
+    double slowest = 0.0;
+    for (int tick = 0; tick < 60; ++tick) {
+      world.setControl("ego", throttle(0.8));
+      world.step();
+      slowest = std::min(slowest, world.vehicleState("ego").forward_speed);
+    }
+    EXPECT_GT(slowest, -1.5) << "the landing may jolt the car, not drive it backwards";
+    EXPECT_GT(world.vehicleState("ego").forward_speed, 5.0) << "3 s at 0.8 throttle";
+  }
+}
+
 TEST(Physics, AccelerationAndTopSpeedArePlausibleForASportsSedan) {
   Drive d;
   int ticks = 0;

@@ -71,8 +71,6 @@ class SensorRig {
   // SensorSpecError for a name that is no camera of this rig.
   const CameraFrame& renderCamera(const std::string& name, const RayScene& scene, const Eigen::Isometry3d& base_in_map,
                                   CameraIntrinsics* intrinsics);
-  // The time of the sensor's newest due tick (before its first: the time it was added).
-  double lastSampled(const std::string& name) const;
 
  private:
   struct Sensor;

@@ -1,0 +1,116 @@
+"""ROAR_PY's websocket server and client.
+
+The server (``RoarPyWebsocketServerService``) gives each client that connects a view of the shared
+world (``initialize_streamed_world`` may spawn its car and sensors there) and answers its requests each
+tick. It listens on loopback unless given an address (``bind_addr=""`` is every interface, ROAR_PY's
+default). ``RoarPyWebsocketClientService.connect_to_server`` returns the client's world.
+"""
+import logging
+import typing
+
+import websockets
+
+import roar_py_interface as rpi
+
+from ..base import RoarPyObjectWithRemoteMessage
+from ..worlds import RoarPyRemoteClientWorld, RoarPyRemoteServerWorldManager, RoarPyRemoteServerWorldWrapper
+from .base_stream_services import RoarPyStreamingClient
+from .base_stream_services import websocket_service
+from .base_stream_services.base_service import _describe
+from .common import RoarPyRemoteClientWorldWithStreamClient
+
+_log = logging.getLogger("roar_py_remote")
+LOOPBACK = "127.0.0.1"
+MAX_REQUEST_BYTES = 1 << 20   # a client's request: actions and flags, a few hundred bytes
+MAX_MESSAGE_BYTES = 1 << 28   # the server's answer: camera frames, and the waypoints once
+
+
+class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingService):
+    def __init__(self, server_world_manager: RoarPyRemoteServerWorldManager):
+        super().__init__()
+        self.server_world_manager = server_world_manager
+        self._client_to_world_map: typing.Dict[typing.Any, RoarPyRemoteServerWorldWrapper] = {}
+
+    async def initialize_streamed_world(self, client, world: rpi.RoarPyWorld) -> bool:
+        """Override: prepare a new client's world (spawn its car, attach its sensors); False turns it away."""
+        return True
+
+    async def generate_streamable_object(self, client) -> typing.Optional[RoarPyObjectWithRemoteMessage]:
+        masked_world = self.server_world_manager.get_world()
+        try:
+            accepted = await self.initialize_streamed_world(client, masked_world)
+        except Exception:
+            masked_world.close()
+            raise
+        if not accepted:
+            masked_world.close()
+            return None
+        wrapper = RoarPyRemoteServerWorldWrapper(masked_world)
+        self._client_to_world_map[client] = wrapper
+        return wrapper
+
+    async def client_disconnected(self, client):
+        await super().client_disconnected(client)
+        self._client_to_world_map.pop(client, None)
+
+    async def _websocket_handler(self, websocket):
+        try:
+            await self.new_client_connected(websocket)
+        except Exception as error:  # noqa: BLE001 - the program's set-up failing for one client
+            _log.exception("client %s: setting up its world failed", _describe(websocket))
+            await websocket.close(code=1011, reason=f"setting up the world failed: {type(error).__name__}"[:120])
+            return
+        try:
+            async for message in websocket:
+                await self.client_message_received(websocket, message)
+        except websockets.exceptions.ConnectionClosed:
+            pass
+        finally:
+            await self.client_disconnected(websocket)
+
+    async def run_server(self, bind_addr: typing.Optional[str] = None, bind_port: int = 80):
+        """Serves until cancelled (or the world fails): steps the shared world and answers the clients."""
+        host = LOOPBACK if bind_addr is None else bind_addr
+        async with websockets.serve(self._websocket_handler, host, bind_port, max_size=MAX_REQUEST_BYTES):
+            _log.info("serving ROAR_PY's remote protocol on ws://%s:%d", host or "0.0.0.0", bind_port)
+            while True:
+                await self.server_world_manager._step()
+                await self.tick()
+
+
+class RoarPyWebsocketClientWorldWithStreamClient(RoarPyRemoteClientWorldWithStreamClient):
+    def __init__(self, stream_service: RoarPyStreamingClient, websocket_client):
+        super().__init__(stream_service)
+        self._websocket_client = websocket_client
+
+    async def try_receive_and_feed_service(self) -> None:
+        try:
+            message = await self._websocket_client.recv()
+        except websockets.exceptions.ConnectionClosed as closed:
+            await self._stream_service.disconnected_from_server()
+            raise ConnectionError(f"the server closed the connection ({closed})") from None
+        await self._stream_service.server_message_received(self._websocket_client, message)
+
+    async def close(self) -> None:
+        """Closes the connection: the server closes this client's car and sensors."""
+        await self._websocket_client.close()
+
+
+class RoarPyWebsocketClientService:
+    @staticmethod
+    async def connect_to_server(wss_address: str = "ws://localhost:8080") -> RoarPyWebsocketClientWorldWithStreamClient:
+        websocket_client = await websockets.connect(wss_address, max_size=MAX_MESSAGE_BYTES)
+        base_service = websocket_service.RoarPyWebsocketStreamingClient(RoarPyRemoteClientWorld)
+        await base_service.connected_to_server(websocket_client)
+        while base_service.stream_object is None:
+            try:
+                message = await websocket_client.recv()
+            except websockets.exceptions.ConnectionClosed as closed:
+                raise ConnectionError(f"{wss_address} closed the connection while the client was set up "
+                                      f"({closed})") from None
+            await base_service.server_message_received(websocket_client, message)
+        return RoarPyWebsocketClientWorldWithStreamClient(base_service, websocket_client)
+
+
+__all__ = ["RoarPyWebsocketServerService", "RoarPyWebsocketClientWorldWithStreamClient",
+           "RoarPyWebsocketClientService"]
