@@ -1,11 +1,13 @@
 """ROAR_PY's interface (roar_py_interface), written for roar_ros: the names, arguments and behaviour of
 ROAR_PY's public classes at ROAR_PY's head, with roar_py_ros as the backend over roar_sim and
 roar_py_remote streaming them to other machines. Without gymnasium installed, importing this package
-provides ``gymnasium`` (see gymnasium_fallback)."""
+provides ``gymnasium`` (see gymnasium_fallback), and on shapely 1.8 shapely 2's top-level names
+(shapely_names)."""
 from . import spaces  # noqa: F401
-from . import gymnasium_fallback
+from . import gymnasium_fallback, shapely_names
 
 gymnasium_fallback.install()
+shapely_names.install()
 
 from . import transforms  # noqa: E402,F401
 from .actors import (RoarPyActor, RoarPyBaseVehicle, RoarPyResettableActor, RoarPyVehicleAutoGearActor,  # noqa: E402,F401

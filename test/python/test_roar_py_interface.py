@@ -237,6 +237,14 @@ def test_the_tracker_blends_with_roar_pys_weights():
     assert np.allclose(quarter.location, waypoints[10].location * 0.25 + waypoints[11].location * 0.75)
 
 
+def test_shapely_2s_names_import_as_roar_py_rl_imports_them():
+    import shapely.geometry
+    from shapely import Point, Polygon  # ROAR_PY_RL's sim_env.py; Debian's shapely 1.8 has no such names
+
+    assert Polygon is shapely.geometry.Polygon and Point is shapely.geometry.Point
+    assert Polygon([(0, 0), (2, 0), (2, 2), (0, 2)]).distance(Point(3, 1)) == pytest.approx(1.0)
+
+
 def test_the_polygon_distance_is_shapelys():
     # ROAR_PY measures with shapely's Polygon.distance; Debian's shapely (1.8) checks the numpy version.
     rng = np.random.default_rng(3)
