@@ -38,10 +38,10 @@
 #include "roar/sensors/sensor_rig.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/sim/world.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 #include "scaling_table.h"
 #include "traffic_table.h"
 
@@ -55,7 +55,7 @@ std::string sourceDir() {
 }
 
 // A driver for the car on the track: the planner's racing trajectory and the tracker.
-control::TrajectoryTracker racingDriver(const track::Track& track, const sim::VehicleParams& car) {
+control::TrajectoryTracker racingDriver(const track::Track& track, const vehicle::VehicleParams& car) {
   const auto limits = planning::vehicleLimits(car, track.info().friction, stack::TimeTrialOptions().grip_use);
   control::TrajectoryTracker tracker(stack::trackerFor(car), limits);
   tracker.setTrajectory(planning::planRacingTrajectory(track, limits, {}));
@@ -71,8 +71,8 @@ control::TrackerInput trackerInput(const sim::VehicleState& s) {
 void PhysicsRealTimeFactor(benchmark::State& state) {
   const int cars = static_cast<int>(state.range(0));
   const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_ring");
-  const sim::VehicleParams car =
-      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const vehicle::VehicleParams car =
+      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   sim::World world(track, {});
   const control::TrajectoryTracker driver = racingDriver(track, car);
   std::vector<control::TrajectoryTracker> drivers;
@@ -175,8 +175,8 @@ struct NullSink : sensors::SensorSink {
 
 void SensorSuiteRealTimeFactor(benchmark::State& state) {
   const track::Track track = defaultTrack();
-  const sim::VehicleParams car =
-      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const vehicle::VehicleParams car =
+      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   sim::World world(track, {});
   world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
   sensors::RayScene scene(track);
@@ -228,8 +228,8 @@ void RlEnvSteps(benchmark::State& state) {
   const bool camera = state.range(0) == 1;
   const int threads = static_cast<int>(state.range(1));
   const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-  const sim::VehicleParams car =
-      sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const vehicle::VehicleParams car =
+      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
   const int count = threads == 1 ? 1 : 2 * threads;
   for (int i = 0; i < count; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, benchEnv(camera)));
@@ -270,9 +270,9 @@ namespace {
 
 void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
   const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
-  const auto limits =
-      planning::vehicleLimits(sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"),
-                              track.info().friction, stack::TimeTrialOptions().grip_use);
+  const auto limits = planning::vehicleLimits(
+      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"),
+      track.info().friction, stack::TimeTrialOptions().grip_use);
   for (auto _ : state) benchmark::DoNotOptimize(planning::planRacingTrajectory(track, limits, {}));
   state.counters["track_km"] = track.length() / 1000.0;
 }
@@ -280,7 +280,7 @@ BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_ring, std::string("roar_ring"))->Un
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_speedway, std::string("roar_speedway"))->Unit(benchmark::kMillisecond);
 
 void printRacingTable(int laps, double grip_use, control::LateralMethod lateral, bool minimum_time, bool yardstick) {
-  const auto car = sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const auto car = vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
   std::printf("\nRacing stack, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
               laps, grip_use, lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
   std::printf("%-16s %6s %9s %9s %9s %7s %9s %8s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
@@ -386,8 +386,8 @@ int main(int argc, char** argv) {
   if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
   if (scaling) {
     const track::Track sprint = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-    const sim::VehicleParams car =
-        sim::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+    const vehicle::VehicleParams car =
+        vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
     bench::printScalingTable(
         [&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); }, chaseAction,
         scaling_options);

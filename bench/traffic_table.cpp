@@ -13,10 +13,10 @@
 #include "roar/config/number.h"
 #include "roar/config/yaml_section.h"
 #include "roar/planning/overtaking.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/stack/pass_place.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 #include "statistics.h"
 
 namespace roar::bench {
@@ -150,7 +150,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
                   table.pace_step, kMinPaceStep, kMaxPaceStep);
     throw std::invalid_argument(said);
   }
-  const auto vehicle = sim::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
+  const auto vehicle = vehicle::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
   std::printf(
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
       "reverse grids %g%% of pace apart, lockstep, in one process\n",

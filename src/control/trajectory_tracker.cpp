@@ -63,8 +63,8 @@ double TrajectoryTracker::steeringAngle(const TrackerInput& in, double s, double
          options_.yaw_rate_gain * (speed * kappa - in.yaw_rate);
 }
 
-sim::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
-  sim::VehicleControl control;
+vehicle::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
+  vehicle::VehicleControl control;
   if (!hasTrajectory()) {
     control.brake = 1.0;
     return control;

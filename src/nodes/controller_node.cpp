@@ -25,8 +25,8 @@
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/wall_throttle.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/stack/time_trial.h"
+#include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
 
@@ -34,7 +34,7 @@ namespace {
 
 struct DrivenCar {
   std::string name;
-  sim::VehicleParams params;
+  vehicle::VehicleParams params;
   double max_speed = 0.0;  // m/s cap of this car (0: none)
 };
 
@@ -55,7 +55,7 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
   const std::vector<std::string> exclude = readStringList(nh, "exclude", {});
   for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
     if (car.driven && std::find(exclude.begin(), exclude.end(), car.name) == exclude.end()) {
-      o.cars.push_back({car.name, sim::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
+      o.cars.push_back({car.name, vehicle::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
     }
   }
   o.odom_timeout = readDouble(nh, "odom_timeout", o.odom_timeout, 0.0, 3600);

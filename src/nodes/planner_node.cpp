@@ -24,7 +24,7 @@
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
-#include "roar/sim/vehicle_config.h"
+#include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
 
@@ -33,7 +33,7 @@ namespace {
 struct PlannerNodeOptions {
   std::vector<std::string> vehicles;
   std::map<std::string, double> pace;  // share of the planned speeds, per car of the scenario (default 1)
-  sim::VehicleParams vehicle;
+  vehicle::VehicleParams vehicle;
   double grip_use = 0.85;
   planning::PlannerOptions planner;
   planning::FieldOptions field;
@@ -51,8 +51,8 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
     o.vehicles.push_back(car.name);
     o.pace[car.name] = car.pace;
   }
-  o.vehicle = sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
-                                    readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
+  o.vehicle = vehicle::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
+                                        readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
   o.grip_use = readDouble(nh, "grip_use", o.grip_use, 0.05, 1.0);
   auto& line = o.planner.line;
   line.vehicle_width = o.vehicle.chassis.box_size.y();

@@ -16,8 +16,8 @@
 #include "roar/ros/param_reading.h"
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
 
@@ -42,8 +42,8 @@ PolicyDriverOptions readParameters(const ros::NodeHandle& nh) {
     if (car.name == o.vehicle) model = car.model;
   }
   o.forward_gears =
-      static_cast<int>(sim::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
-                                             readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"))
+      static_cast<int>(vehicle::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
+                                                 readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"))
                            .gearbox.ratios.size());
   o.policy_file = readString(nh, "policy", "");
   if (o.policy_file.empty())

@@ -555,8 +555,8 @@ Trajectory OvertakePlanner::plan(const std::string& car, double s, double latera
   // gets at most, and a pass still behind it at the end no more.
   const double behind_leader = leader ? leader_prediction.at(options_.horizon) - options_.follow_gap : kInf;
   // In the leader's slipstream a pass is planned with the speed the tow gives (and carries out of it).
-  const double tow = leader ? sim::slipstreamReduction(leader_gap - options_.car_length, lateral - leader->lateral,
-                                                       leader->speed, options_.car_width, options_.slipstream)
+  const double tow = leader ? vehicle::slipstreamReduction(leader_gap - options_.car_length, lateral - leader->lateral,
+                                                           leader->speed, options_.car_width, options_.slipstream)
                             : 0.0;
   const Trajectory towed_base = tow > 0.01 ? towed(base, 1.0 - tow) : Trajectory{};
   RaceDecision& memory = decisions_[car];

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "roar/sim/powertrain.h"
+#include "roar/vehicle/powertrain.h"
 
 namespace roar::planning {
 
@@ -38,7 +38,7 @@ int VehicleLimits::gearAt(double speed) const {
   return gear[i];
 }
 
-VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_friction, double grip_use) {
+VehicleLimits vehicleLimits(const vehicle::VehicleParams& params, double road_friction, double grip_use) {
   if (!(road_friction > 0) || !(grip_use > 0 && grip_use <= 1)) {
     throw std::invalid_argument("vehicle limits: road friction must be positive and grip_use in (0, 1]");
   }
@@ -80,7 +80,7 @@ VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_fricti
   }
 
   // Full throttle in the gear the automatic gearbox's kickdown picks (Powertrain::strongestGear).
-  sim::Powertrain engine(params);
+  vehicle::Powertrain engine(params);
   limits.drive_force.clear();
   limits.gear.clear();
   limits.max_speed = 0.0;

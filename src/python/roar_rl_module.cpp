@@ -17,8 +17,8 @@
 #include "roar/rl/env_options.h"
 #include "roar/rl/policy.h"
 #include "roar/rl/vector_env.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 
 namespace py = pybind11;
 using namespace roar;
@@ -311,7 +311,7 @@ std::vector<std::unique_ptr<rl::RacingEnv>> makeEnvs(const std::string& map_fold
   if (num_threads < 1 || num_threads > 1024)
     throw py::value_error("num_threads must be in [1, 1024], got " + std::to_string(num_threads));
   const track::Track track = track::loadMapFolder(map_folder);
-  const sim::VehicleParams car = sim::loadVehicleModel(model, urdf_dir, vehicle_dir);
+  const vehicle::VehicleParams car = vehicle::loadVehicleModel(model, urdf_dir, vehicle_dir);
   const rl::EnvOptions options = rl::readEnvOptions(options_path);
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
   for (int i = 0; i < num_envs; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, options));

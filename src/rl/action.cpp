@@ -14,9 +14,9 @@ Space actionSpace(const ActionOptions& options, int forward_gears) {
   return Space::dict(std::move(entries));
 }
 
-sim::VehicleControl toControl(const Space& space, const Value& action) {
+vehicle::VehicleControl toControl(const Space& space, const Value& action) {
   check(space, action, "action");
-  sim::VehicleControl c;
+  vehicle::VehicleControl c;
   c.throttle = action.at("throttle").numbers[0];
   c.steer = action.at("steer").numbers[0];
   c.brake = action.at("brake").numbers[0];
@@ -29,7 +29,7 @@ sim::VehicleControl toControl(const Space& space, const Value& action) {
   return c;
 }
 
-Value toAction(const Space& space, const sim::VehicleControl& control) {
+Value toAction(const Space& space, const vehicle::VehicleControl& control) {
   Value a;
   a.at("throttle") = Value::of({std::clamp(control.throttle, 0.0, 1.0)});
   a.at("steer") = Value::of({std::clamp(control.steer, -1.0, 1.0)});

@@ -20,7 +20,7 @@ EnvOptions checked(EnvOptions options) {
 
 }  // namespace
 
-RacingEnv::RacingEnv(const track::Track& track, const sim::VehicleParams& vehicle, const EnvOptions& options)
+RacingEnv::RacingEnv(const track::Track& track, const vehicle::VehicleParams& vehicle, const EnvOptions& options)
     : track_(track),
       vehicle_(vehicle),
       options_(checked(options)),
@@ -64,7 +64,7 @@ ResetResult RacingEnv::reset(std::uint64_t seed) {
 ResetResult RacingEnv::reset() {
   world_->resetVehicle(kCar, drawSpawnPose(track_, options_, rng_));
   for (int i = 0; i < settleTicks(options_); ++i) {
-    world_->setControl(kCar, sim::parkedControl());
+    world_->setControl(kCar, vehicle::parkedControl());
     world_->step();
   }
   started_ = true;
@@ -82,9 +82,9 @@ StepResult RacingEnv::step(const Value& action) {
 
 void RacingEnv::step(const Value& action, StepResult* out) {
   if (!started_) throw std::logic_error("RacingEnv::step before the first reset");
-  const sim::VehicleControl control = toControl(action_space_, action);
+  const vehicle::VehicleControl control = toControl(action_space_, action);
   const int gears = static_cast<int>(vehicle_.gearbox.ratios.size());
-  world_->setControl(kCar, sim::checkControl(control, gears).control);
+  world_->setControl(kCar, vehicle::checkControl(control, gears).control);
   world_->step();
   const StepOutcome outcome = episode_.step(world_->vehicleState(kCar), world_->contacts(kCar), world_->time());
   out->reward = outcome.reward;

@@ -4,8 +4,8 @@
 
 namespace roar::ros_bridge {
 
-sim::VehicleControl fromMessage(const roar_ros::VehicleControl& msg) {
-  sim::VehicleControl c;
+vehicle::VehicleControl fromMessage(const roar_ros::VehicleControl& msg) {
+  vehicle::VehicleControl c;
   c.throttle = msg.throttle;
   c.steer = msg.steer;
   c.brake = msg.brake;
@@ -16,7 +16,7 @@ sim::VehicleControl fromMessage(const roar_ros::VehicleControl& msg) {
   return c;
 }
 
-roar_ros::VehicleControl toMessage(const sim::VehicleControl& c) {
+roar_ros::VehicleControl toMessage(const vehicle::VehicleControl& c) {
   roar_ros::VehicleControl msg;
   msg.throttle = static_cast<float>(c.throttle);
   msg.steer = static_cast<float>(c.steer);
@@ -150,7 +150,7 @@ double yawOf(const geometry_msgs::Quaternion& q) {
 }
 
 // The URDF's joints: <wheel>_joint turns about the axle, steer_<front wheel>_joint about z.
-sensor_msgs::JointState toJointState(const sim::VehicleState& state, const sim::VehicleParams& params,
+sensor_msgs::JointState toJointState(const sim::VehicleState& state, const vehicle::VehicleParams& params,
                                      const std::array<double, 4>& wheel_angles, const ros::Time& stamp) {
   sensor_msgs::JointState msg;
   msg.header.stamp = stamp;

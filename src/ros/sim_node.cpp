@@ -17,8 +17,8 @@
 #include "roar/ros/wall_throttle.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 
 namespace roar::ros_bridge {
 
@@ -157,7 +157,8 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
                          int spawn_point, sim::Placement placement) {
   checkVehicleName(name);
   if (io_.count(name)) throw sim::SpawnError("a vehicle named '" + name + "' already exists");
-  const sim::VehicleParams params = sim::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
+  const vehicle::VehicleParams params =
+      vehicle::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
   // Sensors and agent are read and checked before the car exists, so a bad set leaves nothing half made
   // (their publishers go with them).
   auto vehicle_sensors = std::make_unique<VehicleSensors>(
@@ -212,7 +213,7 @@ void SimNode::removeVehicle(const std::string& name) {
 
 bool SimNode::applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why) {
   const int gears = static_cast<int>(world_->vehicleParams(name).gearbox.ratios.size());
-  const sim::CheckedControl checked = sim::checkControl(fromMessage(msg), gears);
+  const vehicle::CheckedControl checked = vehicle::checkControl(fromMessage(msg), gears);
   std::string problems;
   for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
   if (checked.rejected) {

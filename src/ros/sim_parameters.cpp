@@ -2,8 +2,8 @@
 
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
-#include "roar/sim/slipstream.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/slipstream.h"
 
 namespace roar::ros_bridge {
 
@@ -26,10 +26,10 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   // The wake model (sim/slipstream.h): ~slipstream false for free air behind every car.
   auto& wake = o.world.slipstream;
   wake.enabled = readBool(nh, "slipstream", wake.enabled);
-  wake.max_reduction = readDouble(nh, "slipstream_max_reduction", wake.max_reduction, sim::kMaxReductionRange.low,
-                                  sim::kMaxReductionRange.high);
-  wake.decay_length = readDouble(nh, "slipstream_decay_length", wake.decay_length, sim::kDecayLengthRange.low,
-                                 sim::kDecayLengthRange.high);
+  wake.max_reduction = readDouble(nh, "slipstream_max_reduction", wake.max_reduction, vehicle::kMaxReductionRange.low,
+                                  vehicle::kMaxReductionRange.high);
+  wake.decay_length = readDouble(nh, "slipstream_decay_length", wake.decay_length, vehicle::kDecayLengthRange.low,
+                                 vehicle::kDecayLengthRange.high);
   const std::string mode = readChoice(nh, "mode", "async", {"async", "step", "lockstep"});
   o.mode = mode == "step" ? SteppingMode::kStep : mode == "lockstep" ? SteppingMode::kLockstep : SteppingMode::kAsync;
   o.real_time_factor = readDouble(nh, "real_time_factor", o.real_time_factor, 0.0, 1e6);

@@ -6,8 +6,8 @@
 #include "roar/ros/sensor_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
 #include "roar/sensors/inertial.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 #include "sim_node.h"
 
 #ifndef ROAR_ROS_VERSION
@@ -101,9 +101,9 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   // Every control is checked before the first tick: a refused one moves nothing.
   std::string warnings;
   for (std::size_t i = 0; i < req.controls.size(); ++i) {
-    const sim::CheckedControl checked =
-        sim::checkControl(fromMessage(req.controls[i]),
-                          static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
+    const vehicle::CheckedControl checked =
+        vehicle::checkControl(fromMessage(req.controls[i]),
+                              static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
     if (checked.rejected) {
       std::string problems;
       for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
@@ -151,7 +151,7 @@ bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::Res
   // The car settles, held by its brakes, before the episode's first observation.
   agent.pause();
   for (int i = 0; i < rl::settleTicks(agent.options()); ++i) {
-    world_->setControl(req.vehicle, sim::parkedControl());
+    world_->setControl(req.vehicle, vehicle::parkedControl());
     tick();
   }
   updateRayScene();
@@ -312,7 +312,7 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
     roar_ros::VehicleInfo info;
     info.name = name;
     info.model = io.spawned.model;
-    const sim::VehicleParams& params = world_->vehicleParams(name);
+    const vehicle::VehicleParams& params = world_->vehicleParams(name);
     info.blueprint = params.blueprint;
     info.extent.x = params.chassis.box_size.x() / 2;
     info.extent.y = params.chassis.box_size.y() / 2;
@@ -325,7 +325,7 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
     info.agent = io.spawned.agent;
     res.vehicles.push_back(info);
   }
-  for (const auto& model : sim::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir)) {
+  for (const auto& model : vehicle::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir)) {
     roar_ros::BlueprintInfo info;
     info.blueprint = model.blueprint;
     info.model = model.model;

@@ -7,9 +7,9 @@
 
 namespace roar::sim {
 
-VehicleControl safeStopControl(const track::Track& track, const VehicleState& state, const VehicleParams& params,
-                               const SafeStopOptions& options) {
-  if (std::abs(state.forward_speed) < options.stopped_speed) return parkedControl();
+vehicle::VehicleControl safeStopControl(const track::Track& track, const VehicleState& state,
+                                        const vehicle::VehicleParams& params, const SafeStopOptions& options) {
+  if (std::abs(state.forward_speed) < options.stopped_speed) return vehicle::parkedControl();
   const Eigen::Vector2d position = state.pose.position.head<2>();
   const track::Projection here = track.projectAtHeight(state.pose.position);  // under a bridge, its own road
   const double lookahead = std::max(options.min_lookahead, options.lookahead_time * std::abs(state.forward_speed));
@@ -25,7 +25,7 @@ VehicleControl safeStopControl(const track::Track& track, const VehicleState& st
   double alpha = std::atan2(to.y(), to.x()) - heading;
   alpha = std::atan2(std::sin(alpha), std::cos(alpha));
   const double wheel_angle = std::atan2(2.0 * params.wheelbase() * std::sin(alpha), std::max(1.0, to.norm()));
-  VehicleControl control;
+  vehicle::VehicleControl control;
   control.steer = std::clamp(wheel_angle / params.steering.max_angle, -1.0, 1.0);
   control.brake = options.brake;
   return control;

@@ -27,7 +27,7 @@ double peakSlip(double b, double c, double e) {
 
 }  // namespace
 
-TyreModel::TyreModel(const TyreParams& params)
+TyreModel::TyreModel(const vehicle::TyreParams& params)
     : params_(params),
       peak_slip_ratio_(peakSlip(params.long_b, params.long_c, params.long_e)),
       peak_slip_angle_(peakSlip(params.lat_b, params.lat_c, params.lat_e)) {}

@@ -78,7 +78,7 @@ bool crossTriangle(const std::array<btVector3, 3>& t, const btVector3& from, con
 
 }  // namespace
 
-VehicleDynamics::VehicleDynamics(std::string name, const VehicleParams& params, btDiscreteDynamicsWorld* world,
+VehicleDynamics::VehicleDynamics(std::string name, const vehicle::VehicleParams& params, btDiscreteDynamicsWorld* world,
                                  int user_index, const btTransform& base_link_pose)
     : name_(std::move(name)), params_(params), tyre_(params.tyre), powertrain_(params), world_(world) {
   const auto& ch = params_.chassis;
@@ -137,7 +137,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   steering_ = 0.0;
   anti_roll_load_.fill(0.0);
   powertrain_.reset();
-  control_ = parkedControl();
+  control_ = vehicle::parkedControl();
   substep_start_velocity_ = btVector3(0, 0, 0);
   last_acceleration_ = btVector3(0, 0, 0);
 }
@@ -174,7 +174,7 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   const auto angles = wheelSteerAngles();
   for (int i = 0; i < 4; ++i) wheels_[i].steer = angles[i];
 
-  DriveRequest request;
+  vehicle::DriveRequest request;
   request.throttle = control_.throttle;
   request.reverse = control_.reverse;
   request.manual = control_.manual_gear_shift;
@@ -209,7 +209,7 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
 
 void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, const SurfaceFriction& friction) {
   Wheel& wheel = wheels_[index];
-  const WheelParams& wp = params_.wheels[index];
+  const vehicle::WheelParams& wp = params_.wheels[index];
   const auto& susp = params_.suspension;
   const btTransform& com = body_->getCenterOfMassTransform();
   const btMatrix3x3& basis = com.getBasis();

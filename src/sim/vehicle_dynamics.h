@@ -7,9 +7,9 @@
 #include <memory>
 #include <string>
 
-#include "roar/sim/powertrain.h"
 #include "roar/sim/tyre.h"
 #include "roar/sim/world.h"
+#include "roar/vehicle/powertrain.h"
 
 namespace roar::sim {
 
@@ -20,17 +20,17 @@ struct SurfaceFriction {
 
 class VehicleDynamics {
  public:
-  VehicleDynamics(std::string name, const VehicleParams& params, btDiscreteDynamicsWorld* world, int user_index,
-                  const btTransform& base_link_pose);
+  VehicleDynamics(std::string name, const vehicle::VehicleParams& params, btDiscreteDynamicsWorld* world,
+                  int user_index, const btTransform& base_link_pose);
   ~VehicleDynamics();
   VehicleDynamics(const VehicleDynamics&) = delete;
   VehicleDynamics& operator=(const VehicleDynamics&) = delete;
 
   const std::string& name() const { return name_; }
-  const VehicleParams& params() const { return params_; }
+  const vehicle::VehicleParams& params() const { return params_; }
   btRigidBody* body() { return body_.get(); }
 
-  void setControl(const VehicleControl& control) { control_ = control; }
+  void setControl(const vehicle::VehicleControl& control) { control_ = control; }
   void setDragShare(double share) { drag_share_ = share; }
   // Suspension, tyre, drivetrain and aero forces for one substep, to be integrated by Bullet next.
   void applyForces(double dt, const SurfaceFriction& friction);
@@ -67,9 +67,9 @@ class VehicleDynamics {
   bool otherCarNear(const btVector3& from, const btVector3& to) const;
 
   std::string name_;
-  VehicleParams params_;
+  vehicle::VehicleParams params_;
   TyreModel tyre_;
-  Powertrain powertrain_;
+  vehicle::Powertrain powertrain_;
   btDiscreteDynamicsWorld* world_;
   std::unique_ptr<btCompoundShape> shape_;
   std::unique_ptr<btBoxShape> box_;
@@ -77,7 +77,7 @@ class VehicleDynamics {
   btTransform com_from_base_;  // base_link -> centre of mass
   std::array<Wheel, 4> wheels_;
   std::array<double, 4> anti_roll_load_{0.0, 0.0, 0.0, 0.0};  // N added to each wheel's spring
-  VehicleControl control_ = parkedControl();
+  vehicle::VehicleControl control_ = vehicle::parkedControl();
   double drag_share_ = 1.0;  // of the free-air drag: below 1 in another car's slipstream
   double steering_ = 0.0;    // rad, commanded road-wheel angle after the rate limit
   btVector3 substep_start_velocity_{0, 0, 0};

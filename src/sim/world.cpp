@@ -27,7 +27,8 @@ std::unique_ptr<btTriangleMesh> toBullet(const track::TriangleMesh& mesh) {
 }
 
 // Footprint corners of a car, for the spawn overlap check.
-std::array<Eigen::Vector2d, 4> footprint(const VehicleParams& p, const Eigen::Vector2d& at, double yaw, double margin) {
+std::array<Eigen::Vector2d, 4> footprint(const vehicle::VehicleParams& p, const Eigen::Vector2d& at, double yaw,
+                                         double margin) {
   const Eigen::Vector2d c = p.chassis.box_centre.head<2>();
   const double hx = 0.5 * p.chassis.box_size.x() + margin, hy = 0.5 * p.chassis.box_size.y() + margin;
   const Eigen::Rotation2Dd rot(yaw);
@@ -95,14 +96,14 @@ struct World::Impl {
       for (auto& [name, slot] : vehicles) slot.dynamics->setDragShare(1.0);
       return;
     }
-    std::vector<WakeCar> cars;
+    std::vector<vehicle::WakeCar> cars;
     cars.reserve(vehicles.size());
     for (auto& [name, slot] : vehicles) {
       const VehicleState s = slot.dynamics->state();
       const auto& box = slot.dynamics->params().chassis.box_size;
       cars.push_back({s.pose.position.head<2>(), s.linear_velocity.head<2>(), box.x(), box.y()});
     }
-    const std::vector<double> shares = dragShares(cars, options.slipstream);
+    const std::vector<double> shares = vehicle::dragShares(cars, options.slipstream);
     std::size_t k = 0;
     for (auto& [name, slot] : vehicles) slot.dynamics->setDragShare(shares[k++]);
   }
@@ -178,7 +179,8 @@ struct World::Impl {
     return std::isfinite(road) ? road : top;
   }
 
-  btTransform placement(const std::string& name, const VehicleParams& params, const Pose& pose, Placement how) const {
+  btTransform placement(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
+                        Placement how) const {
     const double yaw = yawOf(pose.orientation);
     const auto mine = footprint(params, pose.position.head<2>(), yaw, 0.3);
     for (const auto& [other, s] : vehicles) {
@@ -289,7 +291,8 @@ World::~World() {
 const track::Track& World::track() const { return impl_->track; }
 const WorldOptions& World::options() const { return impl_->options; }
 
-void World::spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose, Placement placement) {
+void World::spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
+                         Placement placement) {
   auto& w = *impl_;
   if (name.empty()) throw SpawnError("a vehicle needs a name");
   if (w.vehicles.count(name)) throw SpawnError("a vehicle named '" + name + "' already exists");
@@ -334,11 +337,11 @@ std::vector<std::string> World::vehicleNames() const {
   return names;
 }
 
-const VehicleParams& World::vehicleParams(const std::string& name) const {
+const vehicle::VehicleParams& World::vehicleParams(const std::string& name) const {
   return impl_->slot(name).dynamics->params();
 }
 
-void World::setControl(const std::string& name, const VehicleControl& control) {
+void World::setControl(const std::string& name, const vehicle::VehicleControl& control) {
   Impl::Slot& slot = impl_->slot(name);
   slot.dynamics->setControl(control);
   slot.has_control = true;
@@ -352,7 +355,7 @@ void World::step(const std::function<void(double)>& after_substep) {
     const bool stale = w.options.control_timeout > 0 && time() - slot.last_control_time > w.options.control_timeout;
     // A car nobody has driven stays parked; one whose driver fell silent is brought to a stop on the road.
     if (!slot.has_control) {
-      slot.dynamics->setControl(parkedControl());
+      slot.dynamics->setControl(vehicle::parkedControl());
     } else if (stale) {
       slot.dynamics->setControl(safeStopControl(w.track, slot.dynamics->state(), slot.dynamics->params()));
     }

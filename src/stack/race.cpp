@@ -88,7 +88,7 @@ int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& orde
   return out;
 }
 
-RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
+RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options) {
   checkCars(cars);
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);

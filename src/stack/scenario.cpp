@@ -8,8 +8,8 @@
 #include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
 #include "roar/sensors/sensor_spec.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 
 namespace roar::stack {
 
@@ -121,7 +121,7 @@ std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& fie
       fail(where + ".pace", std::to_string(car.pace) + " is outside (0.2, 1] (the share of the planned speeds)");
     }
     try {
-      sim::loadVehicleModel(car.model, context.urdf_dir, context.vehicle_config_dir);
+      vehicle::loadVehicleModel(car.model, context.urdf_dir, context.vehicle_config_dir);
     } catch (const std::exception& e) {
       fail(where + ".model", e.what());
     }

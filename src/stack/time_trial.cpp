@@ -12,7 +12,7 @@ double TimeTrialResult::best_lap() const {
   return lap_times.empty() ? 0.0 : *std::min_element(lap_times.begin(), lap_times.end());
 }
 
-control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base) {
+control::TrackerOptions trackerFor(const vehicle::VehicleParams& vehicle, control::TrackerOptions base) {
   base.wheelbase = vehicle.wheelbase();
   base.max_steer_angle = vehicle.steering.max_angle;
   base.steering_curve = vehicle.steering.speed_curve;
@@ -30,7 +30,7 @@ control::TrackerInput trackerInputOf(const sim::VehicleState& state) {
   return in;
 }
 
-TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle,
+TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehicleParams& vehicle,
                              const TimeTrialOptions& options) {
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
   control::TrajectoryTracker tracker(trackerFor(vehicle, options.tracker), limits);

@@ -22,9 +22,9 @@
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
 #include "roar/rl/evolution.h"
-#include "roar/sim/vehicle_config.h"
 #include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
 namespace fs = std::filesystem;
@@ -161,8 +161,8 @@ int main(int argc, char** argv) {
   const Args& args = *parsed;
   try {
     const track::Track track = track::loadMapFolder(track::resolveMapFolder(args.map, args.source + "/maps"));
-    const sim::VehicleParams car =
-        sim::loadVehicleModel(args.model, args.source + "/urdf", args.source + "/config/vehicles");
+    const vehicle::VehicleParams car =
+        vehicle::loadVehicleModel(args.model, args.source + "/urdf", args.source + "/config/vehicles");
     rl::EnvOptions training = rl::readEnvOptions(args.env);
     training.termination.time_limit = args.episode_seconds;
     rl::EnvOptions laps = training;

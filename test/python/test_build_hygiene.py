@@ -71,3 +71,25 @@ def test_every_header_and_library_the_build_uses_comes_from_what_setup_installs(
     assert len(used) > 20, used
     missing = used - installed_closure(setup_packages())
     assert not missing, "used by the build but not installed by scripts/setup (nor a dependency): %s" % sorted(missing)
+
+
+# The stack may drive a real car or another simulator: what it is built from never reaches the simulator.
+STACK_LIBRARIES = {"roar_planning": "planning", "roar_control": "control", "roar_race": "race", "roar_vehicle": "vehicle"}
+
+
+def cmake_links(target):
+    with open(os.path.join(REPO, "CMakeLists.txt")) as f:
+        text = f.read()
+    match = re.search(r"target_link_libraries\(%s\s([^)]*)\)" % re.escape(target), text)
+    assert match, f"no target_link_libraries for {target} in CMakeLists.txt"
+    return set(match.group(1).split())
+
+
+def test_the_stack_libraries_neither_link_nor_include_the_simulator():
+    for target, module in STACK_LIBRARIES.items():
+        assert "roar_sim_core" not in cmake_links(target), f"{target} links the simulator library"
+        for folder in (os.path.join(REPO, "include", "roar", module), os.path.join(REPO, "src", module)):
+            for path in glob.glob(os.path.join(folder, "**", "*.*"), recursive=True):
+                with open(path) as f:
+                    included = re.findall(r'#include "roar/(sim|sensors)/', f.read())
+                assert not included, f"{os.path.relpath(path, REPO)} includes the simulator's headers"

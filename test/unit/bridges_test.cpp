@@ -179,7 +179,7 @@ TEST(Bridges, ACarDrivesUnderTheBridgeAndOverIt) {
     sim::World world(track, {});
     world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
     EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), start.height, 0.5);
-    sim::VehicleControl go;
+    vehicle::VehicleControl go;
     go.throttle = 0.5;
     int barrier = 0;
     double lowest = 1e9, highest = -1e9;

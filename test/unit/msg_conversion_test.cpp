@@ -17,7 +17,7 @@
 using namespace roar;
 
 TEST(MsgConversion, ControlRoundTrip) {
-  sim::VehicleControl c;
+  vehicle::VehicleControl c;
   c.throttle = 0.25;
   c.steer = -0.5;
   c.brake = 0.75;
@@ -76,7 +76,7 @@ TEST(MsgConversion, OdometryUsesBodyTwistAndFrames) {
 }
 
 TEST(MsgConversion, JointStatesNameTheUrdfsJoints) {
-  const sim::VehicleParams sedan = test::sedan();
+  const vehicle::VehicleParams sedan = test::sedan();
   sim::VehicleState s;
   for (std::size_t i = 0; i < 4; ++i) {
     s.wheels[i].angular_velocity = 10.0 + i;

@@ -24,7 +24,7 @@ struct Drive {
     o.control_timeout = 0.0;
     return o;
   }
-  void run(const sim::VehicleControl& c, int ticks = 1) {
+  void run(const vehicle::VehicleControl& c, int ticks = 1) {
     for (int i = 0; i < ticks; ++i) {
       world.setControl("ego", c);
       world.step();
@@ -35,8 +35,8 @@ struct Drive {
   sim::World world;
 };
 
-sim::VehicleControl throttle(double t) {
-  sim::VehicleControl c;
+vehicle::VehicleControl throttle(double t) {
+  vehicle::VehicleControl c;
   c.throttle = t;
   return c;
 }
@@ -49,7 +49,7 @@ TEST(Physics, BrakingFrom100KmhStopsNearTheFrictionLimit) {
     Drive d(mu);
     while (d.state().speed < 100 / 3.6) d.run(throttle(mu < 1 ? 0.6 : 1.0));
     const auto start = d.state();
-    sim::VehicleControl brake;
+    vehicle::VehicleControl brake;
     brake.brake = 1.0;
     int ticks = 0;
     while (d.state().speed > 0.05 && ticks < 400) d.run(brake), ++ticks;
@@ -65,7 +65,7 @@ TEST(Physics, SkidpadLateralLimitNearMuG) {
     SCOPED_TRACE(mu);
     Drive d(mu);
     // Fixed steering, speed rising slowly: lateral acceleration v * yaw rate climbs until the tyres saturate.
-    sim::VehicleControl c;
+    vehicle::VehicleControl c;
     c.steer = 0.12;
     double best = 0, smoothed = 0;
     for (int i = 0; i < 2400; ++i) {
@@ -114,7 +114,7 @@ double skidpadG(const std::string& model, double kRadius = 40.0) {
                                                                      std::sin(angle_now + lookahead / kRadius));
       const double alpha = std::atan2(aim.y() - pos.y(), aim.x() - pos.x()) - yaw;
       const double wheel_angle = std::atan2(2.0 * p.wheelbase() * std::sin(alpha), lookahead);
-      sim::VehicleControl c;
+      vehicle::VehicleControl c;
       c.steer = std::clamp(wheel_angle / p.steering.maxAngleAt(s.forward_speed), -1.0, 1.0);
       const double error = target - s.forward_speed;
       integral = std::clamp(integral + error * 0.05, -5.0, 5.0);
@@ -164,7 +164,7 @@ TEST(Physics, EveryBlueprintMeetsItsClassFigures) {
 // CARLA's vehicle.tesla.model3 as ROAR's competition entries know it (config/vehicles/carla_model3.yaml):
 // CARLA's physics-control figures, and the cornering and braking ROAR's entries are tuned to.
 TEST(Physics, CarlaModel3ReproducesCarlasFigures) {
-  const sim::VehicleParams p = test::vehicle("vehicle.tesla.model3");
+  const vehicle::VehicleParams p = test::vehicle("vehicle.tesla.model3");
   EXPECT_EQ(p.model, "carla_model3");
   EXPECT_NEAR(p.chassis.mass, 1847.0, 1e-9) << "CARLA's mass";
   EXPECT_NEAR(p.steering.max_angle, 70 * M_PI / 180, 1e-3) << "CARLA's max_steer_angle";
@@ -177,7 +177,7 @@ TEST(Physics, CarlaModel3ReproducesCarlasFigures) {
   while (d.state().speed < 100 / 3.6 && ticks < 600) d.run(throttle(1.0)), ++ticks;
   const double zero_to_100 = ticks * 0.05;
   while (d.state().speed < 200 / 3.6) d.run(throttle(1.0));
-  sim::VehicleControl brake;
+  vehicle::VehicleControl brake;
   brake.brake = 1.0;
   const double from = d.state().speed;
   d.run(brake, 20);
@@ -198,13 +198,13 @@ TEST(Physics, CarlaModel3ReproducesCarlasFigures) {
 
 // CARLA's vehicle.audi.a2: the A2's mass on CARLA's tyres and steering.
 TEST(Physics, CarlaA2ReproducesCarlasFigures) {
-  const sim::VehicleParams p = test::vehicle("vehicle.audi.a2");
+  const vehicle::VehicleParams p = test::vehicle("vehicle.audi.a2");
   EXPECT_EQ(p.model, "carla_a2");
   EXPECT_NEAR(p.steering.max_angle, 70 * M_PI / 180, 1e-3) << "CARLA's max_steer_angle";
   EXPECT_NEAR(p.steering.maxAngleAt(150 / 3.6), 0.7 * p.steering.max_angle, 1e-9) << "CARLA's steering curve";
   Drive d(1.0, "carla_a2");
   while (d.state().speed < 100 / 3.6) d.run(throttle(1.0));
-  sim::VehicleControl brake;
+  vehicle::VehicleControl brake;
   brake.brake = 1.0;
   const double from = d.state().speed;
   d.run(brake, 10);
@@ -266,7 +266,7 @@ TEST(Physics, ParkedCarStaysPut) {
   EXPECT_LT((after.pose.position - before.pose.position).norm(), 0.005);
   EXPECT_LT(after.speed, 0.01);
   // Released brakes on flat ground: still nowhere to go.
-  sim::VehicleControl idle;
+  vehicle::VehicleControl idle;
   d.run(idle, 200);
   EXPECT_LT((d.state().pose.position - before.pose.position).norm(), 0.01);
 }
@@ -276,7 +276,7 @@ TEST(Physics, GearsShiftUpAndDown) {
   int top_gear = 1;
   for (int i = 0; i < 400; ++i) d.run(throttle(1.0)), top_gear = std::max(top_gear, d.state().gear);
   EXPECT_GE(top_gear, 4);
-  sim::VehicleControl brake;
+  vehicle::VehicleControl brake;
   brake.brake = 0.6;
   while (d.state().speed > 3) d.run(brake);
   d.run(brake, 10);
@@ -285,7 +285,7 @@ TEST(Physics, GearsShiftUpAndDown) {
 
 TEST(Physics, ReverseDrivesBackwards) {
   Drive d;
-  sim::VehicleControl c = throttle(0.5);
+  vehicle::VehicleControl c = throttle(0.5);
   c.reverse = true;
   d.run(c, 60);
   EXPECT_EQ(d.state().gear, -1);
@@ -296,7 +296,7 @@ TEST(Physics, ReverseDrivesBackwards) {
 TEST(Physics, HandBrakeLocksTheRearWheels) {
   Drive d;
   d.run(throttle(1.0), 60);
-  sim::VehicleControl c;
+  vehicle::VehicleControl c;
   c.hand_brake = true;
   d.run(c, 4);
   const auto s = d.state();
@@ -308,7 +308,7 @@ TEST(Physics, HandBrakeLocksTheRearWheels) {
 
 TEST(Physics, SteeringTurnsLeftForPositiveSteer) {
   Drive d;
-  sim::VehicleControl c = throttle(0.3);
+  vehicle::VehicleControl c = throttle(0.3);
   c.steer = 0.5;
   d.run(c, 60);
   EXPECT_GT(d.state().body_angular_velocity.z(), 0.1);
@@ -319,7 +319,7 @@ TEST(Physics, IdenticalRunsEndInIdenticalStates) {
   auto run = [] {
     Drive d;
     for (int i = 0; i < 300; ++i) {
-      sim::VehicleControl c;
+      vehicle::VehicleControl c;
       c.throttle = 0.5 + 0.5 * std::sin(i * 0.05);
       c.steer = 0.3 * std::sin(i * 0.031);
       c.brake = i % 97 < 10 ? 0.8 : 0.0;

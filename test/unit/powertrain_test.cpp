@@ -1,9 +1,9 @@
 #include <gtest/gtest.h>
 
-#include "roar/sim/powertrain.h"
+#include "roar/vehicle/powertrain.h"
 #include "test_support.h"
 
-using namespace roar::sim;
+using namespace roar::vehicle;
 
 namespace {
 double omegaForRpm(const VehicleParams& p, int gear, double rpm) {

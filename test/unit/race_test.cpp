@@ -26,7 +26,7 @@ race::CarAtContact car(const std::string& name, double x, double y, double vx, d
 
 struct Sprint {
   track::Track track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
-  sim::VehicleParams vehicle = test::sedan();
+  vehicle::VehicleParams vehicle = test::sedan();
   planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, 0.85);
   planning::Trajectory line = planning::planRacingTrajectory(track, limits, {});
 };

@@ -114,7 +114,7 @@ TEST(RlAction, RoarPysActionSpecAndItsControls) {
   a.at("steer").numbers[0] = -0.25;
   a.at("hand_brake").numbers[0] = 0.6;
   a.at("target_gear").numbers[0] = 3;
-  sim::VehicleControl c = rl::toControl(manual, a);
+  vehicle::VehicleControl c = rl::toControl(manual, a);
   EXPECT_EQ(c.throttle, 0.7);
   EXPECT_EQ(c.steer, -0.25);
   EXPECT_TRUE(c.hand_brake) << "above 0.5";

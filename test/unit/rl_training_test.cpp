@@ -101,7 +101,7 @@ TEST(RlPolicy, BrokenFilesAreNamed) {
 
 TEST(RlEvolution, AShortRunOnASmallTrackImprovesTheReturn) {
   const track::Track circle = test::circleTrack(50.0, 12.0);
-  const sim::VehicleParams sedan = test::sedan();
+  const vehicle::VehicleParams sedan = test::sedan();
   auto make = [&] { return std::make_unique<rl::RacingEnv>(circle, sedan, shortEpisodes()); };
   rl::EvolutionOptions options;
   options.directions = 6;

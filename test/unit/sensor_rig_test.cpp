@@ -260,7 +260,7 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
           ++loaded;
           sim::World world(track, {});
           world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
-          sim::VehicleControl go;
+          vehicle::VehicleControl go;
           go.throttle = 1.0;
           go.steer = 0.2;
           sensors::RayScene scene(track);

@@ -1,4 +1,4 @@
-#include "roar/sim/slipstream.h"
+#include "roar/vehicle/slipstream.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include "test_support.h"
 
 using namespace roar;
-using sim::SlipstreamOptions;
-using sim::slipstreamReduction;
-using sim::WakeCar;
+using vehicle::SlipstreamOptions;
+using vehicle::slipstreamReduction;
+using vehicle::WakeCar;
 
 TEST(Slipstream, TheTowFallsOffWithGapAndOffset) {
   const SlipstreamOptions o;
@@ -43,7 +43,7 @@ TEST(Slipstream, OnlyTheCarBehindIsTowedAndTheStrongestWakeCounts) {
   // Three cars heading east in a line, 10 m apart centre to centre, and one far to the side.
   std::vector<WakeCar> cars = {
       {{100.0, 0.0}, {40.0, 0.0}}, {{90.0, 0.0}, {40.0, 0.0}}, {{80.0, 0.0}, {40.0, 0.0}}, {{90.0, 20.0}, {40.0, 0.0}}};
-  const auto share = sim::dragShares(cars, o);
+  const auto share = vehicle::dragShares(cars, o);
   ASSERT_EQ(share.size(), 4u);
   EXPECT_EQ(share[0], 1.0) << "the leader is in free air";
   const double gap = 10.0 - 4.7;
@@ -52,18 +52,18 @@ TEST(Slipstream, OnlyTheCarBehindIsTowedAndTheStrongestWakeCounts) {
   EXPECT_EQ(share[3], 1.0) << "20 m to the side";
   // Heading west, the same line is towed the other way round.
   for (auto& c : cars) c.velocity = -c.velocity;
-  const auto west = sim::dragShares(cars, o);
+  const auto west = vehicle::dragShares(cars, o);
   EXPECT_LT(west[0], 1.0);
   EXPECT_EQ(west[2], 1.0);
 }
 
 TEST(Slipstream, OptionsOutOfRangeAreRefusedByName) {
   SlipstreamOptions o;
-  EXPECT_NO_THROW(sim::validate(o, "slipstream: "));
+  EXPECT_NO_THROW(vehicle::validate(o, "slipstream: "));
   o.max_reduction = 1.0;
-  EXPECT_NE(test::errorOf([&] { sim::validate(o, "slipstream: "); }).find("slipstream: max_reduction"),
+  EXPECT_NE(test::errorOf([&] { vehicle::validate(o, "slipstream: "); }).find("slipstream: max_reduction"),
             std::string::npos);
   o = {};
   o.decay_length = NAN;
-  EXPECT_NE(test::errorOf([&] { sim::validate(o, "x: "); }).find("x: decay_length"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { vehicle::validate(o, "x: "); }).find("x: decay_length"), std::string::npos);
 }

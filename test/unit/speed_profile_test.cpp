@@ -127,7 +127,7 @@ TEST(SpeedProfile, MatchesTheSimulatedCarAcceleratingOnAStraight) {
 
   sim::World world(test::openGround(), {});
   world.spawnVehicle("ego", car, {});
-  sim::VehicleControl full;
+  vehicle::VehicleControl full;
   full.throttle = 1.0;
   double travelled = 0.0;
   Eigen::Vector3d last = world.vehicleState("ego").pose.position;
@@ -164,7 +164,7 @@ TEST(SpeedProfile, MatchesTheSimulatedCarAcceleratingOutOfACorner) {
   const auto limits = planning::vehicleLimits(car, 1.0, 1.0);
   sim::World world(test::openGround(), {});
   world.spawnVehicle("ego", car, {});
-  sim::VehicleControl control;
+  vehicle::VehicleControl control;
   control.throttle = 1.0;
   while (world.vehicleState("ego").forward_speed < 61.0) {
     world.setControl("ego", control);

@@ -9,8 +9,8 @@
 #include <regex>
 #include <string>
 
-#include "roar/sim/vehicle_config.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/vehicle_config.h"
 
 namespace roar::test {
 
@@ -85,10 +85,10 @@ inline track::Track circleTrack(double radius, double width = 12.0, Eigen::Vecto
 // Open ground for physics tests: a small circuit far away, so the area near the origin is free plane.
 inline track::Track openGround(double friction = 1.0) { return circleTrack(60.0, 12.0, {5000.0, 5000.0}, friction); }
 
-inline sim::VehicleParams vehicle(const std::string& model) {
-  return sim::loadVehicleModel(model, sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+inline vehicle::VehicleParams vehicle(const std::string& model) {
+  return vehicle::loadVehicleModel(model, sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
 }
 
-inline sim::VehicleParams sedan() { return vehicle("sedan"); }
+inline vehicle::VehicleParams sedan() { return vehicle("sedan"); }
 
 }  // namespace roar::test

@@ -3,7 +3,7 @@
 #include "roar/sim/tyre.h"
 
 using roar::sim::TyreModel;
-using roar::sim::TyreParams;
+using roar::vehicle::TyreParams;
 
 TEST(Tyre, PurePeaksAtTheComputedSlipAndReachD) {
   TyreModel tyre{TyreParams{}};

@@ -7,8 +7,8 @@
 
 #include <cstdio>
 
-#include "roar/sim/vehicle_config.h"
 #include "roar/sim/world.h"
+#include "roar/vehicle/vehicle_config.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -31,7 +31,7 @@ TEST(VehicleConfig, SedanLoadsFromUrdfAndYaml) {
 
 TEST(VehicleConfig, UnknownModelListsTheKnownOnes) {
   const auto msg = errorOf(
-      [] { sim::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles"); });
+      [] { vehicle::loadVehicleModel("bus", test::sourceDir() + "/urdf", test::sourceDir() + "/config/vehicles"); });
   EXPECT_NE(msg.find("unknown vehicle model or blueprint 'bus'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("carla_a2 (vehicle.audi.a2), carla_model3 (vehicle.tesla.model3), hatchback, racecar "
                      "(vehicle.roar.racecar), sedan"),
@@ -42,28 +42,28 @@ TEST(VehicleConfig, UnknownModelListsTheKnownOnes) {
 TEST(VehicleConfig, BlueprintIdsNameTheirModels) {
   const std::string urdf = test::sourceDir() + "/urdf", config = test::sourceDir() + "/config/vehicles";
   // ROAR_PY programs' blueprints are CARLA's cars; the road cars keep their own names.
-  EXPECT_EQ(sim::resolveVehicleModel("vehicle.tesla.model3", urdf, config), "carla_model3");
-  EXPECT_EQ(sim::resolveVehicleModel("vehicle.audi.a2", urdf, config), "carla_a2");
-  EXPECT_EQ(sim::resolveVehicleModel("hatchback", urdf, config), "hatchback");
-  EXPECT_EQ(sim::resolveVehicleModel("vehicle.roar.racecar", urdf, config), "racecar");
-  EXPECT_EQ(sim::resolveVehicleModel("sedan", urdf, config), "sedan");
-  const auto a2 = sim::loadVehicleModel("vehicle.audi.a2", urdf, config);
+  EXPECT_EQ(vehicle::resolveVehicleModel("vehicle.tesla.model3", urdf, config), "carla_model3");
+  EXPECT_EQ(vehicle::resolveVehicleModel("vehicle.audi.a2", urdf, config), "carla_a2");
+  EXPECT_EQ(vehicle::resolveVehicleModel("hatchback", urdf, config), "hatchback");
+  EXPECT_EQ(vehicle::resolveVehicleModel("vehicle.roar.racecar", urdf, config), "racecar");
+  EXPECT_EQ(vehicle::resolveVehicleModel("sedan", urdf, config), "sedan");
+  const auto a2 = vehicle::loadVehicleModel("vehicle.audi.a2", urdf, config);
   EXPECT_EQ(a2.model, "carla_a2");
   EXPECT_EQ(a2.blueprint, "vehicle.audi.a2");
   EXPECT_EQ(a2.front_drive_share, 1.0) << "front-wheel drive";
-  const auto racecar = sim::loadVehicleModel("racecar", urdf, config);
+  const auto racecar = vehicle::loadVehicleModel("racecar", urdf, config);
   EXPECT_EQ(racecar.front_drive_share, 0.0) << "rear-wheel drive";
   EXPECT_GT(racecar.aero.downforce_area, 2.0);
   EXPECT_LT(racecar.chassis.mass, 800.0);
-  EXPECT_EQ(sim::listVehicleModels(urdf, config).size(), 5u);
+  EXPECT_EQ(vehicle::listVehicleModels(urdf, config).size(), 5u);
 }
 
 TEST(VehicleConfig, BrokenUrdfIsAClearError) {
-  sim::VehicleParams p;
-  auto msg = errorOf([&] { sim::readVehicleUrdfString("<robot name='x'><link", "car.urdf", &p); });
+  vehicle::VehicleParams p;
+  auto msg = errorOf([&] { vehicle::readVehicleUrdfString("<robot name='x'><link", "car.urdf", &p); });
   EXPECT_NE(msg.find("car.urdf: not a valid URDF"), std::string::npos) << msg;
-  msg =
-      errorOf([&] { sim::readVehicleUrdfString("<robot name='x'><link name='base_link'/></robot>", "car.urdf", &p); });
+  msg = errorOf(
+      [&] { vehicle::readVehicleUrdfString("<robot name='x'><link name='base_link'/></robot>", "car.urdf", &p); });
   EXPECT_NE(msg.find("car.urdf: base_link has no <inertial>"), std::string::npos) << msg;
 }
 
@@ -77,11 +77,11 @@ TEST(VehicleConfig, MissingYamlFieldIsNamed) {
   text.erase(pos, std::string("  final_drive: 3.60\n").size());
   const auto path = (dir / "car.yaml").string();
   std::ofstream(path) << text;
-  sim::VehicleParams p;
-  const auto msg = errorOf([&] { sim::readVehicleYaml(path, &p); });
+  vehicle::VehicleParams p;
+  const auto msg = errorOf([&] { vehicle::readVehicleYaml(path, &p); });
   EXPECT_NE(msg.find(path + ": gearbox.final_drive: is missing"), std::string::npos) << msg;
   std::ofstream(path) << "engine: {idle_rpm: fast}\n";
-  const auto msg2 = errorOf([&] { sim::readVehicleYaml(path, &p); });
+  const auto msg2 = errorOf([&] { vehicle::readVehicleYaml(path, &p); });
   EXPECT_NE(msg2.find("drivetrain.front_drive_share: is missing"), std::string::npos) << msg2;
   std::filesystem::remove_all(dir);
 }
@@ -98,8 +98,8 @@ TEST(VehicleConfig, MisspeltKeysAndValuesOutsidePhysicalRangesAreRefused) {
     text.replace(pos, from.size(), to);
     const auto path = (dir / "car.yaml").string();
     std::ofstream(path) << text;
-    sim::VehicleParams p;
-    return errorOf([&] { sim::readVehicleYaml(path, &p); });
+    vehicle::VehicleParams p;
+    return errorOf([&] { vehicle::readVehicleYaml(path, &p); });
   };
   EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stiffness_n_per_m: 4500000")
                 .find("suspension.stiffness_n_per_m: 4.5e+06 is outside [1000, 1e+06] N/m"),
@@ -126,14 +126,14 @@ TEST(VehicleConfig, MisspeltKeysAndValuesOutsidePhysicalRangesAreRefused) {
 TEST(VehicleConfig, ValidateRejectsImplausibleValues) {
   auto p = test::sedan();
   p.gearbox.ratios = {2.0, 3.0};
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("must fall"), std::string::npos);
+  EXPECT_NE(errorOf([&] { vehicle::validate(p, "x"); }).find("must fall"), std::string::npos);
   p = test::sedan();
   p.chassis.mass = -1;
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("base_link mass -1 is outside [50, 50000] kg"),
+  EXPECT_NE(errorOf([&] { vehicle::validate(p, "x"); }).find("base_link mass -1 is outside [50, 50000] kg"),
             std::string::npos);
   p = test::sedan();
   p.wheels[0].radius = 1e300;
-  EXPECT_NE(errorOf([&] { sim::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"),
+  EXPECT_NE(errorOf([&] { vehicle::validate(p, "x"); }).find("wheel 'wheel_front_left' radius 1e+300 is outside"),
             std::string::npos);
 }
 
@@ -197,10 +197,10 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
       YAML::Node doc = YAML::Clone(original);
       at(doc, field) = YAML::Load(extreme);
       std::ofstream((dir / "config" / "sedan.yaml").string()) << YAML::Dump(doc) << "\n";
-      sim::VehicleParams params;
+      vehicle::VehicleParams params;
       std::string error;
       try {
-        params = sim::loadVehicleModel("sedan", (dir / "urdf").string(), (dir / "config").string());
+        params = vehicle::loadVehicleModel("sedan", (dir / "urdf").string(), (dir / "config").string());
       } catch (const std::exception& e) {
         error = e.what();
       }
@@ -218,7 +218,7 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
       world.spawnVehicle("ego", params, pose);
       bool finite = true;
       for (int tick = 0; tick < 200 && finite; ++tick) {
-        sim::VehicleControl control;
+        vehicle::VehicleControl control;
         control.throttle = 1.0;
         control.steer = tick > 100 ? 0.3 : 0.0;
         world.setControl("ego", control);

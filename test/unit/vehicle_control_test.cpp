@@ -3,9 +3,9 @@
 #include <cmath>
 #include <limits>
 
-#include "roar/sim/vehicle_control.h"
+#include "roar/vehicle/vehicle_control.h"
 
-using namespace roar::sim;
+using namespace roar::vehicle;
 
 TEST(VehicleControl, NonFiniteFieldsRejectTheControl) {
   for (int field = 0; field < 3; ++field) {

@@ -123,7 +123,7 @@ TEST(World, ResetPutsTheCarBackAtRest) {
   const auto track = test::openGround();
   World world(track, {});
   world.spawnVehicle("ego", test::sedan(), at(0, 0));
-  sim::VehicleControl go;
+  vehicle::VehicleControl go;
   go.throttle = 1.0;
   for (int i = 0; i < 60; ++i) {
     world.setControl("ego", go);
@@ -146,7 +146,7 @@ TEST(World, VelocitiesSetAtRunTimeCarryTheCarOn) {
   World world(track, o);
   world.spawnVehicle("ego", test::sedan(), at(0, 0, M_PI / 2));  // heading north
   for (int i = 0; i < 20; ++i) world.step();
-  sim::VehicleControl coast;
+  vehicle::VehicleControl coast;
   world.setControl("ego", coast);
   world.setVehicleVelocity("ego", {0, 20, 0}, {0, 0, 0});
   world.step();
@@ -165,7 +165,7 @@ TEST(World, StaleControlBrakesTheCar) {
   o.control_timeout = 0.5;
   World world(track, o);
   world.spawnVehicle("ego", test::sedan(), at(0, 0));
-  sim::VehicleControl go;
+  vehicle::VehicleControl go;
   go.throttle = 1.0;
   world.setControl("ego", go);
   for (int i = 0; i < 11; ++i) world.step();  // the last of these ticks starts exactly 0.5 s after the control
@@ -185,7 +185,7 @@ TEST(World, ACarWhoseDriverFallsSilentStopsOnTheRoad) {
   World world(track, o);
   const auto start = track.poseAt(0.0);
   world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
-  sim::VehicleControl cruise;
+  vehicle::VehicleControl cruise;
   cruise.throttle = 0.3;
   world.setControl("ego", cruise);
   world.step();
@@ -209,7 +209,7 @@ TEST(World, BarrierAndCarContactsAreReportedWithTheOtherBody) {
   const auto track = test::circleTrack(60.0);
   World world(track, {});
   world.spawnVehicle("ego", test::sedan(), at(60, 0, 0.0));  // on the road facing outwards (+x)
-  sim::VehicleControl go;
+  vehicle::VehicleControl go;
   go.throttle = 0.6;
   bool hit = false;
   for (int i = 0; i < 100 && !hit; ++i) {
@@ -249,7 +249,7 @@ TEST(World, ACarInAnotherCarsSlipstreamMeetsLessDrag) {
     world.spawnVehicle("ahead", test::sedan(), at(0, 8, M_PI / 2));
     world.spawnVehicle("behind", test::sedan(), at(0, 0, M_PI / 2));
     for (int i = 0; i < 20; ++i) world.step();
-    sim::VehicleControl neutral;
+    vehicle::VehicleControl neutral;
     for (const char* car : {"ahead", "behind"}) {
       world.setControl(car, neutral);
       world.setVehicleVelocity(car, {0, 35, 0}, {0, 0, 0});

@@ -7,8 +7,8 @@
 
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
-#include "roar/sim/vehicle_control.h"
 #include "roar/vehicle/steering_curve.h"
+#include "roar/vehicle/vehicle_control.h"
 
 namespace roar::control {
 
@@ -57,7 +57,7 @@ class TrajectoryTracker {
   const planning::Trajectory& trajectory() const { return trajectory_; }
 
   // Without a trajectory: brakes.
-  sim::VehicleControl update(const TrackerInput& input);
+  vehicle::VehicleControl update(const TrackerInput& input);
 
   double lateralError() const { return lateral_error_; }  // m, positive: the car is left of the line
   double targetSpeed() const { return target_speed_; }

@@ -16,8 +16,8 @@
 
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
-#include "roar/sim/slipstream.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/slipstream.h"
 
 namespace roar::planning {
 
@@ -41,8 +41,8 @@ struct TrafficCar {
 };
 
 struct OvertakeOptions {
-  double car_length = 4.7;           // m, every car's (bumper to bumper)
-  double car_width = 1.85;           // m
+  double car_length = vehicle::kDefaultCarLength;  // m, every car's (bumper to bumper)
+  double car_width = vehicle::kDefaultCarWidth;    // m
   double lateral_margin = 0.9;       // m of air kept beside another car (to start a move; half of it to go on with one)
   double longitudinal_margin = 1.5;  // m kept to the car ahead or behind when beside it in the plan
   // m kept inside the road edge (beyond half the car's width): the controller's error on a moving line
@@ -106,12 +106,12 @@ struct OvertakeOptions {
   // alongside the defender holds its place (leaving it a car's width). Off by default: it makes passes
   // harder (doc/traffic_history.md).
   bool defend = false;
-  double defend_time = 1.0;    // s at speed behind within which a car is defended against
-  double defend_shift = 1.85;  // m at most the defensive move goes across (a car's width)
-  double defend_hold = 4.0;    // s at most a defensive move is held before the car goes back to its line
+  double defend_time = 1.0;                         // s at speed behind within which a car is defended against
+  double defend_shift = vehicle::kDefaultCarWidth;  // m at most the defensive move goes across (a car's width)
+  double defend_hold = 4.0;  // s at most a defensive move is held before the car goes back to its line
   // The wake model the simulator applies (sim/slipstream.h): a car close behind the car it would pass
   // plans the pass with the speed the tow gives it on the straight, and pulls out with it (the slingshot).
-  sim::SlipstreamOptions slipstream;
+  vehicle::SlipstreamOptions slipstream;
   // Keep each plan's predictions of the cars around it for predictions() (rviz): off, they cost nothing.
   bool keep_predictions = false;
 };

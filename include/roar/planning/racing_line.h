@@ -9,13 +9,14 @@
 #include <vector>
 
 #include "roar/track/track.h"
+#include "roar/vehicle/car_size.h"
 
 namespace roar::planning {
 
 struct RacingLineOptions {
-  double vehicle_width = 1.85;  // m
-  double safety_margin = 0.5;   // m kept between the car's side and the track edge
-  double step = 3.0;            // m between the line's points
+  double vehicle_width = vehicle::kDefaultCarWidth;  // m
+  double safety_margin = 0.5;                        // m kept between the car's side and the track edge
+  double step = 3.0;                                 // m between the line's points
   int max_iterations = 10;
   double curvature_tolerance = 2e-4;  // 1/m: stop when the curvature changes by less than this (RMS over the line)
 };

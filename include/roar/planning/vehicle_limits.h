@@ -4,7 +4,7 @@
 // VehicleParams the simulator reads, so planner and simulator share one source of truth.
 #include <vector>
 
-#include "roar/sim/vehicle_params.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::planning {
 
@@ -41,6 +41,6 @@ struct VehicleLimits {
 
 // `road_friction` is the track's; `grip_use` (0, 1] the share of it the plan dares to use, which also
 // covers what the tyre model loses to load sensitivity and weight transfer.
-VehicleLimits vehicleLimits(const sim::VehicleParams& params, double road_friction, double grip_use);
+VehicleLimits vehicleLimits(const vehicle::VehicleParams& params, double road_friction, double grip_use);
 
 }  // namespace roar::planning

@@ -5,6 +5,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "roar/vehicle/car_size.h"
+
 namespace roar::race {
 
 struct CarAtContact {
@@ -20,9 +22,9 @@ struct ContactFault {
 };
 
 struct ContactFaultOptions {
-  double car_length = 4.7;         // m
-  double alongside_overlap = 0.5;  // share of a car's length the two must overlap by to be alongside
-  double sideways_margin = 0.3;    // m/s more sideways speed towards the other that makes one car the mover
+  double car_length = vehicle::kDefaultCarLength;  // m
+  double alongside_overlap = 0.5;                  // share of a car's length the two must overlap by to be alongside
+  double sideways_margin = 0.3;  // m/s more sideways speed towards the other that makes one car the mover
 };
 
 // road_heading: the road's direction where they touched (rad): "sideways" is across it, so a car that

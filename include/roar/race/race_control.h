@@ -11,6 +11,7 @@
 
 #include "roar/race/lap_timer.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/car_size.h"
 
 namespace roar::race {
 
@@ -27,7 +28,7 @@ struct RaceRules {
   double track_limits_margin = 0.93;  // m
   double contact_merge = 0.5;         // s: contacts closer together than this are one incident
   double overtake_hysteresis = 3.0;   // m one car must be ahead of the other for a change of order to count
-  double car_length = 4.7;            // m, for judging who was at fault in a contact between cars
+  double car_length = vehicle::kDefaultCarLength;  // m, for judging who was at fault in a contact between cars
   // A car is in traffic while another car (of any lap) is on the road ahead of it within a car's length
   // plus this many seconds at its speed.
   double traffic_gap = 1.0;  // s

@@ -5,7 +5,7 @@
 //   steer Box(-1, 1, (1,)) (positive turns left: the opposite of CARLA's sign), throttle Box(0, 1, (1,)),
 //   and with manual gears target_gear Discrete(forward gears, start=1).
 #include "roar/rl/space.h"
-#include "roar/sim/vehicle_control.h"
+#include "roar/vehicle/vehicle_control.h"
 
 namespace roar::rl {
 
@@ -16,9 +16,9 @@ struct ActionOptions {
 Space actionSpace(const ActionOptions& options, int forward_gears);
 
 // The control an action asks for. Throws SpaceError naming the key for an action outside `space`.
-sim::VehicleControl toControl(const Space& space, const Value& action);
+vehicle::VehicleControl toControl(const Space& space, const Value& action);
 
 // The action of a control (its fields clamped into the space): how a driver's controls read as actions.
-Value toAction(const Space& space, const sim::VehicleControl& control);
+Value toAction(const Space& space, const vehicle::VehicleControl& control);
 
 }  // namespace roar::rl

@@ -11,8 +11,8 @@
 #include "roar/rl/episode.h"
 #include "roar/rl/observation.h"
 #include "roar/rl/space.h"
-#include "roar/sim/vehicle_params.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::rl {
 
@@ -38,7 +38,7 @@ sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, st
 class RacingEnv {
  public:
   // Throws EnvConfigError for options that cannot work.
-  RacingEnv(const track::Track& track, const sim::VehicleParams& vehicle, const EnvOptions& options);
+  RacingEnv(const track::Track& track, const vehicle::VehicleParams& vehicle, const EnvOptions& options);
   ~RacingEnv();
   RacingEnv(const RacingEnv&) = delete;
   RacingEnv& operator=(const RacingEnv&) = delete;
@@ -64,7 +64,7 @@ class RacingEnv {
   void observeInto(Value* obs);
 
   track::Track track_;
-  sim::VehicleParams vehicle_;
+  vehicle::VehicleParams vehicle_;
   EnvOptions options_;
   Space action_space_;
   std::unique_ptr<sim::World> world_;

@@ -14,8 +14,8 @@
 
 namespace roar::ros_bridge {
 
-sim::VehicleControl fromMessage(const roar_ros::VehicleControl& msg);
-roar_ros::VehicleControl toMessage(const sim::VehicleControl& control);
+vehicle::VehicleControl fromMessage(const roar_ros::VehicleControl& msg);
+roar_ros::VehicleControl toMessage(const vehicle::VehicleControl& control);
 
 sim::Pose fromMessage(const geometry_msgs::Pose& msg);
 geometry_msgs::Pose toMessage(const sim::Pose& pose);
@@ -32,7 +32,7 @@ sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom);
 roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame);
 // The URDF's joints for robot_state_publisher: <wheel>_joint (rotation angle, rad; wheel_angles in the
 // order of params.wheels) and steer_<front wheel>_joint (steering angle).
-sensor_msgs::JointState toJointState(const sim::VehicleState& state, const sim::VehicleParams& params,
+sensor_msgs::JointState toJointState(const sim::VehicleState& state, const vehicle::VehicleParams& params,
                                      const std::array<double, 4>& wheel_angles, const ros::Time& stamp);
 geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
                                             const std::string& child);

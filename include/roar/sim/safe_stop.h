@@ -2,10 +2,10 @@
 // What roar_sim drives a car with once its driver has fallen silent (control_timeout): it brakes steadily
 // while steering along the road at its lateral place (kept inside the edges), then parks once stopped. A
 // locked hand brake at speed, the old fail-safe, put cars into the barrier.
-#include "roar/sim/vehicle_control.h"
-#include "roar/sim/vehicle_params.h"
 #include "roar/sim/world.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/vehicle_control.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::sim {
 
@@ -17,7 +17,7 @@ struct SafeStopOptions {
   double stopped_speed = 0.5;   // m/s below which the car is parked
 };
 
-VehicleControl safeStopControl(const track::Track& track, const VehicleState& state, const VehicleParams& params,
-                               const SafeStopOptions& options = {});
+vehicle::VehicleControl safeStopControl(const track::Track& track, const VehicleState& state,
+                                        const vehicle::VehicleParams& params, const SafeStopOptions& options = {});
 
 }  // namespace roar::sim

@@ -4,7 +4,7 @@
 //  - combined slip by normalised slip: each slip is divided by the slip of its pure-slip peak, the
 //    resultant rho = |(kappa/kappa_peak, alpha/alpha_peak)| is fed to each curve and the force shared out
 //    in proportion, so that pure slip gives the pure curves and combined slip stays inside the friction ellipse.
-#include "roar/sim/vehicle_params.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::sim {
 
@@ -15,7 +15,7 @@ struct TyreForce {
 
 class TyreModel {
  public:
-  explicit TyreModel(const TyreParams& params);
+  explicit TyreModel(const vehicle::TyreParams& params);
 
   // slip_ratio = (omega r - vx) / |vx|; slip_angle = atan(vy / |vx|) in radians (vy: contact patch velocity to
   // the left); load in N; mu: road friction. The lateral force opposes the slip angle.
@@ -28,7 +28,7 @@ class TyreModel {
   double peakSlipAngle() const { return peak_slip_angle_; }
 
  private:
-  TyreParams params_;
+  vehicle::TyreParams params_;
   double peak_slip_ratio_;
   double peak_slip_angle_;
 };

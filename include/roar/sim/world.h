@@ -11,19 +11,19 @@
 #include <string>
 #include <vector>
 
-#include "roar/sim/slipstream.h"
-#include "roar/sim/vehicle_control.h"
-#include "roar/sim/vehicle_params.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/slipstream.h"
+#include "roar/vehicle/vehicle_control.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::sim {
 
 struct WorldOptions {
-  double control_dt = 0.05;      // s, one tick: controls are applied and states reported once per tick
-  double physics_dt = 0.005;     // s, Bullet substep; control_dt must be a whole multiple of it
-  double gravity = 9.81;         // m/s^2
-  double control_timeout = 0.5;  // s of simulated time without a new control before the car brakes (0: never)
-  SlipstreamOptions slipstream;  // less drag in another car's wake, from the cars' places at each tick's start
+  double control_dt = 0.05;               // s, one tick: controls are applied and states reported once per tick
+  double physics_dt = 0.005;              // s, Bullet substep; control_dt must be a whole multiple of it
+  double gravity = 9.81;                  // m/s^2
+  double control_timeout = 0.5;           // s of simulated time without a new control before the car brakes (0: never)
+  vehicle::SlipstreamOptions slipstream;  // less drag in another car's wake, from the cars' places at each tick's start
 };
 
 struct Pose {
@@ -63,7 +63,7 @@ struct VehicleState {
   std::array<WheelState, 4> wheels;
   bool on_track = false;    // every wheel on the road surface
   double drag_share = 1.0;  // of the free-air drag, this tick (below 1 in another car's slipstream)
-  VehicleControl applied_control;
+  vehicle::VehicleControl applied_control;
 };
 
 // A contact of a vehicle's body during the last tick, summed per other body.
@@ -98,7 +98,7 @@ class World {
 
   // Places the car at rest at the pose (see Placement). Throws SpawnError with the reason: a taken name,
   // overlap with another car, no ground.
-  void spawnVehicle(const std::string& name, const VehicleParams& params, const Pose& pose,
+  void spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
                     Placement placement = Placement::kOnGround);
   void destroyVehicle(const std::string& name);  // throws SpawnError for an unknown name
   void resetVehicle(const std::string& name, const Pose& pose, Placement placement = Placement::kOnGround);
@@ -107,10 +107,10 @@ class World {
   void setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
   bool hasVehicle(const std::string& name) const;
   std::vector<std::string> vehicleNames() const;
-  const VehicleParams& vehicleParams(const std::string& name) const;
+  const vehicle::VehicleParams& vehicleParams(const std::string& name) const;
 
   // The control stays until replaced; it must have passed checkControl.
-  void setControl(const std::string& name, const VehicleControl& control);
+  void setControl(const std::string& name, const vehicle::VehicleControl& control);
 
   // One control tick. `after_substep`, when given, runs after every physics substep with the simulated
   // time at its end (vehicle states are current then): motion sensors sample at the physics rate.

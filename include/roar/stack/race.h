@@ -10,8 +10,8 @@
 #include "roar/control/trajectory_tracker.h"
 #include "roar/planning/field_planner.h"
 #include "roar/race/race_control.h"
-#include "roar/sim/vehicle_params.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::stack {
 
@@ -107,7 +107,7 @@ struct RaceResult {
 };
 
 // Throws std::invalid_argument for no cars, repeated names or grid slots, or a pace outside (0, 1].
-RaceResult runRace(const track::Track& track, const sim::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
+RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options);
 
 // The mean over a pass's samples of the passer's speed as a share of its free-air speed at the same place

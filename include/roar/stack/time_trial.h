@@ -6,9 +6,9 @@
 
 #include "roar/control/trajectory_tracker.h"
 #include "roar/planning/trajectory.h"
-#include "roar/sim/vehicle_params.h"
 #include "roar/sim/world.h"
 #include "roar/track/track.h"
+#include "roar/vehicle/vehicle_params.h"
 
 namespace roar::stack {
 
@@ -34,11 +34,11 @@ struct TimeTrialResult {
 };
 
 // Plans with the vehicle's own limits (planning::vehicleLimits) and drives from the grid's pole position.
-TimeTrialResult runTimeTrial(const track::Track& track, const sim::VehicleParams& vehicle,
+TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehicleParams& vehicle,
                              const TimeTrialOptions& options);
 
 // The tracker options the vehicle implies: its wheelbase and maximum steering angle over `base`.
-control::TrackerOptions trackerFor(const sim::VehicleParams& vehicle, control::TrackerOptions base = {});
+control::TrackerOptions trackerFor(const vehicle::VehicleParams& vehicle, control::TrackerOptions base = {});
 
 // What the tracker needs of a car's simulated state: base_link's position, heading, forward speed, yaw rate.
 control::TrackerInput trackerInputOf(const sim::VehicleState& state);

@@ -7,16 +7,17 @@
 #include <utility>
 #include <vector>
 
+#include "roar/vehicle/car_size.h"
 #include "roar/vehicle/steering_curve.h"
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 struct ChassisParams {
-  double mass = 1850.0;                            // kg
-  Eigen::Vector3d inertia{600.0, 2800.0, 3100.0};  // kg m^2, principal, about the centre of mass
-  Eigen::Vector3d centre_of_mass{0.0, 0.0, 0.5};   // m, in base_link
-  Eigen::Vector3d box_size{4.7, 1.85, 1.0};        // m, collision box of the body
-  Eigen::Vector3d box_centre{0.0, 0.0, 0.85};      // m, in base_link
+  double mass = 1850.0;                                                // kg
+  Eigen::Vector3d inertia{600.0, 2800.0, 3100.0};                      // kg m^2, principal, about the centre of mass
+  Eigen::Vector3d centre_of_mass{0.0, 0.0, 0.5};                       // m, in base_link
+  Eigen::Vector3d box_size{kDefaultCarLength, kDefaultCarWidth, 1.0};  // m, collision box of the body
+  Eigen::Vector3d box_centre{0.0, 0.0, 0.85};                          // m, in base_link
 };
 
 struct WheelParams {
@@ -122,4 +123,4 @@ struct VehicleParams {
   double track_width() const { return wheels[0].position.y() - wheels[1].position.y(); }
 };
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

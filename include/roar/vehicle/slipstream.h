@@ -12,7 +12,9 @@
 #include <string>
 #include <vector>
 
-namespace roar::sim {
+#include "roar/vehicle/car_size.h"
+
+namespace roar::vehicle {
 
 struct SlipstreamOptions {
   bool enabled = true;
@@ -42,14 +44,14 @@ double slipstreamReduction(double gap, double offset, double speed, double width
 
 // A car as the wake sees it: where it is and goes, in the plane.
 struct WakeCar {
-  Eigen::Vector2d position;  // m, the car's centre
-  Eigen::Vector2d velocity;  // m/s
-  double length = 4.7;       // m, bumper to bumper
-  double width = 1.85;       // m
+  Eigen::Vector2d position;           // m, the car's centre
+  Eigen::Vector2d velocity;           // m/s
+  double length = kDefaultCarLength;  // m, bumper to bumper
+  double width = kDefaultCarWidth;    // m
 };
 
 // Each car's share of its free-air drag (1: free air) in the wakes of the others: the strongest tow
 // counts (wakes do not add up).
 std::vector<double> dragShares(const std::vector<WakeCar>& cars, const SlipstreamOptions& options);
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

@@ -1,11 +1,11 @@
-#include "roar/sim/slipstream.h"
+#include "roar/vehicle/slipstream.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 namespace {
 
@@ -55,4 +55,4 @@ std::vector<double> dragShares(const std::vector<WakeCar>& cars, const Slipstrea
   return share;
 }
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

@@ -1,9 +1,9 @@
-#include "roar/sim/vehicle_control.h"
+#include "roar/vehicle/vehicle_control.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 VehicleControl parkedControl() {
   VehicleControl c;
@@ -36,4 +36,4 @@ CheckedControl checkControl(const VehicleControl& control, int forward_gears) {
   return out;
 }
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

@@ -1,4 +1,4 @@
-#include "roar/sim/vehicle_config.h"
+#include "roar/vehicle/vehicle_config.h"
 
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
@@ -12,7 +12,7 @@
 
 #include "roar/config/yaml_section.h"
 
-namespace roar::sim {
+namespace roar::vehicle {
 namespace fs = std::filesystem;
 
 namespace {
@@ -330,4 +330,4 @@ VehicleParams loadVehicleModel(const std::string& model_or_blueprint, const std:
   return params;
 }
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

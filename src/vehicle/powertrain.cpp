@@ -1,9 +1,9 @@
-#include "roar/sim/powertrain.h"
+#include "roar/vehicle/powertrain.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 namespace {
 constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
@@ -132,4 +132,4 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
   return engine_torque * std::abs(r) * gearbox_.efficiency * rolling_direction;
 }
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

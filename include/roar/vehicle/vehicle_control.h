@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 // Driver inputs, the fields and ranges of ROAR_PY's vehicle action spec. Steer is positive to the left.
 struct VehicleControl {
@@ -27,4 +27,4 @@ struct CheckedControl {
 // Non-finite fields reject the whole control (physics never sees them); out-of-range fields are clamped.
 CheckedControl checkControl(const VehicleControl& control, int forward_gears);
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

@@ -3,9 +3,9 @@
 // torque gap while shifting, and kickdown to the strongest gear at full throttle, not back straight after a
 // shift up unless the car has slowed) or manual selection, and
 // open differentials. The clutch is modelled only as slipping below idle, so the car can pull away from rest.
-#include "roar/sim/vehicle_params.h"
+#include "roar/vehicle/vehicle_params.h"
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 struct DriveRequest {
   double throttle = 0.0;
@@ -47,4 +47,4 @@ class Powertrain {
   double rpm_ = 0.0;
 };
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle

@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
-#include "roar/sim/vehicle_params.h"
+#include "roar/vehicle/vehicle_params.h"
 
-namespace roar::sim {
+namespace roar::vehicle {
 
 class VehicleConfigError : public std::runtime_error {
  public:
@@ -40,4 +40,4 @@ VehicleParams loadVehicleModel(const std::string& model_or_blueprint, const std:
 // Throws VehicleConfigError naming the first implausible value.
 void validate(const VehicleParams& params, const std::string& source);
 
-}  // namespace roar::sim
+}  // namespace roar::vehicle
