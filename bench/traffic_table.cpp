@@ -170,7 +170,6 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     options.laps = laps;
     options.field.overtaking = true;
     options.field.overtake = overtake;
-    options.field.follow_gap = overtake.follow_gap;  // the field's own is the one its planner keeps to
     // The racing line the races drive (FieldPlanner plans the same): where passes were won is read on it.
     const auto limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
     const planning::Trajectory line = planning::planRacingTrajectory(track, limits, options.planner);

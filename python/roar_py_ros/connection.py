@@ -14,7 +14,7 @@ import typing
 import rosgraph
 import rospy
 
-from roar_rl.package import package_root  # noqa: F401 - also roar_py_ros.connection.package_root
+from roar_paths import package_root  # noqa: F401 - also roar_py_ros.connection.package_root
 
 SIM = "/roar_sim"
 WAYPOINT_SERVER = "/waypoint_server"

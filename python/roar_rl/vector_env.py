@@ -6,15 +6,16 @@ import numpy as np
 
 from roar_py_interface import spaces
 
+import roar_core
 import roar_rl_core as _core
 
-from .package import package_root
+from roar_paths import package_root
 
 ROOT = package_root()
 
 
 def available_maps() -> typing.List[str]:
-    return sorted(p.name for p in (ROOT / "maps").iterdir() if (p / "track.yaml").exists())
+    return list(roar_core.list_maps(str(ROOT / "maps")))
 
 
 def available_env_options() -> typing.List[str]:
@@ -22,12 +23,10 @@ def available_env_options() -> typing.List[str]:
 
 
 def _map_folder(map_name: str) -> str:
-    if os.path.isdir(map_name):
-        return map_name
-    folder = ROOT / "maps" / map_name
-    if not (folder / "track.yaml").exists():
-        raise ValueError(f"VectorEnv: map_name '{map_name}' is neither a map folder nor one of {available_maps()}")
-    return str(folder)
+    try:
+        return roar_core.resolve_map_folder(str(map_name), str(ROOT / "maps"))
+    except roar_core.MapError as error:
+        raise ValueError(f"VectorEnv: map_name: {error}") from None
 
 
 def _options_path(env_options: str) -> str:

@@ -31,4 +31,12 @@ long long wholeNumberArgument(const std::string& name, const std::string& text, 
   return static_cast<long long>(value);
 }
 
+bool helpRequested(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") return true;
+  }
+  return false;
+}
+
 }  // namespace roar::config

@@ -64,7 +64,7 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   auto& field = o.field;
   field.window_ahead = readDouble(nh, "window_ahead", field.window_ahead, 10.0, 5000.0);
   field.window_behind = readDouble(nh, "window_behind", field.window_behind, 0.0, 100.0);
-  field.follow_gap = readDouble(nh, "follow_gap", field.follow_gap, 5.0, 200.0);
+  field.overtake.follow_gap = readDouble(nh, "follow_gap", field.overtake.follow_gap, 5.0, 200.0);
   o.frame = readMapFrame(nh);
   field.overtaking = readBool(nh, "overtaking", field.overtaking);
   field.overtake.car_length = o.vehicle.chassis.box_size.x();

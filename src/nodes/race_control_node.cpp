@@ -30,6 +30,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
+#include "roar/ros/sim_map_follower.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 
@@ -128,7 +129,6 @@ class RaceControlNode {
  public:
   RaceControlNode(ros::NodeHandle& nh, track::Track track, const RaceControlOptions& options)
       : options_(options),
-        folder_(options.map_folder),
         track_(std::make_unique<track::Track>(std::move(track))),
         race_(std::make_unique<race::RaceControl>(*track_, options.rules, options.vehicles)) {
     status_pub_ = nh.advertise<roar_ros::RaceStatus>("race_status", 10);
@@ -144,7 +144,11 @@ class RaceControlNode {
     // The planner's promise, for the report's speed plots.
     line_sub_ = nh.subscribe<roar_ros::Trajectory>(
         "racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) { onRacingLine(*m); });
-    map_sub_ = nh.subscribe("/roar_sim/map", 1, &RaceControlNode::onSimMap, this);
+    map_follower_ = std::make_unique<ros_bridge::SimMapFollower>(
+        nh, options.map_folder, "race_control",
+        [this](std::unique_ptr<track::Track> track, const roar_ros::MapInfo& info) {
+          onSimMap(std::move(track), info);
+        });
     // A car whose driver died is out of the race (roar_sim stops waiting for it and brings it to a stop).
     lost_sub_ =
         nh.subscribe<std_msgs::String>("/roar_sim/driver_lost", 10, [this](const std_msgs::String::ConstPtr& m) {
@@ -168,16 +172,7 @@ class RaceControlNode {
  private:
   // A map loaded or reloaded at run time ends the race on the old one: its results so far are written
   // (status interrupted) and a new race starts on the new map with the same cars and rules.
-  void onSimMap(const roar_ros::MapInfo& info) {
-    if (info.folder == folder_ && info.generation <= generation_) return;
-    std::unique_ptr<track::Track> track;
-    try {
-      track = std::make_unique<track::Track>(track::loadMapFolder(info.folder));
-    } catch (const std::exception& e) {
-      ROS_ERROR("race_control: roar_sim's map '%s' could not be read (%s); the race goes on on '%s'", info.name.c_str(),
-                e.what(), track_->info().name.c_str());
-      return;
-    }
+  void onSimMap(std::unique_ptr<track::Track> track, const roar_ros::MapInfo& info) {
     ++interruptions_;
     std::printf("race_control: roar_sim %s map '%s' at t = %.2f s: the race on '%s' is interrupted\n",
                 info.reason == "reload" ? "reloaded" : "loaded", info.name.c_str(), info.header.stamp.toSec(),
@@ -191,8 +186,6 @@ class RaceControlNode {
     std::fflush(stdout);
     race_ = std::make_unique<race::RaceControl>(*track, options_.rules, options_.vehicles);
     track_ = std::move(track);  // after: the old race referred to the old track
-    folder_ = info.folder;
-    generation_ = info.generation;
     telemetry_.clear();
     profile_.clear();
     now_ = std::max(now_, info.header.stamp.toSec());
@@ -324,12 +317,11 @@ class RaceControlNode {
   }
 
   RaceControlOptions options_;
-  std::string folder_;
-  uint32_t generation_ = 0;
   int interruptions_ = 0;
   std::unique_ptr<track::Track> track_;
   std::unique_ptr<race::RaceControl> race_;
-  ros::Subscriber map_sub_, lost_sub_;
+  std::unique_ptr<ros_bridge::SimMapFollower> map_follower_;
+  ros::Subscriber lost_sub_;
   ros::WallTime last_message_;
   ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;

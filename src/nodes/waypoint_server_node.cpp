@@ -15,6 +15,7 @@
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/service_refusal.h"
+#include "roar/ros/sim_map_follower.h"
 #include "roar/ros/track_msg_conversion.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
@@ -31,10 +32,10 @@ class WaypointServer {
     using namespace ros_bridge;
     const std::string pkg = packagePath();
     maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
-    folder_ = readMapFolder(pnh, readScenario(pnh));
+    const std::string folder = readMapFolder(pnh, readScenario(pnh));
     frame_ = readMapFrame(pnh);
     grid_ = readInt(pnh, "spawn_points", track::kGridSlots, 1, 1000);
-    track_ = std::make_unique<track::Track>(track::loadMapFolder(folder_));
+    track_ = std::make_unique<track::Track>(track::loadMapFolder(folder));
 
     // Latched: late subscribers (rviz, a planner started later) get the track at once.
     waypoints_pub_ = nh.advertise<roar_ros::WaypointArray>("waypoints", 1, true);
@@ -44,7 +45,10 @@ class WaypointServer {
     publishTrack();
     // The map roar_sim simulates: a map loaded (or reloaded) at run time is served from then on.
     if (readBool(pnh, "follow_sim_map", true)) {
-      map_sub_ = nh.subscribe("/roar_sim/map", 1, &WaypointServer::onSimMap, this);
+      map_follower_ = std::make_unique<SimMapFollower>(
+          nh, folder, "waypoint_server", [this](std::unique_ptr<track::Track> track, const roar_ros::MapInfo& info) {
+            serve(std::move(track), info);
+          });
     }
 
     services_.push_back(pnh.advertiseService("get_waypoints", &WaypointServer::getWaypoints, this));
@@ -68,21 +72,11 @@ class WaypointServer {
     spawn_pub_.publish(spawns);
   }
 
-  void onSimMap(const roar_ros::MapInfo& info) {
-    // The start message of the map we already serve changes nothing; a reload re-reads the files.
-    if (info.folder == folder_ && info.generation <= generation_) return;
-    try {
-      auto track = std::make_unique<track::Track>(track::loadMapFolder(info.folder));
-      track_ = std::move(track);
-      folder_ = info.folder;
-      generation_ = info.generation;
-      publishTrack();
-      ROS_INFO("waypoint_server: now serving '%s' (%s by roar_sim), %zu waypoints, %.0f m", track_->info().name.c_str(),
-               info.reason.c_str(), track_->size(), track_->length());
-    } catch (const std::exception& e) {
-      ROS_ERROR("waypoint_server: roar_sim's map '%s' (%s) could not be read, still serving '%s': %s",
-                info.name.c_str(), info.folder.c_str(), track_->info().name.c_str(), e.what());
-    }
+  void serve(std::unique_ptr<track::Track> track, const roar_ros::MapInfo& info) {
+    track_ = std::move(track);
+    publishTrack();
+    ROS_INFO("waypoint_server: now serving '%s' (%s by roar_sim), %zu waypoints, %.0f m", track_->info().name.c_str(),
+             info.reason.c_str(), track_->size(), track_->length());
   }
 
   bool getWaypoints(roar_ros::GetWaypoints::Request& req, roar_ros::GetWaypoints::Response& res) {
@@ -162,10 +156,9 @@ class WaypointServer {
     return true;
   }
 
-  std::string maps_dir_, folder_, frame_;
+  std::string maps_dir_, frame_;
   int grid_ = track::kGridSlots;
-  uint32_t generation_ = 0;
-  ros::Subscriber map_sub_;
+  std::unique_ptr<ros_bridge::SimMapFollower> map_follower_;
   std::unique_ptr<track::Track> track_;
   ros::Publisher waypoints_pub_, path_pub_, markers_pub_, spawn_pub_;
   std::vector<ros::ServiceServer> services_;

@@ -12,7 +12,6 @@ FieldPlanner::FieldPlanner(const track::Track& track, Trajectory line, const Veh
                            FieldOptions options)
     : line_(std::move(line)), limits_(limits), options_(options) {
   validate(line_);
-  options_.overtake.follow_gap = options_.follow_gap;
   if (options_.overtaking) overtaker_ = std::make_unique<OvertakePlanner>(track, line_, limits_, options_.overtake);
 }
 
@@ -118,7 +117,8 @@ void FieldPlanner::followCarAhead(const std::string& car, const Place& place, Tr
   }
   *decision = RaceDecision{};
   if (leader) {
-    followBehind(window, place.on_line.s, place.on_line.s + nearest, leader->speed, options_.follow_gap, limits_);
+    followBehind(window, place.on_line.s, place.on_line.s + nearest, leader->speed, options_.overtake.follow_gap,
+                 limits_);
     decision->mode = RaceMode::kFollow;
     decision->other = *leader_name;
   }

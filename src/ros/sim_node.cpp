@@ -146,12 +146,6 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
   return p;
 }
 
-std::string SimNode::sensorSetPath(const std::string& set) const {
-  return set.find('/') != std::string::npos || set.find(".yaml") != std::string::npos
-             ? set
-             : options_.sensors_dir + "/" + set + ".yaml";
-}
-
 void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
                          const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env,
                          int spawn_point, sim::Placement placement) {
@@ -165,7 +159,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
       track_->info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
-    for (const auto& spec : sensors::readSensorSet(sensorSetPath(sensor_set)))
+    for (const auto& spec : sensors::readSensorSet(sensors::resolveSensorSet(sensor_set, options_.sensors_dir)))
       vehicle_sensors->attach(spec, world_->time());
   }
   std::unique_ptr<AgentInterface> agent;

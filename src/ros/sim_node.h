@@ -95,7 +95,6 @@ class SimNode {
   void markDisconnectedDrivers();
   // Warns once, naming the car, and tells race control (~driver_lost, the car's name).
   void driverLost(const std::string& name, VehicleIo& io, const std::string& why);
-  std::string sensorSetPath(const std::string& set) const;
   void publishStaticTransforms();
   // Builds the world of a map folder (every car gone), from the current tick and time on, and tells
   // every node on /roar_sim/map.

@@ -1,6 +1,7 @@
 #include "roar/sensors/sensor_spec.h"
 
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -295,6 +296,13 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
     }
   }
   return out;
+}
+
+std::string resolveSensorSet(const std::string& name_or_path, const std::string& sensors_dir) {
+  const bool path = name_or_path.find('/') != std::string::npos ||
+                    (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".yaml") == 0) ||
+                    std::filesystem::is_regular_file(name_or_path);
+  return path ? name_or_path : sensors_dir + "/" + name_or_path + ".yaml";
 }
 
 std::vector<SensorSpec> readSensorSet(const std::string& path) {

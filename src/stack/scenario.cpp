@@ -126,8 +126,7 @@ std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& fie
       fail(where + ".model", e.what());
     }
     if (!car.sensors.empty()) {
-      const std::string set =
-          fs::is_regular_file(car.sensors) ? car.sensors : context.sensors_dir + "/" + car.sensors + ".yaml";
+      const std::string set = sensors::resolveSensorSet(car.sensors, context.sensors_dir);
       if (!fs::is_regular_file(set))
         fail(where + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
       try {

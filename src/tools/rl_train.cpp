@@ -45,13 +45,14 @@ struct Args {
   rl::EvolutionOptions es;
 };
 
-int usage() {
-  std::cerr << "usage: rl_train [--map NAME] [--env FILE.yaml] [--model NAME] [--out DIR] [--minutes M]\n"
-               "                [--generations N] [--threads N] [--seed N] [--directions N] [--sigma S]\n"
-               "                [--learning-rate R] [--hidden N[,N...]] [--episodes N] [--episode-seconds S]\n"
-               "                [--eval-every N] [--no-compare]\n"
-               "  Trains a policy for MAP (default roar_sprint) within M minutes (default 15) of wall time.\n";
-  return 2;
+// On `out`; returns the exit status: 0 when asked for, 2 after a wrong command line.
+int usage(std::ostream& out = std::cerr) {
+  out << "usage: rl_train [--map NAME] [--env FILE.yaml] [--model NAME] [--out DIR] [--minutes M]\n"
+         "                [--generations N] [--threads N] [--seed N] [--directions N] [--sigma S]\n"
+         "                [--learning-rate R] [--hidden N[,N...]] [--episodes N] [--episode-seconds S]\n"
+         "                [--eval-every N] [--no-compare]\n"
+         "  Trains a policy for MAP (default roar_sprint) within M minutes (default 15) of wall time.\n";
+  return &out == &std::cout ? 0 : 2;
 }
 
 std::vector<int> parseHidden(const std::string& text) {
@@ -150,6 +151,7 @@ LapTest driveLaps(rl::RacingEnv& env, const rl::MlpPolicy& policy) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (config::helpRequested(argc, argv)) return usage(std::cout);
   std::optional<Args> parsed;
   try {
     parsed = parse(argc, argv);

@@ -20,9 +20,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int usage() {
-  std::cerr
-      << "usage: track_tool COMMAND ...\n"
+// On `out`; returns the exit status: 0 when asked for, 2 after a wrong command line.
+int usage(std::ostream& out = std::cerr) {
+  out << "usage: track_tool COMMAND ...\n"
          "  import SOURCE MAP_FOLDER [--name NAME] [--spacing M] [--width M] [--close-gap]\n"
          "         [--point-to-point [--start M] [--finish M]]\n"
          "      SOURCE: a TUMFTM centre-line CSV (x_m,y_m,w_tr_right_m,w_tr_left_m), a ROAR_PY waypoint file (.npz),\n"
@@ -37,7 +37,7 @@ int usage() {
          "      (import and build raise one branch onto a bridge where the course crosses itself)\n"
          "  check MAP_FOLDER                          validates; prints length, widths, the tightest corner\n"
          "  preview MAP_FOLDER OUT.png                top-down picture with start/finish and sector lines\n";
-  return 2;
+  return &out == &std::cout ? 0 : 2;
 }
 
 // --flag value pairs after the positional arguments.
@@ -156,6 +156,7 @@ int importCourse(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (roar::config::helpRequested(argc, argv)) return usage(std::cout);
   if (argc < 3) return usage();
   const std::string cmd = argv[1];
   try {

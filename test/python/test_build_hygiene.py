@@ -5,6 +5,7 @@ import glob
 import os
 import re
 import subprocess
+import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -93,3 +94,12 @@ def test_the_stack_libraries_neither_link_nor_include_the_simulator():
                 with open(path) as f:
                     included = re.findall(r'#include "roar/(sim|sensors)/', f.read())
                 assert not included, f"{os.path.relpath(path, REPO)} includes the simulator's headers"
+
+
+def test_the_roar_py_modules_do_not_pull_in_the_rl_extension():
+    # roar_py_ros found the package through roar_rl; roar_paths is the one answer of where it is.
+    out = subprocess.run([sys.executable, "-c", "import sys, roar_py_ros, roar_py_remote; "
+                          "print(sorted(m for m in sys.modules if m.split('.')[0] in ('roar_rl', 'roar_rl_core', 'torch')))"],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]"

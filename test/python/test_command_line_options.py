@@ -114,3 +114,36 @@ def test_an_unknown_field_is_refused_not_aborted_on():
     done = run("--field=reverse")  # once an uncaught exception: abort, exit 134
     assert done.returncode == 2, (done.returncode, done.stderr)
     assert "--field=reverse: expected pace_car, reverse_grid or five_percent" in done.stderr, done.stderr
+
+
+def test_every_tool_and_script_says_its_usage_on_help_and_exits_0():
+    lib = os.path.join(REPO, "devel", "lib", "roar_ros")
+    commands = [[os.path.join(lib, "track_tool"), "--help"], [os.path.join(lib, "rl_train"), "--help"],
+                [BENCH, "--help"], ["bash", os.path.join(REPO, "scripts", "race"), "--help"],
+                ["bash", os.path.join(REPO, "scripts", "play_race"), "--help"],
+                [os.path.join(REPO, "scripts", "race_rviz"), "--help"]]
+    commands += [["/usr/bin/python3", os.path.join(REPO, "scripts", name), "--help"]
+                 for name in ("roar_py_competition.py", "roar_rl_ppo.py", "rl_random_agent.py")]
+    for command in commands:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        assert done.returncode == 0, (command, done.stderr)
+        assert "usage" in (done.stdout + done.stderr).lower() or len(done.stdout.splitlines()) >= 2, command
+
+
+def test_race_rviz_reads_a_scenarios_cars_as_the_nodes_do(tmp_path):
+    # Bare names are cars as stack::readCars reads them (race_rviz once read c["name"] itself and failed).
+    scenario = tmp_path / "bare.yaml"
+    scenario.write_text("map: roar_ring\nlaps: 1\ncars: [ego, {name: rival, sensors: default}]\n")
+    out = tmp_path / "bare.rviz"
+    done = subprocess.run([os.path.join(REPO, "scripts", "race_rviz"), str(scenario), "--output", str(out)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    text = out.read_text()
+    assert text.count("rviz/RobotModel") == 2 and "ego/robot_description" in text and "rival/robot_description" in text
+    done = subprocess.run([os.path.join(REPO, "scripts", "race_rviz"), str(scenario), "--follow", "nobody",
+                           "--output", str(out)], capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0 and "no such car" in done.stderr
+    scenario.write_text("map: roar_ring\ncars: [{name: ego, sensors: no_such_set}]\n")
+    done = subprocess.run([os.path.join(REPO, "scripts", "race_rviz"), str(scenario), "--output", str(out)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0 and "cars[0].sensors" in done.stderr and "no_such_set" in done.stderr, done.stderr

@@ -89,7 +89,7 @@ TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
   EXPECT_EQ(field.decision("ego").mode, RaceMode::kFollow);
   EXPECT_EQ(field.decision("ego").other, "slow");
   // No faster than the car followed once at the gap behind it.
-  EXPECT_LE(planning::sampleAt(window, s + 30.0 - field.options().follow_gap + 3.5).speed, 10.0 + 1e-6);
+  EXPECT_LE(planning::sampleAt(window, s + 30.0 - field.options().overtake.follow_gap + 3.5).speed, 10.0 + 1e-6);
   // The car in front has nobody ahead within the window: the racing line.
   field.window("slow");
   EXPECT_EQ(field.decision("slow").mode, RaceMode::kRacingLine);

@@ -18,4 +18,8 @@ double numberArgument(const std::string& name, const std::string& text);
 long long wholeNumberArgument(const std::string& name, const std::string& text, long long low,
                               long long high = INT_MAX);
 
+// Whether a command line asks for help (--help or -h anywhere): the tools then print their usage on
+// standard output and exit 0.
+bool helpRequested(int argc, char** argv);
+
 }  // namespace roar::config

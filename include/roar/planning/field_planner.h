@@ -25,10 +25,9 @@ struct FieldOptions {
   // pass on a straight could show no gain; doc/traffic_history.md).
   double window_ahead = 400.0;
   double window_behind = 10.0;  // m behind it
-  double follow_gap = 12.0;     // m kept behind a car ahead on the line (centre to centre)
   double follow_lateral = 3.5;  // m: without overtaking, a car this close to the line is in the way
   bool overtaking = true;       // true: pass slower cars (OvertakePlanner); false: follow them
-  OvertakeOptions overtake;     // its follow_gap is taken from follow_gap above
+  OvertakeOptions overtake;     // its follow_gap is kept behind a car ahead, overtaking or not
 };
 
 class FieldPlanner {

@@ -126,6 +126,10 @@ class SensorSpecError : public std::runtime_error {
 SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source);
 // A sensor set file: `sensors: [ ... ]`; names must be unique.
 std::vector<SensorSpec> readSensorSet(const std::string& path);
+// The file of a sensor set: a file's path as it is (a path with a '/' or ending in .yaml, or a file that
+// exists), else the set of that name in sensors_dir. The one reading of a set's name, roar_sim's, a
+// scenario's and scripts/race_rviz's.
+std::string resolveSensorSet(const std::string& name_or_path, const std::string& sensors_dir);
 std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source);
 // Range checks of one spec (physical ranges, and what one core can render); throws SensorSpecError naming
 // the sensor, the field, the value and the range.

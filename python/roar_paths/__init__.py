@@ -1,4 +1,5 @@
-"""Where the roar_ros package is (its maps, configs, launch files), for the Python modules."""
+"""Where the roar_ros package is (its maps, configs, launch files): the one answer every Python module of
+roar_ros takes, with or without ROS."""
 from pathlib import Path
 
 
