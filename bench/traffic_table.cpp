@@ -1,5 +1,7 @@
 #include "traffic_table.h"
 
+#include "roar/planning/overtaking/option_table.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,7 +14,7 @@
 
 #include "roar/config/number.h"
 #include "roar/config/yaml_section.h"
-#include "roar/planning/overtaking.h"
+#include "roar/planning/overtaking/planner.h"
 #include "roar/stack/pass_place.h"
 #include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
@@ -178,10 +180,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       // Where a car on the racing line leaves a lane beside it long enough for the reverse grid's passes:
       // its pace step of speed gained, two car lengths and margins to go by in.
       planning::OvertakeOptions sized = overtake;
-      sized.car_length = vehicle.chassis.box_size.x();
-      sized.car_width = vehicle.chassis.box_size.y();
+      sized.car.length = vehicle.chassis.box_size.x();
+      sized.car.width = vehicle.chassis.box_size.y();
       const planning::OvertakePlanner planner(track, line, limits, sized);
-      const double run = 2.0 * (sized.car_length + sized.longitudinal_margin) / table.pace_step;
+      const double run = 2.0 * (sized.car.length + sized.margins.longitudinal) / table.pace_step;
       char room[200];
       std::snprintf(room, sizeof room, "%-14s %4.0f m: left %3.0f%%, right %3.0f%% of the lap", map.c_str(), run,
                     100.0 * planner.laneShare(+1, run), 100.0 * planner.laneShare(-1, run));
@@ -334,69 +336,10 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
   return all.contacts;
 }
 
-void setOvertakeOption(planning::OvertakeOptions* o, const std::string& assignment) {
+void setOvertakeOption(planning::OvertakeOptions* options, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos) throw std::invalid_argument("--overtake " + assignment + ": expected name=value");
-  const std::string name = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  // Every OvertakeOptions field (the slipstream's as slipstream.<field>); integers and flags as numbers.
-  const std::string option = "--overtake " + name;
-  using Setter = std::function<void()>;
-  auto number = [&](double* field) -> Setter { return [=] { *field = config::numberArgument(option, text); }; };
-  auto count = [&](int* field) -> Setter {
-    return [=] { *field = static_cast<int>(config::wholeNumberArgument(option, text, 0)); };
-  };
-  auto flag = [&](bool* field) -> Setter { return [=] { *field = config::numberArgument(option, text) != 0.0; }; };
-  // Not car_length nor car_width: a race sizes its cars from the vehicle's body, and would quietly ignore them.
-  const std::map<std::string, Setter> setters = {{"lateral_margin", number(&o->lateral_margin)},
-                                                 {"longitudinal_margin", number(&o->longitudinal_margin)},
-                                                 {"edge_margin", number(&o->edge_margin)},
-                                                 {"horizon", number(&o->horizon)},
-                                                 {"shift_time", number(&o->shift_time)},
-                                                 {"min_shift_length", number(&o->min_shift_length)},
-                                                 {"min_gain", number(&o->min_gain)},
-                                                 {"follow_gap", number(&o->follow_gap)},
-                                                 {"sample_step", number(&o->sample_step)},
-                                                 {"engage_time", number(&o->engage_time)},
-                                                 {"min_pass_speed", number(&o->min_pass_speed)},
-                                                 {"stall_time", number(&o->stall_time)},
-                                                 {"abort_time", number(&o->abort_time)},
-                                                 {"plan_period", number(&o->plan_period)},
-                                                 {"guard_lateral", number(&o->guard_lateral)},
-                                                 {"guard_time", number(&o->guard_time)},
-                                                 {"guard_predicted", flag(&o->guard_predicted)},
-                                                 {"max_pass_offset", number(&o->max_pass_offset)},
-                                                 {"offline_grip", number(&o->offline_grip)},
-                                                 {"settle_grip", number(&o->settle_grip)},
-                                                 {"lateral_lookahead", number(&o->lateral_lookahead)},
-                                                 {"plan_trust", number(&o->plan_trust)},
-                                                 {"rejoin_time", number(&o->rejoin_time)},
-                                                 {"blue_flag_time", number(&o->blue_flag_time)},
-                                                 {"defend_time", number(&o->defend_time)},
-                                                 {"defend_shift", number(&o->defend_shift)},
-                                                 {"defend_hold", number(&o->defend_hold)},
-                                                 {"slipstream.max_reduction", number(&o->slipstream.max_reduction)},
-                                                 {"slipstream.decay_length", number(&o->slipstream.decay_length)},
-                                                 {"slipstream.spread_growth", number(&o->slipstream.spread_growth)},
-                                                 {"slipstream.max_gap", number(&o->slipstream.max_gap)},
-                                                 {"slipstream.min_speed", number(&o->slipstream.min_speed)},
-                                                 {"abort_plans", count(&o->abort_plans)},
-                                                 {"retry_plans", count(&o->retry_plans)},
-                                                 {"blue_flags", flag(&o->blue_flags)},
-                                                 {"defend", flag(&o->defend)},
-                                                 {"slipstream.enabled", flag(&o->slipstream.enabled)}};
-  const auto it = setters.find(name);
-  if (it == setters.end()) {
-    std::vector<std::string> known;
-    std::string list;
-    for (const auto& [key, setter] : setters) {
-      known.push_back(key);
-      list += (list.empty() ? "" : ", ") + key;
-    }
-    const std::string near = config::nearestKey(name, known);
-    throw std::invalid_argument("--overtake: no option '" + name + "'" +
-                                (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; options: " + list);
-  }
-  it->second();
+  planning::setOvertakeOption(options, assignment.substr(0, eq), assignment.substr(eq + 1), "--overtake");
 }
 
 }  // namespace roar::bench

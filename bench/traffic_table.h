@@ -2,7 +2,7 @@
 // roar_bench --traffic: races of the stack's cars in traffic on every shipped circuit (stack::runRace).
 #include <string>
 
-#include "roar/planning/overtaking.h"
+#include "roar/planning/overtaking/planner.h"
 
 namespace roar::bench {
 
@@ -23,7 +23,8 @@ constexpr double kMinPaceStep = 0.01, kMaxPaceStep = 0.15;
 int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, const std::string& vehicle_config_dir,
                       const TrafficTableOptions& options);
 
-// Sets one OvertakeOptions field from "name=value" (roar_bench --overtake); throws std::invalid_argument.
+// Sets one option of planning::overtakeOptionTable from "<group>.<name>=value" (roar_bench --overtake); throws
+// std::invalid_argument.
 void setOvertakeOption(planning::OvertakeOptions* options, const std::string& assignment);
 
 }  // namespace roar::bench

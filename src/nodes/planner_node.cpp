@@ -9,13 +9,16 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
 #include <map>
 #include <memory>
+#include <variant>
 
 #include "roar/planning/field_planner.h"
+#include "roar/planning/overtaking/option_table.h"
 #include "roar/planning/tick_gathering.h"
 #include "roar/planning/trajectory.h"
 #include "roar/ros/frames.h"
@@ -41,6 +44,23 @@ struct PlannerNodeOptions {
   double tick_wait = 0.25;  // s of wall time a tick waits for every car's odometry (planning::TickGathering)
 };
 
+// ~<group>/<name> for every entry of planning::overtakeOptionTable, in the range the table gives.
+void readOvertakeOptions(const ros::NodeHandle& nh, planning::OvertakeOptions* overtake) {
+  using namespace ros_bridge;
+  for (const auto& entry : planning::overtakeOptionTable(overtake)) {
+    std::string param = entry.name;
+    std::replace(param.begin(), param.end(), '.', '/');
+    if (auto* value = std::get_if<double*>(&entry.field)) {
+      **value = readDouble(nh, param, **value, entry.low, entry.high);
+    } else if (auto* count = std::get_if<int*>(&entry.field)) {
+      **count = readInt(nh, param, **count, static_cast<int>(entry.low), static_cast<int>(entry.high));
+    } else {
+      bool* flag = std::get<bool*>(entry.field);
+      *flag = readBool(nh, param, *flag);
+    }
+  }
+}
+
 PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   PlannerNodeOptions o;
@@ -64,18 +84,12 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   auto& field = o.field;
   field.window_ahead = readDouble(nh, "window_ahead", field.window_ahead, 10.0, 5000.0);
   field.window_behind = readDouble(nh, "window_behind", field.window_behind, 0.0, 100.0);
-  field.overtake.follow_gap = readDouble(nh, "follow_gap", field.overtake.follow_gap, 5.0, 200.0);
   o.frame = readMapFrame(nh);
   field.overtaking = readBool(nh, "overtaking", field.overtaking);
-  field.overtake.car_length = o.vehicle.chassis.box_size.x();
-  field.overtake.car_width = o.vehicle.chassis.box_size.y();
-  field.overtake.lateral_margin = readDouble(nh, "pass_lateral_margin", field.overtake.lateral_margin, 0.2, 5.0);
-  field.overtake.horizon = readDouble(nh, "pass_horizon", field.overtake.horizon, 1.0, 20.0);
-  field.overtake.abort_time = readDouble(nh, "pass_abort_time", field.overtake.abort_time, 0.3, 20.0);
-  field.overtake.blue_flags = readBool(nh, "blue_flags", field.overtake.blue_flags);
-  field.overtake.defend = readBool(nh, "defend", field.overtake.defend);
-  field.overtake.guard_predicted = readBool(nh, "guard_predicted", field.overtake.guard_predicted);
-  field.overtake.keep_predictions = true;  // for /<vehicle>/manoeuvre
+  field.overtake.car.length = o.vehicle.chassis.box_size.x();
+  field.overtake.car.width = o.vehicle.chassis.box_size.y();
+  readOvertakeOptions(nh, &field.overtake);
+  field.overtake.prediction.keep = true;  // for /<vehicle>/manoeuvre
   o.tick_wait = readDouble(nh, "tick_wait", o.tick_wait, 0.0, 60.0);
   return o;
 }

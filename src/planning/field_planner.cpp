@@ -117,8 +117,8 @@ void FieldPlanner::followCarAhead(const std::string& car, const Place& place, Tr
   }
   *decision = RaceDecision{};
   if (leader) {
-    followBehind(window, place.on_line.s, place.on_line.s + nearest, leader->speed, options_.overtake.follow_gap,
-                 limits_);
+    followBehind(window, place.on_line.s, place.on_line.s + nearest, leader->speed,
+                 options_.overtake.margins.follow_gap, limits_);
     decision->mode = RaceMode::kFollow;
     decision->other = *leader_name;
   }

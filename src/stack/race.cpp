@@ -93,8 +93,8 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
   checkCars(cars);
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
   planning::FieldOptions field_options = options.field;
-  field_options.overtake.car_length = vehicle.chassis.box_size.x();
-  field_options.overtake.car_width = vehicle.chassis.box_size.y();
+  field_options.overtake.car.length = vehicle.chassis.box_size.x();
+  field_options.overtake.car.width = vehicle.chassis.box_size.y();
   planning::FieldPlanner field(track, planning::planRacingTrajectory(track, limits, options.planner), limits,
                                field_options);
   const planning::Trajectory& line = field.line();

@@ -94,8 +94,8 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
       floored_since_upshift_ = true;
     } else {
       // Kickdown: floored, the gearbox drops straight to the gear that pulls hardest instead of lugging the
-      // one it came into the corner with. Not when lifting as well: measured, shifting down off the throttle
-      // mid-corner (engine braking jumps) unsettles the car: Stanley hit the barrier 76 times on Sprint.
+      // one it came into the corner with. Not when lifting as well: shifting down off the throttle
+      // mid-corner makes engine braking jump and unsettles the car.
       const bool holding = since_upshift_ < kKickdownHoldTime && floored_since_upshift_ &&
                            wheel_rpm > (1.0 - kKickdownHoldLoss) * upshift_wheel_rpm_;
       if (gearbox_.kickdown && throttle >= kKickdownThrottle && !holding) {

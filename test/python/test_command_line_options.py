@@ -1,5 +1,5 @@
-"""Options typed on a command line: roar_bench --overtake=name=value sets every OvertakeOptions field (the
-README says any) and refuses a misspelt name or a bad value with the option named, before any race runs;
+"""Options typed on a command line: roar_bench --overtake=<group>.<name>=value sets every option of
+planning::overtakeOptionTable and refuses a misspelt name or a bad value with the option named, before any race runs;
 roar_bench's, track_tool's and rl_train's numbers are refused with trailing junk ("--spacing 2x" was read
 as 2), naming the option."""
 import os
@@ -16,17 +16,17 @@ def run(*args):
 
 
 def test_a_misspelt_option_is_refused_with_the_nearest_name():
-    done = run("--overtake=stall_tme=6")
+    done = run("--overtake=passing.stall_tme=6")
     assert done.returncode == 2, done.stdout + done.stderr
-    assert "no option 'stall_tme' (did you mean 'stall_time'?)" in done.stderr, done.stderr
+    assert "no option 'passing.stall_tme' (did you mean 'passing.stall_time'?)" in done.stderr, done.stderr
     assert "Traffic:" not in done.stdout  # nothing ran
 
 
 def test_a_value_that_is_not_a_number_is_refused():
-    done = run("--overtake=guard_time=0.2s")
-    assert done.returncode == 2 and "--overtake guard_time '0.2s' is not a number" in done.stderr, done.stderr
-    done = run("--overtake=retry_plans=2.5")
-    assert done.returncode == 2 and "--overtake retry_plans '2.5' is not a whole number" in done.stderr, done.stderr
+    done = run("--overtake=guard.time=0.2s")
+    assert done.returncode == 2 and "--overtake guard.time '0.2s' is not a number" in done.stderr, done.stderr
+    done = run("--overtake=passing.retry_plans=2.5")
+    assert done.returncode == 2 and "--overtake passing.retry_plans '2.5' is not a whole number" in done.stderr, done.stderr
     # roar_bench's own options likewise (--seeds=0 used to become 1, --seeds=3x 3)
     for bad, said in (("--seeds=3x", "--seeds '3x' is not a whole number of at least 1"),
                       ("--seeds=0", "--seeds '0' is not a whole number of at least 1"),
@@ -40,22 +40,29 @@ def test_a_value_that_is_not_a_number_is_refused():
 def test_fields_beyond_the_first_ones_and_the_slipstreams_are_settable():
     # One short race: Roar Sprint, the two-car field, one seed, one lap.
     done = run("--map=roar_sprint", "--field=five_percent", "--seeds=1", "--traffic-laps=1",
-               "--overtake=stall_time=6", "--overtake=follow_gap=10", "--overtake=slipstream.enabled=0")
+               "--overtake=passing.stall_time=6", "--overtake=margins.follow_gap=10", "--overtake=slipstream.enabled=0")
     assert done.returncode == 0, done.stdout + done.stderr
     assert "roar_sprint    five_percent      1" in done.stdout, done.stdout
 
 
 def test_the_follow_gap_set_is_the_one_raced_to_and_the_cars_size_is_the_vehicles():
-    # The field's planner keeps to the field's follow gap: --overtake=follow_gap was once taken and ignored.
+    # The field's planner keeps to the follow gap the planner's options set.
     def table_row(gap):
         done = run("--map=roar_sprint", "--field=pace_car", "--seeds=1", "--traffic-laps=1",
-                   f"--overtake=follow_gap={gap}")
+                   f"--overtake=margins.follow_gap={gap}")
         assert done.returncode == 0, done.stdout + done.stderr
         return [line for line in done.stdout.splitlines() if line.startswith("roar_sprint    pace_car")]
     assert table_row(12) != table_row(40)
-    for size in ("car_length", "car_width"):
+    for size in ("car.length", "car.width"):
         done = run(f"--overtake={size}=3")
         assert done.returncode == 2 and f"no option '{size}'" in done.stderr, done.stderr
+
+
+def test_a_value_outside_the_options_range_is_refused_with_the_range():
+    done = run("--overtake=margins.lateral=9")
+    assert done.returncode == 2 and "--overtake margins.lateral 9 is outside [0.2, 5]" in done.stderr, done.stderr
+    done = run("--overtake=defence.enabled=2")
+    assert done.returncode == 2 and "--overtake defence.enabled '2' is not 0 or 1" in done.stderr, done.stderr
 
 
 def test_track_tool_refuses_a_spacing_that_is_not_a_number(tmp_path):

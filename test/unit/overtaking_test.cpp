@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "roar/planning/field_planner.h"
-#include "roar/planning/overtaking.h"
+#include "roar/planning/overtaking/planner.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
 
@@ -102,7 +102,7 @@ TEST(Overtaking, AMoveBackOntoTheLineEndsExactlyOnItEvenAtTheApexes) {
     for (const auto& p : plan.points) {
       if (p.s < s + 160.0) continue;  // past the move (2.5 s at the line's top speed on Roar Sprint)
       const auto on_line = planning::sampleAt(f.line, p.s);
-      const bool apex = std::min(planner.roomLeft(p.s), planner.roomRight(p.s)) < 0.5 * o.car_width + o.edge_margin;
+      const bool apex = std::min(planner.roomLeft(p.s), planner.roomRight(p.s)) < 0.5 * o.car.width + o.margins.edge;
       apexes += apex;
       ++checked;
       ASSERT_NEAR(p.offset, on_line.offset, 1e-6) << "s = " << p.s << (apex ? " (an apex)" : "");
@@ -124,7 +124,7 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
   ASSERT_EQ(decision.mode, RaceMode::kPass) << planning::raceModeName(decision.mode);
   EXPECT_EQ(decision.other, "slow");
   const planning::OvertakeOptions o;
-  const double half = 0.5 * o.car_width;
+  const double half = 0.5 * o.car.width;
   for (const auto& p : plan.points) {
     const double shift = p.offset - planning::sampleAt(f.line, p.s).offset;
     EXPECT_LE(shift, planner.roomLeft(p.s) - half + 1e-6) << "inside the left edge at s = " << p.s;
@@ -132,7 +132,7 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
   }
   // Where the pass happens (the slow car reached in about 3 s), the plan is a car's width and the margin aside.
   const auto at = planning::sampleAt(plan, s + 80.0);
-  EXPECT_GE(std::abs(at.offset - planning::sampleAt(f.line, s + 80.0).offset), o.car_width + o.lateral_margin - 1e-6);
+  EXPECT_GE(std::abs(at.offset - planning::sampleAt(f.line, s + 80.0).offset), o.car.width + o.margins.lateral - 1e-6);
 }
 
 // offline_grip is for moving across the line: a pass that holds a steady offset through a corner is a line
@@ -140,9 +140,9 @@ TEST(Overtaking, ASlowCarAheadIsPassedWithRoomToSpareInsideTheRoad) {
 TEST(Overtaking, APassHasAllTheGripWhereItHoldsASteadyOffsetAndLessWhereItMovesAcross) {
   auto& f = fixture();
   planning::OvertakeOptions o;
-  o.offline_grip = 0.8;  // far enough below the whole grip for the two to differ by more than 0.5 m/s
+  o.moves.offline_grip = 0.8;  // far enough below the whole grip for the two to differ by more than 0.5 m/s
   planning::VehicleLimits offline = f.limits;
-  offline.friction *= o.offline_grip;
+  offline.friction *= o.moves.offline_grip;
   int steady_above_offline = 0, moving_checked = 0, passes = 0;
   for (double s = 0.0; s < f.line.length; s += 20.0) {
     planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
@@ -178,7 +178,7 @@ TEST(Overtaking, APassBegunWhereTheLineRunsAlongTheEdgeIsAsFastAsTheLine) {
   auto& f = wideFixture();
   const planning::OvertakeOptions o;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
-  const double half = 0.5 * o.car_width + o.edge_margin;  // how near the edge a pass comes
+  const double half = 0.5 * o.car.width + o.margins.edge;  // how near the edge a pass comes
   const double top = std::max_element(f.line.points.begin(), f.line.points.end(), [](const auto& a, const auto& b) {
                        return a.speed < b.speed;
                      })->speed;
@@ -222,7 +222,7 @@ TEST(Overtaking, APassPullingOutFromBehindASlowCarMovesAcrossInShiftTimeAtItsOwn
   const auto pass = planner.decision("ego");
   ASSERT_EQ(pass.mode, RaceMode::kPass) << planning::describe(pass);
   // The move is a car's width and air across: shift_time at the car's speed on, it is there.
-  const double across = o.shift_time * v;
+  const double across = o.moves.shift_time * v;
   EXPECT_NEAR(shiftAt(f.line, window, pass.ramp_s + across), pass.offset, 0.1)
       << "the move still under way " << across << " m on";
   // A car at or above the line's speed moves over as it always did: in shift_time at the line's speed.
@@ -242,7 +242,7 @@ namespace {
 // the most it uses anywhere) with room for a lane `lane` m outside the line for 100 m.
 std::vector<double> fastCurvesWithRoomOutside(const Fixture& f, double lane, std::size_t count) {
   const planning::OvertakeOptions o;
-  const double half = 0.5 * o.car_width + o.edge_margin;
+  const double half = 0.5 * o.car.width + o.margins.edge;
   const planning::OvertakePlanner road(f.track, f.line, f.limits, o);
   double most = 0.0;
   for (const auto& p : f.line.points) most = std::max(most, p.speed * p.speed * std::abs(p.curvature));
@@ -390,7 +390,7 @@ TEST(Overtaking, APassIsBegunOnlyIfItDrawsAlongsideWithinTheHorizon) {
 TEST(Overtaking, APassIsBegunOnlyWhereItsLaneStaysOpenUntilItIsDone) {
   auto& f = fixture();
   const planning::OvertakeOptions o;
-  const double L = f.line.length, level = o.car_length + o.longitudinal_margin, dt = 0.05;
+  const double L = f.line.length, level = o.car.length + o.margins.longitudinal, dt = 0.05;
   int begun = 0, got_by = 0;
   for (double start = 0.0; start < L; start += 25.0) {
     planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
@@ -426,7 +426,7 @@ TEST(Overtaking, APassAlongsideIsGivenUpOnlyForAConflictWithinTheAbortTime) {
   // `seconds_ahead` on at ego's speed. The decision a few plans later (more than abort_plans).
   auto decisionAfterSeeingIt = [&](double abort_time, double seconds_ahead) {
     planning::OvertakeOptions o;
-    o.abort_time = abort_time;
+    o.passing.abort_time = abort_time;
     planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
     double s = straightStart(f.line) - 200.0, lateral = 0.0, v = 0.8 * planning::sampleAt(f.line, s).speed;
     double slow_s = s + 20.0, stopped_s = 0.0;
@@ -445,7 +445,7 @@ TEST(Overtaking, APassAlongsideIsGivenUpOnlyForAConflictWithinTheAbortTime) {
           traffic.push_back({"stopped" + std::to_string(across), stopped_s, across, 0.0});
       }
       const auto plan = planner.plan("ego", s, lateral, v, traffic, 10.0, 250.0);
-      if (plans_seeing_it > 0 && ++plans_seeing_it > o.abort_plans + 2) return planner.decision("ego");
+      if (plans_seeing_it > 0 && ++plans_seeing_it > o.passing.abort_plans + 2) return planner.decision("ego");
       v = std::min(planning::sampleAt(plan, s).speed, v + 8.0 * dt);
       s += v * dt;
       lateral = shiftAt(f.line, plan, s);
@@ -494,7 +494,7 @@ TEST(Overtaking, ThePredictedGuardLetsACarCloseUpOnTheCarAheadAsItGoesOn) {
   const double v = planning::sampleAt(f.line, s).speed;
   auto speedAhead = [&](bool predicted, double metres) {
     planning::OvertakeOptions options;
-    options.guard_predicted = predicted;
+    options.guard.predicted = predicted;
     planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
     const auto window = planner.plan("ego", s, 0.0, v, {{"slow", s + 30.0, 0.0, 0.95 * v, 0.95}}, 10.0, 250.0);
     EXPECT_NE(planner.decision("ego").mode, RaceMode::kPass) << planning::describe(planner.decision("ego"));
@@ -502,7 +502,7 @@ TEST(Overtaking, ThePredictedGuardLetsACarCloseUpOnTheCarAheadAsItGoesOn) {
   };
   // The guard's gap at this speed: a car's length, the margin and guard_time at speed.
   const planning::OvertakeOptions defaults;
-  const double gap = defaults.car_length + defaults.longitudinal_margin + defaults.guard_time * v;
+  const double gap = defaults.car.length + defaults.margins.longitudinal + defaults.guard.time * v;
   ASSERT_LT(gap, 30.0);
   const double beyond = 30.0 - gap + 5.0;  // past the gap behind where the car ahead is now
   const double held_now = speedAhead(false, beyond), predicted = speedAhead(true, beyond);
@@ -518,8 +518,8 @@ TEST(Overtaking, LanesBesideTheRacingLineAreMeasuredInTheRoadsTerms) {
   auto& f = fixture();
   const planning::OvertakeOptions options;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
-  const double need = 1.5 * options.car_width + options.lateral_margin + options.edge_margin;
-  const double five_percent_pass = 2.0 * (options.car_length + options.longitudinal_margin) / 0.05;
+  const double need = 1.5 * options.car.width + options.margins.lateral + options.margins.edge;
+  const double five_percent_pass = 2.0 * (options.car.length + options.margins.longitudinal) / 0.05;
   for (int side : {+1, -1}) {
     auto room = [&](double s) { return side > 0 ? planner.roomLeft(s) : planner.roomRight(s); };
     // Any lane at all: the share of the lap with room, sampled here every metre.
@@ -543,7 +543,7 @@ TEST(Overtaking, ACarHeldToASpeedIsPredictedNoFasterOutOfASlowCorner) {
                                   [](const auto& a, const auto& b) { return a.speed < b.speed; });
   const double s = slowest->s, v = slowest->speed;
   planning::OvertakeOptions options;
-  options.keep_predictions = true;
+  options.prediction.keep = true;
   auto travelled = [&](double held_speed) {
     planning::OvertakePlanner planner(f.track, f.line, f.limits, options);
     planning::TrafficCar ahead{"ahead", s + 20.0, 0.0, v, 1.0};
@@ -574,11 +574,11 @@ TEST(Overtaking, FollowingOutOfASlowCornerIsCreditedWithTheCarAheadSpeedingUp) {
   auto slowest = std::min_element(f.line.points.begin(), f.line.points.end(),
                                   [](const auto& a, const auto& b) { return a.speed < b.speed; });
   const double s = slowest->s, v = 0.85 * slowest->speed;
-  const planning::TrafficCar ahead{"ahead", s + o.follow_gap, 0.0, v, 0.85};
+  const planning::TrafficCar ahead{"ahead", s + o.margins.follow_gap, 0.0, v, 0.85};
   planner.plan("ego", s, 0.0, v, {ahead}, 10.0, 250.0);
   const auto following = planner.decision("ego");
   ASSERT_EQ(following.mode, RaceMode::kFollow) << planning::describe(following);
-  EXPECT_GT(following.progress, (v + 2.0) * o.horizon)
+  EXPECT_GT(following.progress, (v + 2.0) * o.prediction.horizon)
       << "following from " << v << " m/s credited as if the car ahead held that speed";
 }
 
@@ -592,7 +592,7 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
   const double corner = slowest->s, s = corner - 20.0;  // within 2 s at its speed
   const double v = planning::sampleAt(f.line, s).speed;
   planning::OvertakeOptions o;
-  o.settle_grip = 0.8;  // far enough below the whole grip for the corner speeds to differ by more than 0.3 m/s
+  o.moves.settle_grip = 0.8;  // far enough below the whole grip for the corner speeds to differ by more than 0.3 m/s
   auto cornerSpeed = [&](double lateral_speed, bool after_move) {
     planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
     // A car alongside first, between it and the line: it stays off the line (a move), then the other is gone.
@@ -603,7 +603,7 @@ TEST(Overtaking, ACarStillMovingSidewaysAfterAMoveIsPlannedOnLessGrip) {
   };
   const double settling = cornerSpeed(-1.5, true), settled = cornerSpeed(0.0, true);
   EXPECT_LT(settling, settled - 0.3) << "moving sideways after a move, planned as fast into the corner";
-  o.settle_grip = 1.0;  // settle_grip is the share it is planned on, not offline_grip
+  o.moves.settle_grip = 1.0;  // settle_grip is the share it is planned on, not offline_grip
   EXPECT_NEAR(cornerSpeed(-1.5, true), settled, 1e-6) << "settling on all the grip, planned slower";
   EXPECT_DOUBLE_EQ(cornerSpeed(-1.5, false), cornerSpeed(0.0, false)) << "a car alone on the line settled";
 }
@@ -744,13 +744,13 @@ TEST(Overtaking, APassThatDoesNotDrawAlongsideIsCreditedNoFurtherThanFollowing) 
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
   auto [s, v, slow, pass] = beginPassOnTheStraight(&planner);
   ASSERT_EQ(pass.mode, RaceMode::kPass);
-  const double at = s + o.plan_period * v, gap = 14.0, held = 32.0;
+  const double at = s + o.prediction.plan_period * v, gap = 14.0, held = 32.0;
   const planning::TrafficCar held_car{"slow", at + gap, 0.0, held, 0.0, 0.0, false, held};
   planner.plan("ego", at, 0.05 * pass.side, v, {held_car}, 10.0, 250.0);
   const auto going_on = planner.decision("ego");
   ASSERT_EQ(going_on.mode, RaceMode::kPass) << planning::describe(going_on);
-  const double most_it_travels = gap + (held + 0.5) * o.horizon;
-  EXPECT_LE(going_on.progress, most_it_travels - o.follow_gap);
+  const double most_it_travels = gap + (held + 0.5) * o.prediction.horizon;
+  EXPECT_LE(going_on.progress, most_it_travels - o.margins.follow_gap);
 }
 
 // A pass is trusted only while it gains on following, not merely while it is clear: one that no longer
@@ -769,14 +769,14 @@ TEST(Overtaking, AClearPassThatNoLongerGainsOnFollowingIsGivenUp) {
   ASSERT_EQ(begun.pass.side, +1);
   const double at = 420.0, v = planning::sampleAt(f.line, at).speed;
   std::vector<RaceMode> modes;
-  for (int k = 0; k < o.abort_plans; ++k) {
-    const double s = at + k * o.plan_period * v, ahead = s + 10.0;
+  for (int k = 0; k < o.passing.abort_plans; ++k) {
+    const double s = at + k * o.prediction.plan_period * v, ahead = s + 10.0;
     const planning::TrafficCar slower{"slow", ahead, 0.0, 0.9 * planning::sampleAt(f.line, ahead).speed};
     planner.plan("ego", s, begun.pass.offset, v, {slower}, 10.0, 250.0);
     modes.push_back(planner.decision("ego").mode);
   }
   EXPECT_EQ(modes.front(), RaceMode::kPass) << "one plan's doubt is not an abort";
-  EXPECT_NE(modes.back(), RaceMode::kPass) << "given up after " << o.abort_plans << " plans of doubt";
+  EXPECT_NE(modes.back(), RaceMode::kPass) << "given up after " << o.passing.abort_plans << " plans of doubt";
 }
 
 // A car level beside this one in a lane of its own, coming across towards it (a pass going by, back onto the
@@ -846,7 +846,7 @@ TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   const double v = 0.6 * planning::sampleAt(f.line, s).speed;
   const planning::TrafficCar leader{"leader", s - 30.0, 0.0, v + 10.0, 0.0, 0.0, true};  // a lap up, closing
   planning::OvertakeOptions flags;
-  flags.blue_flags = true;
+  flags.blue_flags.enabled = true;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, flags);
   const auto plan = planner.plan("lapped", s, 0.0, v, {leader}, 10.0, 250.0);
   const auto d = planner.decision("lapped");
@@ -857,7 +857,7 @@ TEST(Overtaking, ACarAboutToBeLappedMovesAsideAndOnlyThen) {
   double furthest = 0.0;  // the move is a smooth one over 2.5 s at speed
   for (const auto& p : plan.points)
     furthest = std::max(furthest, std::abs(p.offset - planning::sampleAt(f.line, p.s).offset));
-  EXPECT_GE(furthest, o.car_width + o.lateral_margin - 0.3) << "out of the racing line by a car's width and air";
+  EXPECT_GE(furthest, o.car.width + o.margins.lateral - 0.3) << "out of the racing line by a car's width and air";
   // The same car racing for position (not a lap up), or with blue flags off, is not let by.
   planning::TrafficCar racing = leader;
   racing.lapping = false;
@@ -912,13 +912,13 @@ TEST(Overtaking, InClosedLoopTheFastCarPassesCleanlyAndRejoinsTheLine) {
     fast_lat = next.offset - planning::sampleAt(f.line, fast_s).offset;
     slow_s += slow_v * dt;
     const double gap = wrapAhead(slow_s, fast_s, L);
-    if (std::abs(gap) < o.car_length) closest = std::min(closest, std::abs(fast_lat));
-    if (passed_at < 0 && gap < -(o.car_length + o.longitudinal_margin)) passed_at = t;
+    if (std::abs(gap) < o.car.length) closest = std::min(closest, std::abs(fast_lat));
+    if (passed_at < 0 && gap < -(o.car.length + o.margins.longitudinal)) passed_at = t;
     if (passed_at >= 0 && t > passed_at + 15.0) break;
   }
   ASSERT_GT(passed_at, 0.0) << "the fast car got by";
   EXPECT_GT(passes, 0);
-  EXPECT_GE(closest, o.car_width + 0.3) << "side by side, the cars were never closer than a car's width and air";
+  EXPECT_GE(closest, o.car.width + 0.3) << "side by side, the cars were never closer than a car's width and air";
   EXPECT_LT(std::abs(fast_lat), 0.6) << "back on the racing line after the pass";
   EXPECT_EQ(planner.decision("fast").mode, RaceMode::kRacingLine);
 }
@@ -934,7 +934,7 @@ TEST(Overtaking, APassDrawnLevelIsNotHeldBackBehindTheCarItPasses) {
   auto& f = wideFixture();
   const planning::OvertakeOptions o;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
-  const double L = f.line.length, level = o.car_length + o.longitudinal_margin, dt = 0.05;
+  const double L = f.line.length, level = o.car.length + o.margins.longitudinal, dt = 0.05;
   double s = 0.0, lateral = 0.0, v = 0.0, slow_s = 30.0;
   int plans_level = 0;
   double largest_step_down = 0.0, passed_at = -1.0;
@@ -969,7 +969,7 @@ TEST(Overtaking, APassLevelWithTheCarItPassesIsNotTurnedToTheCarBeyond) {
   Fixture f{track::loadMapFolder(test::sourceDir() + "/maps/roar_eight")};
   const planning::OvertakeOptions o;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
-  const double L = f.line.length, level = o.car_length + o.longitudinal_margin, dt = 0.05;
+  const double L = f.line.length, level = o.car.length + o.margins.longitudinal, dt = 0.05;
   double s = 0.0, lateral = 0.0, v = 0.0, slow_s = 30.0, beyond_s = 50.0;
   int plans_level = 0, plans_for_the_car_beyond = 0;
   for (double t = 0.0; t < 120.0; t += dt) {
@@ -1006,7 +1006,7 @@ TEST(Overtaking, APassOutInItsLaneIsNotGivenUpForACarMovingIntoItBehind) {
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
   double s = straightStart(f.line) - 60.0, lat = 0.0, v = planning::sampleAt(f.line, s).speed;
   double slow_s = s + 50.0;
-  const double dt = o.plan_period;
+  const double dt = o.prediction.plan_period;
   int side = 0;
   for (int step = 0; step < 200 && side == 0; ++step) {
     const double slow_v = 0.6 * planning::sampleAt(f.line, slow_s).speed;
@@ -1020,7 +1020,7 @@ TEST(Overtaking, APassOutInItsLaneIsNotGivenUpForACarMovingIntoItBehind) {
   }
   ASSERT_NE(side, 0) << "out in the pass's lane";
   // From behind, 15 m back at this car's speed, a car moving across into its lane at 2 m/s.
-  for (int plan = 0; plan <= o.abort_plans; ++plan) {
+  for (int plan = 0; plan <= o.passing.abort_plans; ++plan) {
     const double slow_v = 0.6 * planning::sampleAt(f.line, slow_s).speed;
     const planning::TrafficCar behind{"behind", s - 15.0, lat - side * 2.6, v, 0.0, 2.0 * side};
     planner.plan("ego", s, lat, v, {{"slow", slow_s, 0.0, slow_v}, behind}, 10.0, 250.0);
@@ -1036,10 +1036,10 @@ TEST(Overtaking, APassOutInItsLaneIsNotGivenUpForACarMovingIntoItBehind) {
 TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
   auto& f = wideFixture();
   planning::OvertakeOptions o;
-  o.defend = true;
+  o.defence.enabled = true;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
   // Where the road leaves room for the move on one side for 250 m.
-  const double needed = o.defend_shift + 0.5 * o.car_width + o.edge_margin + 0.2;
+  const double needed = o.defence.shift + 0.5 * o.car.width + o.margins.edge + 0.2;
   double s = -1.0;
   int side = 0;
   for (const auto& p : f.line.points) {
@@ -1064,7 +1064,7 @@ TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
   EXPECT_EQ(d.other, "attacker");
   EXPECT_GE(side * shiftAt(f.line, plan, s + 120.0), 1.5)
       << "across towards the attacker's side by most of a car's width";
-  EXPECT_LE(side * shiftAt(f.line, plan, s + 120.0), o.defend_shift + 1e-6) << "no further than defend_shift";
+  EXPECT_LE(side * shiftAt(f.line, plan, s + 120.0), o.defence.shift + 1e-6) << "no further than defend_shift";
   // The attacker switches sides: the defender does not follow it across (one move).
   const double lateral = shiftAt(f.line, plan, s + 30.0);
   attacker = {"attacker", s + 30.0 - 12.0, -side * 2.0, v + 2.0};
@@ -1101,7 +1101,7 @@ TEST(Overtaking, ADefenceIsOneMoveThenTheDefenderHoldsItsPlace) {
 TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
   auto& f = fixture();
   planning::OvertakeOptions o;
-  o.defend = true;
+  o.defence.enabled = true;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, o);
   const double L = f.line.length;
   struct Car {
@@ -1129,9 +1129,9 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
     drive(&fast, fast_plan);
     drive(&slow, slow_plan);
     const double gap = wrapAhead(slow.s, fast.s, L);
-    if (std::abs(gap) < o.car_length && std::abs(slow.lateral - fast.lateral) < o.car_width)
+    if (std::abs(gap) < o.car.length && std::abs(slow.lateral - fast.lateral) < o.car.width)
       overlap = std::max(overlap, t);
-    if (passed_at < 0 && gap < -(o.car_length + o.longitudinal_margin)) passed_at = t;
+    if (passed_at < 0 && gap < -(o.car.length + o.margins.longitudinal)) passed_at = t;
   }
   EXPECT_GT(passed_at, 0.0) << "the fast car got by";
   EXPECT_EQ(overlap, 0.0) << "the cars overlapped at t = " << overlap << " s";
@@ -1143,7 +1143,7 @@ TEST(Overtaking, InClosedLoopADefendedPassIsStillCleanAndTheDefenceOneMove) {
 TEST(Overtaking, APlanKeepsItsPredictionOfTheCarsAroundIt) {
   auto& f = fixture();
   planning::OvertakeOptions keeping;
-  keeping.keep_predictions = true;
+  keeping.prediction.keep = true;
   planning::OvertakePlanner planner(f.track, f.line, f.limits, keeping);
   const double s = straightStart(f.line);
   const double v = planning::sampleAt(f.line, s).speed;
@@ -1154,7 +1154,7 @@ TEST(Overtaking, APlanKeepsItsPredictionOfTheCarsAroundIt) {
   const auto& p = predictions.front();
   EXPECT_EQ(p.name, "slow");
   const planning::OvertakeOptions o;
-  ASSERT_EQ(p.positions.size(), static_cast<std::size_t>(std::round(o.horizon / p.step)) + 1);
+  ASSERT_EQ(p.positions.size(), static_cast<std::size_t>(std::round(o.prediction.horizon / p.step)) + 1);
   // Where the car is now, 0.8 m left of the line.
   const auto here = planning::sampleAt(f.line, slow.s);
   const Eigen::Vector2d left(-std::sin(here.yaw), std::cos(here.yaw));

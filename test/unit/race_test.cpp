@@ -89,7 +89,8 @@ TEST(FieldPlanner, WithoutOvertakingACarFollowsTheCarAheadOnTheLine) {
   EXPECT_EQ(field.decision("ego").mode, RaceMode::kFollow);
   EXPECT_EQ(field.decision("ego").other, "slow");
   // No faster than the car followed once at the gap behind it.
-  EXPECT_LE(planning::sampleAt(window, s + 30.0 - field.options().overtake.follow_gap + 3.5).speed, 10.0 + 1e-6);
+  EXPECT_LE(planning::sampleAt(window, s + 30.0 - field.options().overtake.margins.follow_gap + 3.5).speed,
+            10.0 + 1e-6);
   // The car in front has nobody ahead within the window: the racing line.
   field.window("slow");
   EXPECT_EQ(field.decision("slow").mode, RaceMode::kRacingLine);
@@ -99,7 +100,7 @@ TEST(FieldPlanner, ACarALapUpIsToldFromOneJustBehind) {
   // `fast` goes once round the lap (in steps the planner can follow) and comes up behind `slow` again:
   // slow lets it by (blue flag). Behind it on the same lap, it would be racing for position.
   planning::FieldOptions options;
-  options.overtake.blue_flags = true;
+  options.overtake.blue_flags.enabled = true;
   planning::FieldPlanner field(sprint().track, sprint().line, sprint().limits, options);
   const double L = sprint().line.length, s = 300.0;
   field.locate("slow", onLineAt(s), 20.0, 0.0);
@@ -155,7 +156,7 @@ double predictedTravel(const planning::FieldPlanner& field, const std::string& c
 // on its opening lap at Roar Speedway was predicted at 79% of the line's speed while it drove 63%.
 TEST(FieldPlanner, ACarGainingSpeedGentlyIsPredictedAtThePaceItDrives) {
   planning::FieldOptions options;
-  options.overtake.keep_predictions = true;
+  options.overtake.prediction.keep = true;
   const auto& line = sprint().line;
   auto drive = [&](planning::FieldPlanner* field, const std::string& name, double share, double from, double to) {
     // From rest (taken for a full-pace car), then 20 odometry messages a second along the line from `from`
@@ -289,7 +290,7 @@ TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
       ++passes_begun;
       double ahead = s_of.at(d.other) - tick.on_line.s;
       ahead -= std::round(ahead / monza.length()) * monza.length();
-      EXPECT_GE(ahead, options.field.overtake.car_length)
+      EXPECT_GE(ahead, options.field.overtake.car.length)
           << car << " began a pass on " << d.other << " from beside it at t = " << tick.time;
     }
     mode_of[car] = d.mode;

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "roar/planning/held_speed.h"
-#include "roar/planning/overtaking.h"
+#include "roar/planning/overtaking/planner.h"
 #include "roar/planning/trajectory.h"
 #include "roar/planning/vehicle_limits.h"
 #include "roar/track/track.h"

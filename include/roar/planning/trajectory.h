@@ -81,9 +81,9 @@ Trajectory windowAround(const Trajectory& closed, double s, double behind, doubl
 // time before, and slower than the leader (1 m/s per metre) while closer than the gap.
 // Given the car's speed (`car_speed`, m/s; negative: not given), the window keeps its own acceleration from
 // the car on for as long as the car, gaining speed at it, stays below the speeds held: a tracker feeds
-// forward the acceleration it reads just ahead, and a car still below the held speed read the braking ramp's
-// there (-8.7 m/s^2 at Monza, 5% faster than the car 20 m ahead): its throttle went between full and none
-// each time the car ahead, itself accelerating, raised the speed held, and it fell back down the straight.
+// forward the acceleration it reads just ahead, and a car still below the held speed would read the braking
+// ramp's there: its throttle would go between full and none each time the car ahead, itself accelerating,
+// raised the speed held, and it would fall back down the straight.
 void followBehind(Trajectory* window, double car_s, double leader_s, double leader_speed, double gap,
                   const VehicleLimits& limits, double car_speed = -1.0);
 

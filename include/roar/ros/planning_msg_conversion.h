@@ -7,7 +7,7 @@
 #include <ros/time.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "roar/planning/overtaking.h"
+#include "roar/planning/overtaking/planner.h"
 #include "roar/planning/trajectory.h"
 #include "roar/track/track.h"
 

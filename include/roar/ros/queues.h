@@ -16,9 +16,9 @@ inline constexpr int kPerTickQueue = roar_ros::QueueDepths::PER_TICK;
 inline constexpr double kQueueSeconds = kPerTickQueue / 20.0;
 
 // Outgoing queue of a sensor's topic: kQueueSeconds of its messages, as the per-tick topics keep (at least 10,
-// at most 1,000). In step mode a request for 20 ticks publishes a second of camera images at once: a queue of 10
-// lost 2 of them to a tester on a loaded machine (rostest sensors). An image queue costs memory only while a link
-// lags: 10 s of 640x480 RGB at 20 Hz is 184 MB.
+// at most 1,000). In step mode a request for 20 ticks publishes a second of camera images at once, every one of
+// which a subscriber gets (rostest sensors). An image queue costs memory only while a link lags: 10 s of
+// 640x480 RGB at 20 Hz is 184 MB.
 inline int sensorQueue(double rate_hz) {
   return static_cast<int>(std::clamp(std::ceil(rate_hz * kQueueSeconds), 10.0, 1000.0));
 }
