@@ -50,7 +50,7 @@ def _roar_py_terms(message: str) -> str:
 
 def ros_safe(name: str) -> str:
     safe = re.sub(r"[^A-Za-z0-9_]", "_", name) or "sensor"
-    return safe if safe[0].isalpha() else "s_" + safe
+    return (safe if safe[0].isalpha() else "s_" + safe)[:56]  # roar_sim takes 64, a _N suffix the rest
 
 
 class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):

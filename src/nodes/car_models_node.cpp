@@ -17,6 +17,7 @@
 #include <regex>
 #include <sstream>
 
+#include "roar/config/text_file.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/sensors/camera.h"
@@ -62,11 +63,7 @@ std::string painted(std::string urdf_text, const Eigen::Vector3f& linear_rgb) {
 }
 
 std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ros_bridge::ParamError("cannot read the URDF " + path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return config::readTextFile<ros_bridge::ParamError>(path, config::kMaxUrdfBytes);
 }
 
 class CarModelsNode {

@@ -1,5 +1,6 @@
 #include "roar/rl/env_options.h"
 
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 
 #include <cmath>
@@ -107,11 +108,7 @@ EnvOptions parseEnvOptions(const std::string& yaml_text, const std::string& sour
 }
 
 EnvOptions readEnvOptions(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw EnvConfigError(path + ": cannot be read");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseEnvOptions(text.str(), path);
+  return parseEnvOptions(config::readTextFile<EnvConfigError>(path, config::kMaxYamlBytes), path);
 }
 
 ObservationOptions parseObservationOptions(const std::string& yaml_text, const std::string& source) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
 
@@ -129,7 +130,7 @@ void MlpPolicy::save(const std::string& path) const {
 MlpPolicy MlpPolicy::load(const std::string& path) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
+    root = YAML::Load(config::readTextFile<PolicyError>(path, config::kMaxPolicyBytes));
   } catch (const YAML::Exception& e) {
     throw PolicyError(path + ": " + e.what());
   }

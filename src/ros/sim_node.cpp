@@ -159,8 +159,12 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
       track_->info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
-    for (const auto& spec : sensors::readSensorSet(sensors::resolveSensorSet(sensor_set, options_.sensors_dir)))
+    sensors::SensorLoad load = sensorLoad();
+    for (const auto& spec : sensors::readSensorSet(sensors::resolveSensorSet(sensor_set, options_.sensors_dir))) {
+      sensors::checkBudget(load, spec, sensors::kSimulatorSensorBudget);
+      load += sensors::loadOf(spec);
       vehicle_sensors->attach(spec, world_->time());
+    }
   }
   std::unique_ptr<AgentInterface> agent;
   if (!agent_env.empty()) {
@@ -195,6 +199,14 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
   publishStaticTransforms();
   ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), params.model.c_str(), pose.position.x(),
            pose.position.y());
+}
+
+sensors::SensorLoad SimNode::sensorLoad() const {
+  sensors::SensorLoad load;
+  for (const auto& [name, io] : io_) {
+    for (const auto& spec : io.sensors->rig().specs()) load += sensors::loadOf(spec);
+  }
+  return load;
 }
 
 void SimNode::removeVehicle(const std::string& name) {

@@ -88,6 +88,8 @@ class SimNode {
                   const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
                   const std::string& agent_env = "", int spawn_point = -1,
                   sim::Placement placement = sim::Placement::kOnGround);
+  // What every car's sensors cost together, against sensors::kSimulatorSensorBudget.
+  sensors::SensorLoad sensorLoad() const;
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
   void markLostDrivers();

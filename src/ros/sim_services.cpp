@@ -6,6 +6,7 @@
 #include "roar/ros/sensor_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
 #include "roar/sensors/inertial.h"
+#include "roar/sensors/sensor_spec.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 #include "sim_node.h"
@@ -34,6 +35,8 @@ bool SimNode::onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehic
       if (!(channel >= 0.0f && channel <= 1.0f)) throw std::invalid_argument("colour channels must be in [0, 1]");
     }
     const Eigen::Vector3f colour = c.a > 0 ? Eigen::Vector3f(c.r, c.g, c.b) : Eigen::Vector3f(-1, -1, -1);
+    // A caller names a set in ~sensors_dir; it never points roar_sim at a file.
+    if (!req.sensor_set.empty()) sensors::sensorSetByName(req.sensor_set, options_.sensors_dir);
     addVehicle(req.name, req.model.empty() ? options_.default_model : req.model,
                requestedPose(req.spawn_point, req.pose), req.sensor_set, colour, "", req.spawn_point,
                placementOf(req.spawn_point, req.as_given));
@@ -169,6 +172,7 @@ bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::Att
     if (req.sensor_yaml.size() > 100000) throw std::invalid_argument("sensor_yaml is longer than 100000 characters");
     const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor's sensor_yaml");
     if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
+    sensors::checkBudget(sensorLoad(), specs.front(), sensors::kSimulatorSensorBudget);
     it->second.sensors->attach(specs.front(), world_->time());
     publishStaticTransforms();
     res.success = true;

@@ -1,10 +1,13 @@
 #include "roar/sensors/sensor_spec.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <regex>
 #include <set>
 #include <sstream>
 
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 
 namespace roar::sensors {
@@ -81,9 +84,15 @@ SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
   if (!node.IsMap()) throw SensorSpecError(source + ": a sensor must be a mapping with name and type");
   SensorSpec spec;
   Section top(node, "", source);
+  if (top.has("name") && !top.raw("name").IsScalar())
+    throw SensorSpecError(source + ": a sensor's 'name' must be a plain name, not empty (~), a list or a mapping");
   top.read("name", &spec.name);
-  if (spec.name.empty() || spec.name.find_first_of(" /") != std::string::npos) {
-    throw SensorSpecError(source + ": every sensor needs a 'name' without spaces or '/'");
+  if (spec.name.empty()) throw SensorSpecError(source + ": every sensor needs a 'name'");
+  // The name is part of the sensor's topics (<car>/<name>/...), so it is a ROS name as a car's is.
+  static const std::regex kRosName("[A-Za-z][A-Za-z0-9_]{0,63}");
+  if (!std::regex_match(spec.name, kRosName)) {
+    throw SensorSpecError(source + ": sensor name '" + spec.name +
+                          "' must start with a letter and hold only letters, digits and underscores (at most 64)");
   }
   Section s(node, "", source + ": sensor '" + spec.name + "'");
   s.read("name", &spec.name);
@@ -287,6 +296,7 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
     file.finish();                    // before the list is looked at: a misspelt `sensors:` is named as such
   }
   if (!list || !list.IsSequence()) throw SensorSpecError(source + ": expected 'sensors:' with a list of sensors");
+  if (list.size() == 0) throw SensorSpecError(source + ": the list of sensors is empty (name no set for no sensors)");
   std::vector<SensorSpec> out;
   std::set<std::string> names;
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -305,16 +315,60 @@ std::string resolveSensorSet(const std::string& name_or_path, const std::string&
   return path ? name_or_path : sensors_dir + "/" + name_or_path + ".yaml";
 }
 
-std::vector<SensorSpec> readSensorSet(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw SensorSpecError(path + ": cannot read the sensor set");
-  } catch (const YAML::Exception& e) {
-    throw SensorSpecError(path + ": " + e.what());
+SensorLoad loadOf(const SensorSpec& spec) {
+  SensorLoad load;
+  if (isCamera(spec.type)) {
+    load.samples = static_cast<double>(spec.camera.width) * spec.camera.height;
+  } else if (spec.type == SensorType::kOccupancyMap) {
+    load.samples = static_cast<double>(spec.occupancy.width) * spec.occupancy.height;
+  } else if (spec.type == SensorType::kLidar) {
+    return {spec.lidar.points_per_second, spec.lidar.points_per_second / spec.rate};
+  } else if (spec.type == SensorType::kRadar) {
+    return {spec.radar.points_per_second, spec.radar.points_per_second / spec.rate};
   }
-  return parseSensorSetYaml(YAML::Dump(root), path);
+  load.rays_per_second = load.samples * spec.rate;
+  return load;
+}
+
+void checkBudget(const SensorLoad& in_use, const SensorSpec& adding, const SensorBudget& budget) {
+  SensorLoad total = in_use;
+  total += loadOf(adding);
+  auto millions = [](double v) { return show(std::round(v / 1e5) / 10) + " million"; };
+  if (total.samples > budget.samples) {
+    throw SensorSpecError("sensor '" + adding.name + "': " + budget.whose + " sensors would hold " +
+                          millions(total.samples) + " pixels or points a frame, more than its budget of " +
+                          millions(budget.samples) + "; make images smaller or use fewer sensors");
+  }
+  if (total.rays_per_second > budget.rays_per_second) {
+    throw SensorSpecError("sensor '" + adding.name + "': " + budget.whose + " sensors would cast " +
+                          millions(total.rays_per_second) + " rays a simulated second, more than its budget of " +
+                          millions(budget.rays_per_second) + "; lower rates or image sizes");
+  }
+}
+
+std::vector<std::string> listSensorSets(const std::string& sensors_dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(sensors_dir, ec)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string sensorSetByName(const std::string& name, const std::string& sensors_dir) {
+  const auto sets = listSensorSets(sensors_dir);
+  if (std::find(sets.begin(), sets.end(), name) != sets.end()) return sensors_dir + "/" + name + ".yaml";
+  std::string known;
+  for (const auto& set : sets) known += (known.empty() ? "" : ", ") + set;
+  const std::string near = config::nearestKey(name, sets);
+  throw SensorSpecError("sensor_set: no set named '" + name + "' in " + sensors_dir +
+                        (near.empty() ? "" : " (did you mean '" + near + "'?)") + " (sets: " + known +
+                        "; a file's path is taken at launch, not from a service)");
+}
+
+std::vector<SensorSpec> readSensorSet(const std::string& path) {
+  return parseSensorSetYaml(config::readTextFile<SensorSpecError>(path, config::kMaxYamlBytes), path);
 }
 
 }  // namespace roar::sensors

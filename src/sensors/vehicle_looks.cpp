@@ -1,4 +1,5 @@
 #include "roar/sensors/vehicle_looks.h"
+#include "roar/config/text_file.h"
 
 #include <urdf_model/model.h>
 #include <urdf_parser/urdf_parser.h>
@@ -67,11 +68,8 @@ void addCylinder(VisualMesh* out, const Eigen::Isometry3d& t, double radius, dou
 }  // namespace
 
 VisualMesh readVehicleLooks(const std::string& urdf_path) {
-  std::ifstream in(urdf_path);
-  if (!in) throw std::runtime_error(urdf_path + ": cannot open the URDF");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(ss.str());
+  const urdf::ModelInterfaceSharedPtr model =
+      urdf::parseURDF(config::readTextFile<std::runtime_error>(urdf_path, config::kMaxUrdfBytes));
   if (!model) throw std::runtime_error(urdf_path + ": not a valid URDF");
   VisualMesh out;
   for (const auto& [name, link] : model->links_) {

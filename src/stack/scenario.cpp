@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
 #include "roar/sensors/sensor_spec.h"
@@ -37,7 +38,7 @@ std::string resolveScenario(const std::string& name_or_path, const std::string& 
 Scenario loadScenario(const std::string& path, const ScenarioContext& context) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
+    root = YAML::Load(config::readTextFile<ScenarioError>(path, config::kMaxYamlBytes));
   } catch (const YAML::Exception& e) {
     throw ScenarioError(path + ": " + e.what());
   }

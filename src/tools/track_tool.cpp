@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "roar/config/number.h"
+#include "roar/config/text_file.h"
 #include "roar/track/bridges.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
@@ -94,7 +95,7 @@ std::vector<CentreLinePoint> importPoints(const std::string& source, double widt
     return trackFromWaypoints(readRoarWaypoints(source), info).points();
   }
   // A TUMFTM file has four columns; a point list two.
-  std::ifstream in(source);
+  std::istringstream in(roar::config::readTextFile<MapError>(source, roar::config::kMaxTableBytes));
   std::string line;
   while (std::getline(in, line) && (line.empty() || line[0] == '#')) {
   }

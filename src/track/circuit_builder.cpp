@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "roar/config/text_file.h"
 #include "roar/track/map_folder.h"
 
 namespace roar::track {
@@ -32,8 +33,7 @@ Eigen::Vector3d catmullRom(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
 }  // namespace
 
 std::vector<ControlPoint> readControlPoints(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MapError(path + ": cannot open the control points");
+  std::istringstream in(config::readTextFile<MapError>(path, config::kMaxTableBytes));
   std::vector<ControlPoint> out;
   std::string line;
   int line_no = 0;

@@ -1,6 +1,7 @@
 #include "roar/track/map_folder.h"
 
 #include "roar/config/number.h"
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 #include "roar/track/circuit_builder.h"
 
@@ -39,11 +40,66 @@ std::vector<std::string> splitFields(const std::string& line) {
 
 }  // namespace
 
+namespace {
+
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+constexpr const char* kCentreLineColumns[] = {"x_m", "y_m", "w_tr_right_m", "w_tr_left_m", "z_m", "banking_rad"};
+
+// A line before the first point whose every field is a word (x_m,y_m,...) is a header written without '#';
+// any other line must be a point, so a row without commas is an error rather than a skipped header.
+bool isHeader(const std::vector<std::string>& fields) {
+  double v;
+  return fields.size() >= 4 &&
+         std::none_of(fields.begin(), fields.end(), [&](const std::string& f) { return config::parseNumber(f, &v); });
+}
+
+CentreLinePoint parseCentreLineRow(const std::vector<std::string>& fields, const std::string& where) {
+  double v[6] = {0, 0, 0, 0, 0, 0};
+  for (std::size_t k = 0; k < fields.size(); ++k) {
+    if (!config::parseNumber(fields[k], &v[k]))
+      throw MapError(where + ": column " + kCentreLineColumns[k] + " is not a number: '" + fields[k] + "'");
+    if (!std::isfinite(v[k])) throw MapError(where + ": column " + kCentreLineColumns[k] + " is not finite");
+  }
+  for (int k = 2; k < 4; ++k) {
+    if (v[k] <= 0) throw MapError(where + ": " + kCentreLineColumns[k] + " must be positive, got " + fields[k]);
+  }
+  const CentreLinePoint point{v[0], v[1], v[2], v[3], v[4], v[5]};
+  // The Track takes any positive width (a planner test may want a road narrower than its car); a map may not.
+  if (point.width_right + point.width_left < kMinRoadWidth) {
+    throw MapError(where + ": the road is " + shortNumber(point.width_right + point.width_left) +
+                   " m wide (w_tr_right_m + w_tr_left_m), less than " + shortNumber(kMinRoadWidth) + " m");
+  }
+  if (std::abs(point.banking) >= M_PI / 4) throw MapError(where + ": banking_rad must be within (-pi/4, pi/4)");
+  const std::string problem = centreLinePointProblem(point);
+  if (!problem.empty()) throw MapError(where + ": " + problem);
+  return point;
+}
+
+// A rise no road has between two points is a typo (a stray column, a decimal comma), not a deck.
+void checkGrades(const CentreLineFile& file, const std::string& path) {
+  for (std::size_t i = 1; i < file.points.size(); ++i) {
+    const auto& a = file.points[i - 1];
+    const auto& b = file.points[i];
+    const double grade = std::abs(b.z - a.z) / std::hypot(b.x - a.x, b.y - a.y);
+    if (grade > kMaxGrade) {
+      throw MapError(path + ":" + std::to_string(file.lines[i]) + ": z_m rises " + std::to_string(b.z - a.z) +
+                     " m over " + std::to_string(std::hypot(b.x - a.x, b.y - a.y)) + " m from the previous point, " +
+                     "a grade above " + std::to_string(kMaxGrade));
+    }
+  }
+}
+
+}  // namespace
+
 CentreLineFile readCentreLineCsv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MapError(path + ": cannot open the centre-line file");
-  static const char* kColumns[] = {"x_m", "y_m", "w_tr_right_m", "w_tr_left_m"};
+  std::istringstream in(config::readTextFile<MapError>(path, config::kMaxTableBytes));
   CentreLineFile file;
+  std::size_t columns = 0;  // fixed by the first point: every row has as many
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -51,56 +107,23 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     const std::string text = trim(line);
     if (text.empty() || text[0] == '#') continue;
     const auto fields = splitFields(text);
-    double v[4];
-    bool numeric = fields.size() >= 4;
-    for (int k = 0; numeric && k < 4; ++k) numeric = config::parseNumber(fields[k], &v[k]);
-    if (!numeric && file.points.empty() && !fields.empty() && !config::parseNumber(fields[0], &v[0])) {
-      continue;  // a header line without '#'
-    }
-    if (fields.size() < 4) {
-      throw MapError(path + ":" + std::to_string(line_no) +
-                     ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m, found " + std::to_string(fields.size()));
-    }
-    for (int k = 0; k < 4; ++k) {
-      if (!config::parseNumber(fields[k], &v[k])) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": column " + kColumns[k] + " is not a number: '" +
-                       fields[k] + "'");
+    const std::string where = path + ":" + std::to_string(line_no);
+    if (file.points.empty() && columns == 0 && isHeader(fields)) continue;
+    if (columns == 0) {
+      if (fields.size() < 4 || fields.size() > 6) {
+        throw MapError(where + ": expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m (then z_m,banking_rad), found " +
+                       std::to_string(fields.size()));
       }
-      if (!std::isfinite(v[k])) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": column " + kColumns[k] + " is not finite");
-      }
+      columns = fields.size();
+    } else if (fields.size() != columns) {
+      throw MapError(where + ": expected " + std::to_string(columns) + " columns as the first point has, found " +
+                     std::to_string(fields.size()) + " (a stray comma, or a decimal comma?)");
     }
-    for (int k = 2; k < 4; ++k) {
-      if (v[k] <= 0) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": " + kColumns[k] + " must be positive, got " +
-                       fields[k]);
-      }
-    }
-    if (!file.points.empty()) {
-      const auto& last = file.points.back();
-      if (std::hypot(v[0] - last.x, v[1] - last.y) < 1e-6) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": point repeats the previous one");
-      }
-    }
-    if (file.points.size() >= kMaxCentreLinePoints) {
-      throw MapError(path + ":" + std::to_string(line_no) + ": more than " + std::to_string(kMaxCentreLinePoints) +
-                     " centre-line points");
-    }
-    CentreLinePoint point{v[0], v[1], v[2], v[3]};
-    // Optional columns beyond TUMFTM's four: elevation and banking.
-    for (std::size_t k = 4; k < std::min<std::size_t>(fields.size(), 6); ++k) {
-      double extra;
-      const char* name = k == 4 ? "z_m" : "banking_rad";
-      if (!config::parseNumber(fields[k], &extra) || !std::isfinite(extra)) {
-        throw MapError(path + ":" + std::to_string(line_no) + ": column " + name + " is not a finite number");
-      }
-      (k == 4 ? point.z : point.banking) = extra;
-    }
-    if (std::abs(point.banking) >= M_PI / 4) {
-      throw MapError(path + ":" + std::to_string(line_no) + ": banking_rad must be within (-pi/4, pi/4)");
-    }
-    const std::string problem = centreLinePointProblem(point);
-    if (!problem.empty()) throw MapError(path + ":" + std::to_string(line_no) + ": " + problem);
+    const CentreLinePoint point = parseCentreLineRow(fields, where);
+    if (!file.points.empty() && std::hypot(point.x - file.points.back().x, point.y - file.points.back().y) < 1e-6)
+      throw MapError(where + ": point repeats the previous one");
+    if (file.points.size() >= kMaxCentreLinePoints)
+      throw MapError(where + ": more than " + std::to_string(kMaxCentreLinePoints) + " centre-line points");
     file.points.push_back(point);
     file.lines.push_back(line_no);
   }
@@ -114,6 +137,7 @@ CentreLineFile readCentreLineCsv(const std::string& path) {
     throw MapError(path + ": a circuit needs at least 3 centre-line points, found " +
                    std::to_string(file.points.size()));
   }
+  checkGrades(file, path);
   return file;
 }
 
@@ -192,7 +216,7 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
 TrackInfo readTrackYaml(const std::string& path, std::string* centreline) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
+    root = YAML::Load(config::readTextFile<MapError>(path, config::kMaxYamlBytes));
   } catch (const YAML::Exception& e) {
     throw MapError(path + ": " + e.what());
   }
@@ -287,9 +311,9 @@ void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint
 }
 
 std::vector<CentreLinePoint> readPointList(const std::string& path, double width) {
-  if (!(width > 0)) throw MapError(path + ": the road width must be positive");
-  std::ifstream in(path);
-  if (!in) throw MapError(path + ": cannot open the point list");
+  if (!(width >= kMinRoadWidth))
+    throw MapError(path + ": the road width must be at least " + shortNumber(kMinRoadWidth) + " m");
+  std::istringstream in(config::readTextFile<MapError>(path, config::kMaxTableBytes));
   std::vector<CentreLinePoint> points;
   std::string line;
   int line_no = 0;

@@ -1,5 +1,7 @@
 #include "roar/track/npz.h"
 
+#include "roar/config/text_file.h"
+
 #include <zip.h>
 #include <zlib.h>
 
@@ -159,6 +161,8 @@ std::vector<std::uint8_t> toNpy(const NpyArray& a) {
 }  // namespace
 
 std::map<std::string, NpyArray> readNpz(const std::string& path) {
+  std::string problem;
+  if (!config::checkRegularFile(path, config::kMaxTableBytes, &problem)) throw NpzError(problem);
   int error = 0;
   std::unique_ptr<zip_t, ZipCloser> archive(zip_open(path.c_str(), ZIP_RDONLY | ZIP_CHECKCONS, &error));
   if (!archive) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 
 namespace roar::vehicle {
@@ -131,17 +132,13 @@ void readVehicleUrdfString(const std::string& urdf_xml, const std::string& sourc
 }
 
 void readVehicleUrdf(const std::string& urdf_path, VehicleParams* params) {
-  std::ifstream in(urdf_path);
-  if (!in) throw VehicleConfigError(urdf_path + ": cannot open the URDF");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  readVehicleUrdfString(ss.str(), urdf_path, params);
+  readVehicleUrdfString(config::readTextFile<VehicleConfigError>(urdf_path, config::kMaxUrdfBytes), urdf_path, params);
 }
 
 void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(yaml_path);
+    root = YAML::Load(config::readTextFile<VehicleConfigError>(yaml_path, config::kMaxYamlBytes));
   } catch (const YAML::Exception& e) {
     throw VehicleConfigError(yaml_path + ": " + e.what());
   }
@@ -291,7 +288,9 @@ std::vector<VehicleModelInfo> listVehicleModels(const std::string& urdf_dir, con
     VehicleModelInfo info;
     info.model = e.path().stem().string();
     try {
-      const YAML::Node root = YAML::LoadFile(e.path().string());
+      std::string text, problem;
+      if (!config::tryReadTextFile(e.path().string(), config::kMaxYamlBytes, &text, &problem)) continue;
+      const YAML::Node root = YAML::Load(text);
       if (root.IsMap() && root["blueprint"]) info.blueprint = root["blueprint"].as<std::string>();
       if (root.IsMap() && root["description"]) info.description = root["description"].as<std::string>();
     } catch (const YAML::Exception&) {

@@ -14,7 +14,7 @@ from geometry_msgs.msg import Point
 from roar_ros.msg import DebugShape, VehicleControl
 from roar_ros.srv import (DestroyVehicle, DestroyVehicleRequest, DrawDebug, DrawDebugRequest, GetGeolocation,
                           GetGeolocationRequest, GetRoute, GetRouteRequest, GetSpawnPoints, GetSpawnPointsRequest,
-                          GetWaypoints, GetWaypointsRequest, ProjectPoint, ProjectPointRequest, ResetVehicle,
+                          GetWaypoints, GetWaypointsRequest, LoadMap, LoadMapRequest, ProjectPoint, ProjectPointRequest, ResetVehicle,
                           ResetVehicleRequest, SetStepping, SetSteppingRequest, SetVehicleVelocity,
                           SetVehicleVelocityRequest, SpawnVehicle, SpawnVehicleRequest, Step, StepRequest)
 
@@ -161,6 +161,27 @@ class ServiceInputs(unittest.TestCase):
     def tearDownClass(cls):
         print("service property test: %(refused)d requests refused by name, %(accepted)d accepted, the car "
               "finite after every one" % cls.tally)
+
+
+    def test_5_no_file_is_read_on_a_callers_say_so(self):
+        """A caller names a sensor set in roar_sim's folder; a path is refused with the same answer whether the
+        file exists or not, and nothing of a file is echoed."""
+        spawn = proxy("/roar_sim/spawn_vehicle", SpawnVehicle)
+        replies = {}
+        for asked in ["/etc/passwd", "/etc/no_such_file", "../../../../etc/passwd", "default.yaml"]:
+            reply = spawn(SpawnVehicleRequest(name="leak", sensor_set=asked, spawn_point=12))
+            self.assertFalse(reply.success, asked)
+            self.assertNotIn("root", reply.message, asked)
+            replies[asked] = reply.message.replace(asked, "<asked>")
+        self.assertEqual(len(set(replies.values())), 1, replies)
+        self.assertIn("sensor_set: no set named", replies["/etc/passwd"])
+        # A map is a folder holding a track.yaml: any other path is refused alike, reading nothing.
+        load = proxy("/roar_sim/load_map", LoadMap)
+        for asked in ["/etc", "/etc/passwd", "/no/such"]:
+            reply = load(LoadMapRequest(map=asked))
+            self.assertFalse(reply.success, asked)
+            self.assertIn("unknown map '%s': not a map folder" % asked, reply.message)
+        self.still_alive("after the refused paths")
 
 
 if __name__ == "__main__":

@@ -161,6 +161,6 @@ TEST(RlEnvOptions, EveryShippedFileLoadsAndBadOnesNameTheKey) {
             std::string::npos);
   EXPECT_NE(error("observation: [1, 2]").find("bad.yaml: observation: must be a mapping"), std::string::npos);
   EXPECT_NE(
-      test::errorOf([] { rl::readEnvOptions("/nonexistent/env.yaml"); }).find("/nonexistent/env.yaml: cannot be read"),
+      test::errorOf([] { rl::readEnvOptions("/nonexistent/env.yaml"); }).find("/nonexistent/env.yaml: no such file"),
       std::string::npos);
 }

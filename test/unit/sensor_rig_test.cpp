@@ -282,3 +282,60 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
   std::printf("sensor property test: %d fields x 7 extremes: %d refused by name, %d read finite\n", fields, refused,
               loaded);
 }
+
+TEST(SensorRig, SensorsBeyondACarsBudgetAreRefusedByName) {
+  sensors::SensorSpec big;
+  big.type = sensors::SensorType::kCameraRgb;
+  big.camera.width = 4096;
+  big.camera.height = 2048;
+  big.rate = 10.0;
+  sensors::SensorRig rig({}, {}, {});
+  for (const char* name : {"a", "b"}) {
+    big.name = name;
+    rig.add(big, 0.0);  // two of the largest cameras fit a car's budget
+  }
+  big.name = "c";
+  EXPECT_EQ(test::errorOf([&] { rig.add(big, 0.0); }),
+            "sensor 'c': a car's sensors would hold 25.2 million pixels or points a frame, more than its budget of "
+            "16.8 million; make images smaller or use fewer sensors");
+  EXPECT_EQ(rig.specs().size(), 2u) << "a refused sensor leaves the rig as it was";
+  // Small frames at a high rate are bounded by the rays they cast.
+  sensors::SensorRig fast({}, {}, {});  // 20 Hz control
+  sensors::SensorSpec cam = big;
+  cam.camera.width = 4096;
+  cam.camera.height = 1024;
+  cam.rate = 20.0;
+  cam.name = "a";
+  fast.add(cam, 0.0);
+  cam.name = "b";
+  fast.add(cam, 0.0);
+  cam.name = "c";
+  cam.camera.height = 512;
+  EXPECT_NE(
+      test::errorOf([&] { fast.add(cam, 0.0); }).find("sensor 'c': a car's sensors would cast 209.7 million rays"),
+      std::string::npos);
+}
+
+TEST(SensorRig, TheSimulatorsBudgetCountsEveryCar) {
+  sensors::SensorSpec cam;
+  cam.type = sensors::SensorType::kCameraRgb;
+  cam.name = "cam";
+  cam.camera.width = 4096;
+  cam.camera.height = 2048;
+  cam.rate = 1.0;
+  sensors::SensorLoad in_use;
+  for (int car = 0; car < 4; ++car) {
+    sensors::checkBudget(in_use, cam, sensors::kSimulatorSensorBudget);
+    in_use += sensors::loadOf(cam);
+  }
+  EXPECT_NE(test::errorOf([&] {
+              sensors::checkBudget(in_use, cam, sensors::kSimulatorSensorBudget);
+            }).find("sensor 'cam': roar_sim's sensors would hold 41.9 million pixels"),
+            std::string::npos);
+  sensors::SensorSpec lidar;
+  lidar.type = sensors::SensorType::kLidar;
+  lidar.lidar.points_per_second = 1e6;
+  lidar.rate = 10.0;
+  EXPECT_EQ(sensors::loadOf(lidar).rays_per_second, 1e6);
+  EXPECT_EQ(sensors::loadOf(lidar).samples, 1e5);
+}

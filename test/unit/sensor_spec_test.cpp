@@ -123,3 +123,28 @@ TEST(SensorSpec, ROARPYsOtherSensorsParse) {
   EXPECT_TRUE(sensors::castsRays(specs[4].type));
   EXPECT_FALSE(sensors::castsRays(specs[3].type));
 }
+
+TEST(SensorSpec, ANameMustBeARosNameAndASetMustHoldASensor) {
+  EXPECT_NE(parseError("{name: ~, type: imu}").find("a sensor's 'name' must be a plain name"), std::string::npos);
+  EXPECT_NE(parseError("{name: [a], type: imu}").find("a sensor's 'name' must be a plain name"), std::string::npos);
+  EXPECT_NE(parseError("{name: 2cam, type: imu}").find("sensor name '2cam' must start with a letter"),
+            std::string::npos);
+  EXPECT_NE(parseError("{name: a~b, type: imu}").find("sensor name 'a~b'"), std::string::npos);
+  EXPECT_EQ(errorOf([] { sensors::parseSensorSetYaml("[]", "set.yaml"); }),
+            "set.yaml: the list of sensors is empty (name no set for no sensors)");
+  EXPECT_EQ(errorOf([] { sensors::parseSensorSetYaml("sensors: []", "set.yaml"); }),
+            "set.yaml: the list of sensors is empty (name no set for no sensors)");
+}
+
+TEST(SensorSpec, AServiceCallerNamesASetAndNeverAFile) {
+  const std::string dir = test::sourceDir() + "/config/sensors";
+  EXPECT_EQ(sensors::sensorSetByName("default", dir), dir + "/default.yaml");
+  // A path, an existing file elsewhere and a missing one get the same answer, naming no file's contents.
+  for (const std::string asked : {"/etc/shadow", "/etc/passwd", "/no/such", "../sensors/default", "default.yaml"}) {
+    const std::string error = errorOf([&] { sensors::sensorSetByName(asked, dir); });
+    EXPECT_EQ(error.find("sensor_set: no set named '" + asked + "' in " + dir), 0u) << error;
+    EXPECT_EQ(error.find("root"), std::string::npos) << error;
+  }
+  EXPECT_NE(errorOf([&] { sensors::sensorSetByName("defualt", dir); }).find("(did you mean 'default'?)"),
+            std::string::npos);
+}

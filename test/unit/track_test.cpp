@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <yaml-cpp/yaml.h>
+#include <algorithm>
 #include <cstdio>
 
 #include <filesystem>
@@ -125,6 +126,44 @@ TEST(MapFolder, NegativeWidthAndNaN) {
   EXPECT_NE(msg.find(text + ":2: column y_m is not a number"), std::string::npos) << msg;
 }
 
+TEST(MapFolder, RowsThatDoNotMatchTheFirstPointsColumnsAreRefused) {
+  TempDir dir;
+  const std::string square = "0,0,5,5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n";
+  // A stray column on one row would otherwise be read as that point's elevation.
+  const auto stray = dir.write("stray.csv", "0,0,5,5\n100,0,5,5,9999,0.7\n100,100,5,5\n0,100,5,5\n");
+  EXPECT_EQ(errorOf([&] { track::readCentreLineCsv(stray); }),
+            stray + ":2: expected 4 columns as the first point has, found 6 (a stray comma, or a decimal comma?)");
+  const auto comma = dir.write("comma.csv", "0,0,5,5\n100,0,1,5,8\n100,100,5,5\n0,100,5,5\n");
+  EXPECT_NE(errorOf([&] {
+              track::readCentreLineCsv(comma);
+            }).find(comma + ":2: expected 4 columns as the first point has, found 5"),
+            std::string::npos);
+  const auto wide = dir.write("wide.csv", "0,0,5,5,0,0,1\n100,0,5,5,0,0,1\n100,100,5,5,0,0,1\n");
+  EXPECT_NE(errorOf([&] { track::readCentreLineCsv(wide); }).find(wide + ":1: expected 4 columns"), std::string::npos);
+  EXPECT_EQ(track::readCentreLineCsv(dir.write("ok.csv", square)).points.size(), 4u);
+}
+
+TEST(MapFolder, OnlyALineOfWordsIsAHeader) {
+  TempDir dir;
+  const auto words = dir.write("w.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,5,5\n100,0,5,5\n100,100,5,5\n");
+  EXPECT_EQ(track::readCentreLineCsv(words).points.size(), 3u);
+  // A first point written with spaces is a broken row, not a header to skip.
+  const auto spaces = dir.write("s.csv", "0 0 5 5\n100,0,5,5\n100,100,5,5\n0,100,5,5\n");
+  EXPECT_EQ(errorOf([&] { track::readCentreLineCsv(spaces); }),
+            spaces + ":1: expected 4 columns x_m,y_m,w_tr_right_m,w_tr_left_m (then z_m,banking_rad), found 1");
+}
+
+TEST(MapFolder, ARoadNarrowerThanACarAndAnImpossibleGradeAreRefused) {
+  TempDir dir;
+  const auto narrow = dir.write("n.csv", "0,0,5,5\n100,0,0.001,0.001\n100,100,5,5\n0,100,5,5\n");
+  EXPECT_EQ(errorOf([&] { track::readCentreLineCsv(narrow); }),
+            narrow + ":2: the road is 0.002 m wide (w_tr_right_m + w_tr_left_m), less than 2.5 m");
+  const auto spike = dir.write("z.csv", "0,0,5,5,0\n100,0,5,5,0\n101,0,5,5,9999\n100,100,5,5,0\n");
+  EXPECT_NE(errorOf([&] { track::readCentreLineCsv(spike); }).find(spike + ":3: z_m rises 9999"), std::string::npos);
+  const auto ramp = dir.write("r.csv", "0,0,5,5,0\n100,0,5,5,10\n100,100,5,5,10\n0,100,5,5,0\n");
+  EXPECT_EQ(track::readCentreLineCsv(ramp).points[1].z, 10.0) << "a 10% ramp is a road";
+}
+
 TEST(MapFolder, ValuesOutsidePhysicalRangesAreRefusedByColumn) {
   // Finite is not enough: a map scaled by 1e300 once loaded as a circuit "inf m" long.
   TempDir dir;
@@ -140,7 +179,11 @@ TEST(MapFolder, ValuesOutsidePhysicalRangesAreRefusedByColumn) {
       {"100,0,5,5,0,1.2", "banking_rad must be within (-pi/4, pi/4)"},
   };
   for (const auto& c : cases) {
-    const auto path = dir.write("r.csv", std::string("0,0,5,5\n") + c.line + "\n100,100,5,5\n");
+    // Every row has as many columns as the one under test.
+    const std::string line = c.line;
+    std::string padded;
+    for (auto extra = std::count(line.begin(), line.end(), ',') - 3; extra > 0; --extra) padded += ",0";
+    const auto path = dir.write("r.csv", "0,0,5,5" + padded + "\n" + c.line + "\n100,100,5,5" + padded + "\n");
     const auto msg = errorOf([&] { track::readCentreLineCsv(path); });
     EXPECT_NE(msg.find(path + ":2: " + c.expected), std::string::npos) << c.line << ": " << msg;
   }

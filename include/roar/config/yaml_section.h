@@ -24,6 +24,7 @@ class YamlSection {
       : node_(node), path_(std::move(path)), source_(std::move(source)) {
     if (node_ && !node_.IsNull() && !node_.IsMap())
       fail(path_.empty() ? "the file" : path_, "must be a mapping of keys");
+    checkKeys();
   }
 
   bool has(const std::string& key) const { return node_ && node_.IsMap() && node_[key]; }
@@ -107,6 +108,17 @@ class YamlSection {
     if constexpr (std::is_same_v<T, std::string>) return "string";
     if constexpr (std::is_same_v<T, std::vector<std::string>>) return "list of strings";
     return "list of numbers";
+  }
+
+  // yaml-cpp keeps a repeated key and answers with its first value: a second `friction:` would be silently
+  // ignored, so a key given twice is refused (config_test).
+  void checkKeys() const {
+    if (!node_ || !node_.IsMap()) return;
+    std::set<std::string> seen;
+    for (const auto& entry : node_) {
+      if (!entry.first.IsScalar()) fail(path_.empty() ? "the file" : path_, "has a key that is not a plain name");
+      if (!seen.insert(entry.first.Scalar()).second) fail(where(entry.first.Scalar()), "is given twice");
+    }
   }
 
   YAML::Node node_;

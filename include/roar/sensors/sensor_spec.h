@@ -121,6 +121,31 @@ class SensorSpecError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// What a sensor costs the simulator: the rays it casts a simulated second (its frame at its rate) and the
+// samples one frame holds (pixels or points), which set its memory (about 60 bytes a pixel for a camera).
+struct SensorLoad {
+  double rays_per_second = 0.0;
+  double samples = 0.0;
+  SensorLoad& operator+=(const SensorLoad& other) {
+    rays_per_second += other.rays_per_second;
+    samples += other.samples;
+    return *this;
+  }
+};
+SensorLoad loadOf(const SensorSpec& spec);
+
+// Each sensor passes validate() alone; these bound their sum, so that many large sensors cannot take the
+// machine's memory or stall every tick (sensor_spec_test SensorsBeyondABudgetAreRefusedByName).
+struct SensorBudget {
+  const char* whose;  // "a car's", "roar_sim's"
+  double rays_per_second;
+  double samples;
+};
+inline constexpr SensorBudget kCarSensorBudget{"a car's", 2.0e8, 2.0 * 4096 * 2048};
+inline constexpr SensorBudget kSimulatorSensorBudget{"roar_sim's", 4.0e8, 4.0 * 4096 * 2048};
+// Throws SensorSpecError naming `adding`, the budget and the figures when `in_use` and `adding` exceed it.
+void checkBudget(const SensorLoad& in_use, const SensorSpec& adding, const SensorBudget& budget);
+
 // One sensor from a YAML mapping: name, type, x, y, z, roll, pitch, yaw (degrees), rate, seed and the
 // type's own fields; a key the type does not take is refused. `source` prefixes every error.
 SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source);
@@ -130,6 +155,11 @@ std::vector<SensorSpec> readSensorSet(const std::string& path);
 // exists), else the set of that name in sensors_dir. The one reading of a set's name, roar_sim's, a
 // scenario's and scripts/race_rviz's.
 std::string resolveSensorSet(const std::string& name_or_path, const std::string& sensors_dir);
+// The file of the set `name` in sensors_dir, and nothing else: what a service caller (any process on the
+// ROS graph) may ask for. A path, a name with other characters or an unknown name is refused alike, without
+// touching the file system beyond sensors_dir, so a reply tells nothing of other files (sim_services.test).
+std::string sensorSetByName(const std::string& name, const std::string& sensors_dir);
+std::vector<std::string> listSensorSets(const std::string& sensors_dir);
 std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source);
 // Range checks of one spec (physical ranges, and what one core can render); throws SensorSpecError naming
 // the sensor, the field, the value and the range.

@@ -39,6 +39,8 @@ inline constexpr double kMaxCoordinate = 1e6;                // m from the map's
 inline constexpr double kMaxElevation = 1e4;                 // m, |z|
 inline constexpr double kMaxEdgeDistance = 100.0;            // m from the centre line to an edge
 inline constexpr double kMaxBanking = 0.785398;              // rad, 45 degrees (Daytona's steepest is 31)
+inline constexpr double kMinRoadWidth = 2.5;                 // m edge to edge: a car (1.85 m) and a hand
+inline constexpr double kMaxGrade = 0.4;  // rise over run between points (the steepest streets ~0.35)
 // Empty when the point is within those ranges, else what is not (the column, its value and its range).
 std::string centreLinePointProblem(const CentreLinePoint& point);
 
