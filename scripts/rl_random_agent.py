@@ -14,6 +14,8 @@ observation (/<vehicle>/rl/observation) and, like ROAR_PY's sensor readings, the
 stamped at the step (/<vehicle>/camera/<name>/image) under camera/<name>.
 """
 import argparse
+import os
+import signal
 import sys
 import threading
 import time
@@ -169,6 +171,22 @@ def run(steps, vehicle="agent", seed=0, log_every=100):
     return history, env
 
 
+def end_the_launch():
+    """Ends the roslaunch that started this node as Ctrl-C would (race_control does the same), so that a run
+    that is done is not reported as a required node's death; a parent that is no roslaunch is left alone."""
+    parent = os.getppid()
+    try:
+        with open(f"/proc/{parent}/cmdline", "rb") as f:
+            args = f.read().replace(b"\0", b" ").decode(errors="replace")
+    except OSError:
+        return
+    if parent > 1 and "/roslaunch " in args:
+        os.kill(parent, signal.SIGINT)
+        until = time.monotonic() + 15.0  # wall time: nobody steps the simulated clock any more
+        while not rospy.is_shutdown() and time.monotonic() < until:  # roslaunch stops every node, this one too
+            time.sleep(0.05)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--vehicle", default="agent")
@@ -181,6 +199,7 @@ def main():
     episodes = sum(1 for h in history if h[2] or h[3])
     rospy.loginfo("rl_random_agent: %d steps, %d finished episodes, mean reward %.3f", len(history), episodes,
                   float(np.mean(rewards)) if rewards else 0.0)
+    end_the_launch()
 
 
 if __name__ == "__main__":

@@ -106,6 +106,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, private_nh("~");
   try {
     CarModelsNode node(nh, readParameters(private_nh));
+    ros_bridge::refuseUnknownParameters(private_nh);
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("car_models: %s", e.what());

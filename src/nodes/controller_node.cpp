@@ -32,6 +32,12 @@ using namespace roar;
 
 namespace {
 
+// Wall seconds of odometry without a first trajectory before the controller warns.
+constexpr double kFirstWindowPatience = 20.0;
+// Simulated seconds a window may lag the odometry before the car follows the racing line instead: a
+// window reaches a few seconds ahead, so by then the car is near its end.
+constexpr double kStaleWindow = 1.0;
+
 struct DrivenCar {
   std::string name;
   vehicle::VehicleParams params;
@@ -91,6 +97,14 @@ class Driver {
     control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", ros_bridge::kPerTickQueue);
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,
                                    ros::TransportHints().tcpNoDelay());
+    racing_line_sub_ =
+        nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
+          try {
+            racing_line_ = std::make_unique<planning::Trajectory>(ros_bridge::fromMessage(*m));
+          } catch (const std::exception& e) {
+            ROAR_ERROR_WALL_THROTTLE(2.0, "controller: racing line refused: %s", e.what());
+          }
+        });
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(
         car.name + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
@@ -106,7 +120,7 @@ class Driver {
       ROAR_WARN_WALL_THROTTLE(
           5.0, "controller: no window on %s for t = %.2f s after %.1f s; answering with the window of t = %.2f s",
           trajectory_sub_.getTopic().c_str(), held_odom_->header.stamp.toSec(), window_wait_, pairing_.windowStamp());
-      answer(*held_odom_);
+      answer(*held_odom_, /*late=*/true);
     }
     // Odometry held for its window is odometry: that wait is the planner's, said above. Only silence
     // since the last odometry received or answered is "no odometry".
@@ -127,10 +141,24 @@ class Driver {
   void onTrajectory(const roar_ros::Trajectory& msg) {
     try {
       tracker_.setTrajectory(ros_bridge::fromMessage(msg));
+      if (on_racing_line_) ROS_INFO("controller: windows on %s again", trajectory_sub_.getTopic().c_str());
+      on_racing_line_ = false;
       if (pairing_.onWindow(msg.header.stamp.toSec()) && held_odom_) answer(*held_odom_);
     } catch (const std::exception& e) {
       ROAR_ERROR_WALL_THROTTLE(2.0, "controller: trajectory on %s refused: %s%s", trajectory_sub_.getTopic().c_str(),
                                e.what(), tracker_.hasTrajectory() ? "; keeping the previous one" : "");
+    }
+  }
+
+  // The planner's first window comes once its racing line is made, seconds into a normal start: only a
+  // longer wait is news.
+  void waitingForTheFirstWindow() {
+    const ros::WallTime now = ros::WallTime::now();
+    if (first_wait_.isZero()) first_wait_ = now;
+    const double waited = (now - first_wait_).toSec();
+    if (waited > kFirstWindowPatience) {
+      ROAR_WARN_WALL_THROTTLE(5.0, "controller: no trajectory on %s after %.0f s of odometry (is the planner up?)",
+                              trajectory_sub_.getTopic().c_str(), waited);
     }
   }
 
@@ -141,18 +169,29 @@ class Driver {
     }
     last_odom_ = ros::WallTime::now();
     if (!pairing_.onOdometry(odom.header.stamp.toSec(), last_odom_.toSec())) {
-      if (!pairing_.hasWindow()) {
-        ROAR_WARN_WALL_THROTTLE(5.0, "controller: waiting for a trajectory on %s", trajectory_sub_.getTopic().c_str());
-      }
+      if (!pairing_.hasWindow()) waitingForTheFirstWindow();
       held_odom_ = keep;  // a newer odometry supersedes one still held: the simulator went on without its answer
       return;
     }
     answer(odom);
   }
 
-  void answer(const nav_msgs::Odometry& odom) {
+  // The windows stopped (planner dead or stuck): the car follows the whole racing line, latched, until a
+  // fresh window comes (planner_killed rostest).
+  void followTheRacingLineIfTheWindowsStopped(double stamp) {
+    const bool stale = pairing_.windowStale(stamp, kStaleWindow);
+    if (stale && !on_racing_line_ && racing_line_) {
+      ROS_WARN("controller: no window on %s since t = %.2f s: '%s' follows the racing line until one comes",
+               trajectory_sub_.getTopic().c_str(), pairing_.windowStamp(), car_.name.c_str());
+      tracker_.setTrajectory(*racing_line_);
+      on_racing_line_ = true;
+    }
+  }
+
+  void answer(const nav_msgs::Odometry& odom, bool late = false) {
     driving_ = true;
     last_odom_ = ros::WallTime::now();
+    followTheRacingLineIfTheWindowsStopped(odom.header.stamp.toSec());
     control::TrackerInput in;
     in.position = Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y);
     in.yaw = ros_bridge::yawOf(odom.pose.pose.orientation);
@@ -168,7 +207,11 @@ class Driver {
     }
     msg.header.stamp = odom.header.stamp;
     control_pub_.publish(msg);
-    pairing_.answered();
+    if (late) {
+      pairing_.answeredLate();
+    } else {
+      pairing_.answered();
+    }
     held_odom_.reset();  // last: `odom` may be the held message itself
   }
 
@@ -176,9 +219,12 @@ class Driver {
   double odom_timeout_, window_wait_;
   control::TrajectoryTracker tracker_;
   ros::Publisher control_pub_;
-  ros::Subscriber trajectory_sub_, odom_sub_;
-  ros::WallTime last_odom_;  // of the last odometry received or answered
-  bool driving_ = false;     // an odometry message has been answered: the watchdog starts with driving
+  ros::Subscriber trajectory_sub_, odom_sub_, racing_line_sub_;
+  std::unique_ptr<planning::Trajectory> racing_line_;  // the planner's whole line (latched): when windows stop
+  bool on_racing_line_ = false;
+  ros::WallTime last_odom_;   // of the last odometry received or answered
+  ros::WallTime first_wait_;  // of the first odometry that found no trajectory
+  bool driving_ = false;      // an odometry message has been answered: the watchdog starts with driving
   control::WindowPairing pairing_;
   nav_msgs::Odometry::ConstPtr held_odom_;  // the odometry pairing_ holds: no trajectory yet, or its window is late
   bool stale_ = false;
@@ -220,6 +266,10 @@ int main(int argc, char** argv) {
   try {
     const ControllerOptions options = readParameters(private_nh);
     ControllerNode node(nh, options);
+    // Its gains are dynamic_reconfigure parameters (cfg/Controller.cfg), set by hand or by rqt.
+    for (const auto& p : roar_ros::ControllerConfig::__getParamDescriptions__())
+      ros_bridge::markParameterKnown(private_nh, p->name);
+    ros_bridge::refuseUnknownParameters(private_nh);
     std::string names;
     for (const auto& car : options.cars) names += (names.empty() ? "" : ", ") + car.name;
     ROS_INFO("controller: driving %s along their local trajectories", names.empty() ? "no car" : names.c_str());

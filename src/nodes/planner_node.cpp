@@ -112,6 +112,16 @@ class PlannerNode {
     expiry_timer_ = nh.createWallTimer(ros::WallDuration(0.02), [this](const ros::WallTimerEvent&) {
       if (ticks_) plan(ticks_->expire(ros::WallTime::now().toSec()));
     });
+    // Alone (rosrun), the planner would wait in silence: it says once what it waits for.
+    waiting_timer_ = nh.createWallTimer(
+        ros::WallDuration(3.0),
+        [this](const ros::WallTimerEvent&) {
+          if (!field_) {
+            ROS_INFO("planner: waiting for the track's waypoints on %s (waypoint_server publishes them)",
+                     waypoints_sub_.getTopic().c_str());
+          }
+        },
+        true);
   }
 
  private:
@@ -210,7 +220,7 @@ class PlannerNode {
   PlannerNodeOptions options_;
   std::unique_ptr<planning::FieldPlanner> field_;
   std::unique_ptr<planning::TickGathering> ticks_;
-  ros::WallTimer expiry_timer_;
+  ros::WallTimer expiry_timer_, waiting_timer_;
   std::string map_name_;
   ros::Publisher line_pub_, path_pub_;
   ros::Subscriber waypoints_sub_;
@@ -224,6 +234,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, private_nh("~");
   try {
     PlannerNode node(nh, readParameters(private_nh));
+    ros_bridge::refuseUnknownParameters(private_nh);
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("planner: %s", e.what());

@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
   try {
     const PolicyDriverOptions options = readParameters(private_nh);
     PolicyDriver driver(nh, options);
+    ros_bridge::refuseUnknownParameters(private_nh);
     ROS_INFO("policy_driver: %s drives %s", options.policy_file.c_str(), options.vehicle.c_str());
     ros::spin();
   } catch (const std::exception& e) {

@@ -118,7 +118,9 @@ roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
     s.car_contacts = car.car_contacts;
     s.track_limit_violations = car.track_limit_violations;
     s.time_in_traffic = car.time_in_traffic;
-    s.time_lost_in_traffic = race.timeLostInTraffic(standing.name);
+    const double lost = race.timeLostInTraffic(standing.name);  // NaN until there is a clean lap to compare
+    s.traffic_compared = std::isfinite(lost);
+    s.time_lost_in_traffic = s.traffic_compared ? lost : 0.0;
     s.finished = car.finished;
     msg.cars.push_back(s);
   }
@@ -335,12 +337,24 @@ class RaceControlNode {
 
 }  // namespace
 
+// SIGTERM (a kill, a system shutting down) ends the race as Ctrl-C does: results written, status aborted.
+void shutDownOnTerm(int) { ros::requestShutdown(); }
+
+// The laps every car has completed, summed: results are rewritten when it grows.
+int lapsTimed(const race::RaceControl& race) {
+  int laps = 0;
+  for (const auto& [name, car] : race.cars()) laps += car.timer.lapsCompleted();
+  return laps;
+}
+
 int main(int argc, char** argv) {
   ros::init(argc, argv, "race_control");
+  signal(SIGTERM, shutDownOnTerm);
   ros::NodeHandle nh, pnh("~");
   try {
     const RaceControlOptions options = readParameters(pnh);
     RaceControlNode node(nh, track::loadMapFolder(options.map_folder), options);
+    ros_bridge::refuseUnknownParameters(pnh);
     // Read now: at the end the master may be gone with the launch.
     const std::string run_id = ros::param::param<std::string>("/run_id", "");
     const track::Track& track = node.race().track();
@@ -362,9 +376,15 @@ int main(int argc, char** argv) {
     // gone silent and no longer answers (killed) ends it as aborted.
     bool aborted = false;
     ros::WallTime last_probe = ros::WallTime::now();
+    int laps_written = 0;
     while (ros::ok()) {
       ros::spinOnce();
       if (node.race().finished() || (options.max_sim_time > 0 && node.now() > options.max_sim_time)) break;
+      // Every lap timed is on disk at once (status running): a race_control killed mid-race loses none.
+      if (!options.output_dir.empty() && lapsTimed(node.race()) > laps_written) {
+        laps_written = lapsTimed(node.race());
+        race::writeResults(options.output_dir, node.race(), race::RaceOutcome::kRunning, run_id);
+      }
       const ros::WallTime wall = ros::WallTime::now();
       if (!node.lastMessage().isZero() && (wall - node.lastMessage()).toSec() > options.sim_silence &&
           (wall - last_probe).toSec() > 1.0) {

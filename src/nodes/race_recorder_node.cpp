@@ -196,6 +196,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     RaceRecorder recorder(nh, pnh, readParameters(pnh));
+    ros_bridge::refuseUnknownParameters(pnh);
     ros::spin();
     recorder.close();
   } catch (const std::exception& e) {

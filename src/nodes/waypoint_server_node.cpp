@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
   ros::NodeHandle nh, pnh("~");
   try {
     WaypointServer server(nh, pnh);
+    ros_bridge::refuseUnknownParameters(pnh);
     ros::spin();
   } catch (const std::exception& e) {
     ROS_FATAL("waypoint_server: %s", e.what());

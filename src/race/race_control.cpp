@@ -273,14 +273,16 @@ const char* outcomeName(RaceOutcome outcome) {
       return "interrupted";
     case RaceOutcome::kAborted:
       return "aborted";
+    case RaceOutcome::kRunning:
+      return "running";
   }
   return "unknown";
 }
 
-void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run) {
-  std::filesystem::create_directories(dir);
-  std::ofstream yaml(dir + "/results.yaml"), laps(dir + "/laps.csv"), sectors(dir + "/sectors.csv");
-  if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
+namespace {
+
+void writeResultFiles(const RaceControl& race, RaceOutcome outcome, const std::string& run, std::ofstream& yaml,
+                      std::ofstream& laps, std::ofstream& sectors) {
   for (auto* out :
        {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
     *out << std::setprecision(10);
@@ -335,6 +337,21 @@ void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome o
     yaml << "  - {time_s: " << o.time << ", passer: " << o.passer << ", passed: " << o.passed << ", lap: " << o.lap
          << ", s_m: " << o.s << "}\n";
   }
+}
+
+}  // namespace
+
+void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run) {
+  std::filesystem::create_directories(dir);
+  const std::string names[] = {"results.yaml", "laps.csv", "sectors.csv"};
+  {
+    std::ofstream yaml(dir + "/.results.yaml.new"), laps(dir + "/.laps.csv.new"), sectors(dir + "/.sectors.csv.new");
+    if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
+    writeResultFiles(race, outcome, run, yaml, laps, sectors);
+    if (!yaml.flush() || !laps.flush() || !sectors.flush())
+      throw std::runtime_error("race control: cannot write results in " + dir);
+  }
+  for (const auto& name : names) std::filesystem::rename(dir + "/." + name + ".new", dir + "/" + name);
 }
 
 }  // namespace roar::race

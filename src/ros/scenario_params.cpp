@@ -63,6 +63,8 @@ std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
 
 std::vector<stack::ScenarioCar> readRaceCars(const ros::NodeHandle& nh, const std::optional<stack::Scenario>& scenario,
                                              const std::string& default_model) {
+  // The launch files always pass ~vehicles; a scenario's cars take its place.
+  markParameterKnown(nh, "vehicles");
   if (scenario) return scenario->cars;
   const std::string where = nh.resolveName("vehicles");
   XmlRpc::XmlRpcValue list;

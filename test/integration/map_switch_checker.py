@@ -3,6 +3,7 @@
 with none restarted: waypoint_server serves the new map, the planner plans its racing line, race_control
 writes the interrupted race's results (nothing recorded lost) and runs a new race, which the stack's car
 laps."""
+import math
 import os
 import sys
 import unittest
@@ -33,6 +34,10 @@ class MapSwitch(unittest.TestCase):
         wait_for(lambda: "/race_status" in latest and latest["/race_status"].cars
                  and latest["/race_status"].cars[0].laps_completed >= 1, 240, "ego's first lap of Roar Ring")
         laps_before = latest["/race_status"].cars[0].laps_completed
+        for car in latest["/race_status"].cars:  # every figure is a number while the race runs
+            for field in car.__slots__:
+                value = getattr(car, field)
+                self.assertFalse(isinstance(value, float) and not math.isfinite(value), f"{car.name}.{field} = {value}")
 
         bad = rospy.ServiceProxy("/roar_sim/load_map", LoadMap)(map="no_such_map", respawn_vehicles=True)
         self.assertFalse(bad.success)

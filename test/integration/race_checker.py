@@ -23,13 +23,16 @@ MANOEUVRES = {}  # car: (decision texts its /<car>/manoeuvre showed, most points
 
 
 def this_runs_results(path, run_id):
-    """results.yaml once race_control of this launch has written it whole, else None."""
+    """results.yaml once race_control of this launch has written it at the race's end, else None (the
+    results it writes after each lap say status: running)."""
     try:
         with open(path) as f:
             results = yaml.safe_load(f)
     except (OSError, yaml.YAMLError):
         return None
     if not isinstance(results, dict) or results.get("run_id") != run_id or "cars" not in results:
+        return None
+    if results.get("status") == "running":
         return None
     time.sleep(0.5)  # let the writer finish the rest of the report
     with open(path) as f:

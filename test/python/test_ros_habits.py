@@ -1,7 +1,9 @@
 """The habits of a ROS user work on the package: rosrun finds every executable (the devel space is not
 under <package>/build/, which rosrun skips)."""
 import os
+import signal
 import subprocess
+import time
 
 import pytest
 
@@ -81,6 +83,20 @@ def test_a_finished_race_ends_roslaunch_as_ctrl_c_would(tmp_path):
     assert "race finished" in output, output[-3000:]
     assert "REQUIRED process" not in output and "has died" not in output, output[-3000:]
     assert done.returncode == 0, output[-3000:]
+    # A normal race is quiet: no warning or error from any node.
+    noisy = [line for line in output.splitlines() if "[ WARN]" in line or "[ERROR]" in line or "[FATAL]" in line]
+    assert not noisy, noisy
+
+
+def test_rl_launch_ends_when_its_agent_is_done(tmp_path):
+    """rl.launch agent:=true: the example agent ends the launch when its steps are done, as Ctrl-C would."""
+    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11659", "ROS_LOG_DIR": str(tmp_path / "log")}
+    done = subprocess.run(["roslaunch", "-p", "11659", "roar_ros", "rl.launch", "agent:=true", "steps:=40"],
+                          capture_output=True, text=True, env=env, cwd=tmp_path, timeout=240)
+    output = done.stdout + done.stderr
+    assert "rl_random_agent: 40 steps" in output, output[-3000:]
+    assert "REQUIRED process" not in output and "has died" not in output, output[-3000:]
+    assert done.returncode == 0, output[-3000:]
 
 
 def test_a_lockstep_race_of_several_cars_runs_the_same_twice(tmp_path):
@@ -98,3 +114,105 @@ def test_a_lockstep_race_of_several_cars_runs_the_same_twice(tmp_path):
         laps.append((out / "laps.csv").read_text())
     assert len(laps[0].splitlines()) == 5, laps[0]
     assert laps[0] == laps[1]
+
+
+def devel_only_env():
+    """The environment of a user who has only run `source devel/setup.bash` (no ROS_LOG_DIR, no ROS_HOME)."""
+    done = subprocess.run(["env", "-i", f"HOME={os.environ['HOME']}", "PATH=/usr/bin:/bin", "bash", "-c",
+                           f"source {REPO}/devel/setup.bash && env -0"], capture_output=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    env = dict(item.split("=", 1) for item in done.stdout.decode().split("\0") if "=" in item)
+    assert "ROS_LOG_DIR" not in env and "ROS_HOME" not in env
+    return env
+
+
+@pytest.mark.parametrize("test_file", sorted(f for f in os.listdir(os.path.join(REPO, "test", "integration"))
+                                             if f.endswith(".test")))
+def test_every_rostest_resolves_with_only_devel_setup(test_file):
+    done = subprocess.run(["roslaunch", "--dump-params", os.path.join(REPO, "test", "integration", test_file)],
+                          capture_output=True, text=True, env=devel_only_env(), timeout=60)
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_a_rostest_runs_by_hand_with_only_devel_setup(tmp_path):
+    env = {**devel_only_env(), "HOME": str(tmp_path)}  # its ~/.ros/log is the test's own
+    done = subprocess.run(["rostest", "roar_ros", "race.test"], capture_output=True, text=True, env=env, timeout=400)
+    assert done.returncode == 0 and "RESULT: SUCCESS" in done.stdout, (done.stdout + done.stderr)[-3000:]
+    assert (tmp_path / ".ros" / "log" / "race_test" / "results.yaml").exists()
+
+
+@pytest.fixture(scope="module")
+def master():
+    """A master of the test's own, on a port of its own."""
+    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11712"}
+    core = subprocess.Popen(["roscore", "-p", "11712"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    try:
+        for _ in range(100):
+            if subprocess.run(["rosparam", "list"], capture_output=True, env=env, timeout=10).returncode == 0:
+                break
+            time.sleep(0.2)
+        yield env
+    finally:
+        core.terminate()
+        core.wait(timeout=30)
+
+
+@pytest.mark.parametrize("node, misspelt, suggested", [
+    ("roar_sim", "_real_time_factr:=2", "did you mean '/roar_sim/real_time_factor'?"),
+    ("controller", "_lookahead_tme:=3", "did you mean '/controller/lookahead_time'?"),
+    ("planner", "_horizn:=3", "unknown parameter /planner/horizn"),
+    ("waypoint_server", "_mapp:=monza", "did you mean '/waypoint_server/map'?"),
+])
+def test_a_misspelt_private_parameter_is_refused(master, node, misspelt, suggested):
+    done = subprocess.run(["rosrun", "roar_ros", node, misspelt], capture_output=True, text=True, env=master,
+                          timeout=60)
+    assert done.returncode != 0, done.stdout + done.stderr
+    assert suggested in done.stdout + done.stderr, done.stdout + done.stderr
+    subprocess.run(["rosparam", "delete", "/" + node], capture_output=True, env=master, timeout=10)
+
+
+def test_a_known_dynamic_reconfigure_parameter_is_taken(master):
+    """The controller's gains are dynamic_reconfigure parameters: set by hand, they are not unknown."""
+    node = subprocess.Popen(["rosrun", "roar_ros", "controller", "_speed_gain:=1.5"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, env=master)
+    try:
+        with pytest.raises(subprocess.TimeoutExpired):
+            node.wait(timeout=5)
+    finally:
+        node.terminate()
+        output = node.communicate(timeout=30)[0]
+    assert "unknown parameter" not in output, output
+
+
+def test_scripts_race_refuses_an_argument_race_launch_does_not_declare():
+    done = subprocess.run(["bash", os.path.join(REPO, "scripts", "race"), "lap:=1"], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 2, done.stdout + done.stderr
+    assert "race.launch has no argument 'lap' (did you mean 'laps'?)" in done.stderr, done.stderr
+    assert "race report" not in done.stdout and "output" not in done.stdout
+
+
+@pytest.mark.parametrize("sig, status", [(signal.SIGTERM, "aborted"), (signal.SIGKILL, "running")])
+def test_race_control_killed_mid_race_loses_no_lap(tmp_path, sig, status):
+    """Results are on disk after every lap (status running); SIGTERM writes them as aborted; even SIGKILL
+    loses no lap already timed."""
+    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11660", "ROS_LOG_DIR": str(tmp_path / "log")}
+    out = tmp_path / "out"
+    launch = subprocess.Popen(["roslaunch", "-p", "11660", "roar_ros", "race.launch", "map:=roar_sprint", "laps:=3",
+                               "real_time_factor:=0", f"output_dir:={out}"], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL, env=env, cwd=tmp_path)
+    try:
+        results = out / "results.yaml"
+        deadline = time.monotonic() + 200
+        while time.monotonic() < deadline and not (results.exists() and "laps_completed: 1" in results.read_text()):
+            time.sleep(0.2)
+        assert results.exists(), "no results after the first lap"
+        pid = int(subprocess.check_output(["pgrep", "-f", f"race_control __name:=race_control.*{tmp_path}"]).split()[0])
+        os.kill(pid, sig)
+        launch.wait(timeout=60)
+    finally:
+        launch.terminate()
+        launch.wait(timeout=60)
+    text = results.read_text()
+    assert f"status: {status}" in text, text
+    assert "laps_completed: 1" in text or "laps_completed: 2" in text, text

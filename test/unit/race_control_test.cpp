@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -332,4 +333,32 @@ TEST(RaceReport, EachCarHasItsOwnColourAndTheLegendCoversNoPath) {
   EXPECT_GT(count(second, 0, map_bottom), 500) << "car b's path in its colour";
   EXPECT_GT(count(first, map_bottom, image.rows), 20) << "car a in the legend, below the map";
   EXPECT_GT(count(second, map_bottom, image.rows), 20) << "car b in the legend, below the map";
+}
+
+TEST(RaceControl, ResultsAreReplacedWholeAsTheRaceGoes) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 2;
+  race::RaceControl race(track, rules, {"runner"});
+  double t = 0.0;
+  for (; race.car("runner").timer.lapsCompleted() < 1 && t < 60.0; t += 0.05)
+    race.updatePosition("runner", t, atCircle(-5 + 20.0 * t));
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_running_results").string();
+  std::filesystem::remove_all(dir);
+  race::writeResults(dir, race, race::RaceOutcome::kRunning);
+  auto read = [&](const std::string& name) {
+    std::ifstream in(dir + "/" + name);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  EXPECT_NE(read("results.yaml").find("status: running"), std::string::npos) << read("results.yaml");
+  EXPECT_NE(read("results.yaml").find("laps_completed: 1"), std::string::npos);
+  const std::string laps = read("laps.csv");
+  EXPECT_EQ(std::count(laps.begin(), laps.end(), '\n'), 2) << laps;
+  race::writeResults(dir, race, race::RaceOutcome::kAborted);
+  EXPECT_NE(read("results.yaml").find("status: aborted"), std::string::npos);
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"laps.csv", "results.yaml", "sectors.csv"}))
+      << "nothing half-written left";
 }

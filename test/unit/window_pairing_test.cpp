@@ -68,3 +68,30 @@ TEST(WindowPairing, AWindowLaggingBehindTheNewestOdometrySaysNothingNew) {
   EXPECT_TRUE(p.plannerAnswersOdometry());
   EXPECT_TRUE(p.holding()) << "t = 0.10 still waits for its window";
 }
+
+TEST(WindowPairing, APlannerThatMissedItsWaitIsNotWaitedForUntilItAnswersAgain) {
+  WindowPairing p(1.0);
+  p.onOdometry(0.0, 0.0);
+  p.onWindow(0.0);
+  p.answered();
+  EXPECT_FALSE(p.onOdometry(0.05, 10.0));
+  ASSERT_TRUE(p.waitedTooLong(11.0));
+  p.answeredLate();
+  EXPECT_FALSE(p.plannerAnswersOdometry());
+  EXPECT_TRUE(p.onOdometry(0.10, 11.0)) << "the next tick is answered at once: a dead planner costs one wait";
+  EXPECT_TRUE(p.onOdometry(0.15, 11.1));
+  p.onWindow(0.15);  // the planner (restarted) answers a tick again
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_FALSE(p.onOdometry(0.20, 11.2)) << "and is waited for again";
+}
+
+TEST(WindowPairing, AWindowOlderThanTheOdometryByMoreThanItsLimitIsStale) {
+  WindowPairing p(1.0);
+  EXPECT_FALSE(p.windowStale(100.0, 2.0)) << "no window: nothing to be stale";
+  p.onOdometry(10.0, 0.0);
+  p.onWindow(10.0);
+  EXPECT_FALSE(p.windowStale(12.0, 2.0));
+  EXPECT_TRUE(p.windowStale(12.05, 2.0));
+  p.onWindow(0.0);
+  EXPECT_FALSE(p.windowStale(100.0, 2.0)) << "an unstamped window says nothing of its age";
+}

@@ -20,8 +20,19 @@ class WindowPairing {
   bool onWindow(double stamp);
   // Whether odometry is held and has waited `window_wait` for its window (answer it with the latest).
   bool waitedTooLong(double wall) const;
+  // The held odometry was answered with the latest window after waiting window_wait: the planner is no
+  // longer waited for until it answers a tick again (a dead planner costs one wait, not one a tick).
+  void answeredLate() {
+    holding_ = false;
+    planner_answers_ = false;
+  }
   // The held odometry was answered (or dropped).
   void answered() { holding_ = false; }
+  // Whether the latest window is older than odometry of `stamp` by more than `stale_after` simulated seconds
+  // (the planner has stopped: the caller follows the whole racing line instead). Unstamped windows never are.
+  bool windowStale(double stamp, double stale_after) const {
+    return has_window_ && window_stamp_ > 0.0 && stamp - window_stamp_ > stale_after;
+  }
 
   bool holding() const { return holding_; }
   double heldStamp() const { return held_stamp_; }

@@ -149,8 +149,11 @@ class RaceControl {
 // `status` in results.yaml: every car finished (or retired), the time limit ran out, the map changed under
 // the race, or the simulator died (aborted).
 // kAborted: the simulator died under the race.
-enum class RaceOutcome { kFinished, kTimedOut, kInterrupted, kAborted };
+// kRunning: the results so far, written after every lap so that a race_control killed mid-race loses none.
+enum class RaceOutcome { kFinished, kTimedOut, kInterrupted, kAborted, kRunning };
 const char* outcomeName(RaceOutcome outcome);
+// results.yaml, laps.csv and sectors.csv in `dir`, each written beside and renamed into place, so a reader
+// (or a kill mid-write) sees the previous whole file or the new one (race_control_test).
 void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run = "");
 
 }  // namespace roar::race

@@ -24,6 +24,14 @@ std::string readChoice(const ros::NodeHandle& nh, const std::string& name, const
 std::vector<std::string> readStringList(const ros::NodeHandle& nh, const std::string& name,
                                         const std::vector<std::string>& fallback);
 
+// Every reader above records the name it was asked for. A parameter a node takes without a reader (a
+// dynamic_reconfigure one, a structure read whole) is marked known here.
+void markParameterKnown(const ros::NodeHandle& nh, const std::string& name);
+// Throws ParamError naming every parameter under the node's private namespace that no reader asked for,
+// with the nearest known name: a misspelt `_real_time_factr:=2` is an error, not a silent default
+// (test_ros_habits test_a_misspelt_private_parameter_is_refused). Call after every parameter is read.
+void refuseUnknownParameters(const ros::NodeHandle& private_nh);
+
 // The package's own folder (for default paths of maps, URDFs and vehicle configs).
 std::string packagePath();
 
