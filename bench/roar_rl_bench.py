@@ -117,6 +117,22 @@ def processes_rate(options: str, count: int, num_envs: int, seconds: float) -> f
     return total
 
 
+def random_action_share(num_envs: int, seconds: float):
+    """A random-action loop (Gymnasium's habit): the time of action_space.sample() and of step(), a call each."""
+    envs = roar_rl.VectorEnv("roar_sprint", "state", num_envs=num_envs, num_threads=min(2, num_envs))
+    envs.reset(seed=1)
+    envs.action_space.seed(0)
+    sampling = stepping = 0.0
+    calls, started = 0, time.perf_counter()
+    while time.perf_counter() - started < seconds:
+        before = time.perf_counter()
+        action = envs.action_space.sample()
+        between = time.perf_counter()
+        envs.step(action)
+        sampling, stepping, calls = sampling + between - before, stepping + time.perf_counter() - between, calls + 1
+    return sampling / calls, stepping / calls
+
+
 def median(values):
     return sorted(values)[len(values) // 2]
 
@@ -134,6 +150,10 @@ if __name__ == "__main__":
     if args.envs_per_thread < 1:
         parser.error(f"--envs-per-thread {args.envs_per_thread}: at least 1")
     per_thread = args.envs_per_thread
+    sample, step = random_action_share(4, args.seconds)
+    print(f"random actions, 4 envs: action_space.sample() {sample * 1e6:.1f} us a call, step() {step * 1e6:.1f} us "
+          f"({sample / step:4.2f} of a step; spaces from {'gymnasium' if roar_rl.vector_env.spaces.USING_GYMNASIUM else 'roar_py_interface'})",
+          flush=True)
     for camera in (False, True):
         options = options_file(camera)
         name = "camera" if camera else "state"

@@ -96,6 +96,17 @@ except ImportError:
             self.bounded_below = -np.inf < low
             self.bounded_above = np.inf > high
             super().__init__(shape, dtype, seed)
+            self._sampling = None
+
+        def _sampling_bounds(self):
+            """low, high (one above for integers) and whether bounded, as sample() uses them: made once, since
+            sampling is in every random-action loop."""
+            if getattr(self, "_sampling", None) is None:  # absent in a Box unpickled from gymnasium
+                integer = self.dtype.kind in "iu"
+                low, high = self.low.astype(np.float64), self.high.astype(np.float64)
+                top = high + 1.0 if integer else high
+                self._sampling = (low, high, top, top - low, integer, self.is_bounded())
+            return self._sampling
 
         @property
         def is_np_flattenable(self) -> bool:
@@ -108,16 +119,14 @@ except ImportError:
 
         def sample(self, mask=None):
             rng = self.np_random
-            low = self.low.astype(np.float64)
-            high = self.high.astype(np.float64)
-            integer = self.dtype.kind in "iu"
-            if self.is_bounded():
-                out = rng.uniform(low, high + 1.0 if integer else high, size=self.shape)
+            low, high, top, span, integer, bounded = self._sampling_bounds()
+            if bounded:
+                out = low + span * rng.random(size=self.shape)  # numpy's uniform(low, top), to the bit
             else:
-                out = self._sample_unbounded(rng, low, high + 1.0 if integer else high)
+                out = self._sample_unbounded(rng, low, top)
             if integer:
-                out = np.floor(out)
-            return np.clip(out, low, high).astype(self.dtype)
+                return np.clip(np.floor(out), low, high).astype(self.dtype)
+            return out.astype(self.dtype)  # uniform draws from [low, high): no clip needed
 
         def _sample_unbounded(self, rng, low, high):
             out = np.empty(self.shape, dtype=np.float64)

@@ -2,6 +2,7 @@
 terms."""
 import atexit
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -82,9 +83,14 @@ class PrivateSim:
     def failure(self) -> str:
         """What went wrong, from roslaunch's output: its error lines (roar_sim's FATAL, roslaunch's own
         errors), else its last lines."""
-        tail = self.output_tail(200).splitlines()
-        errors = [line.strip() for line in tail
-                  if any(mark in line for mark in ("FATAL", "ERROR", "RLException", "error:", "Error:"))]
+        tail = [re.sub(r"\x1b\[[0-9;]*m", "", line).strip() for line in self.output_tail(200).splitlines()]
+        errors = []
+        for line in tail:
+            if any(mark in line for mark in ("FATAL", "ERROR", "RLException", "error:", "Error:")):
+                # "[FATAL] [1795903476.406]: roar_sim: ..." -> "roar_sim: ..."; the same refusal by two nodes once.
+                message = re.sub(r"^\[ *[A-Z]+\] \[[0-9.]+\]: ", "", line)
+                if not any(message.split(": ", 1)[-1] == e.split(": ", 1)[-1] for e in errors):
+                    errors.append(message)
         return "\n".join(errors[:5] if errors else tail[-5:])
 
     def stop(self):

@@ -4,6 +4,7 @@ import math
 import threading
 import time
 import typing
+import warnings
 
 import numpy as np
 import rospy
@@ -291,6 +292,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         ros_name, n = base, 2
         while ros_name in taken:
             ros_name, n = f"{base}_{n}", n + 1
+        if ros_name != name:
+            # CARLA lets actors share a role name; ROS names are unique, so this car's topics say which it is.
+            warnings.warn(f"spawn_vehicle: '{name}' is {'taken' if base in taken else 'no ROS name'}: this car is "
+                          f"'{ros_name}' on ROS (/{ros_name}/odom, ...), '{name}' here", conversions.RoarPyCompatibilityWarning,
+                          stacklevel=4)
         pose = Pose()
         pose.position.x, pose.position.y, pose.position.z = loc
         q = conversions.rpy_to_quaternion(rpy)

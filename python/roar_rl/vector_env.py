@@ -1,4 +1,5 @@
 """Gymnasium's vector API over the C++ VectorEnv (roar_rl_core)."""
+import numbers
 import os
 import typing
 
@@ -36,6 +37,13 @@ def _options_path(env_options: str) -> str:
     if not path.exists():
         raise ValueError(f"VectorEnv: env_options '{env_options}' is neither a file nor one of {available_env_options()}")
     return str(path)
+
+
+def _whole(name: str, value) -> int:
+    """A count given as a whole number (1.5 environments is an error, not one)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not float(value).is_integer():
+        raise ValueError(f"VectorEnv: {name} must be a whole number, got {value!r}")
+    return int(value)
 
 
 def space_of(description: dict) -> spaces.Space:
@@ -88,10 +96,11 @@ class VectorEnv:
     def __init__(self, map_name: str = "roar_sprint", env_options: str = "state", num_envs: int = 4,
                  num_threads: typing.Optional[int] = None, model: str = "sedan", seed: int = 0,
                  batch_size: typing.Optional[int] = None):
-        threads = num_threads if num_threads is not None else min(num_envs, os.cpu_count() or 1)
+        num_envs = _whole("num_envs", num_envs)
+        threads = _whole("num_threads", num_threads) if num_threads is not None else min(num_envs, os.cpu_count() or 1)
         where = (_map_folder(map_name), _options_path(env_options), model, str(ROOT / "urdf"),
-                 str(ROOT / "config" / "vehicles"), int(num_envs), int(threads))
-        self.batch_size = None if batch_size is None else int(batch_size)
+                 str(ROOT / "config" / "vehicles"), num_envs, threads)
+        self.batch_size = None if batch_size is None else _whole("batch_size", batch_size)
         self._core = _core.VectorEnv(*where) if batch_size is None else _core.AsyncVectorEnv(*where, int(batch_size))
         self.num_envs = self._core.num_envs
         self.num_threads = threads
@@ -103,7 +112,13 @@ class VectorEnv:
         self._started = False
         self.closed = False
 
+    def _open_core(self):
+        if self.closed:
+            raise RuntimeError("VectorEnv is closed")
+        return self._core
+
     def reset(self, seed: typing.Optional[int] = None, options: typing.Optional[dict] = None):
+        self._open_core()
         if seed is not None:
             self._seed = int(seed)
         observations, infos = self._core.reset(self._seed)
@@ -111,6 +126,7 @@ class VectorEnv:
         return observations, infos
 
     def step(self, actions):
+        self._open_core()
         if not self._started:
             raise RuntimeError("VectorEnv.step before reset")
         if self.batch_size is not None:
@@ -126,6 +142,7 @@ class VectorEnv:
 
     def send(self, actions, env_ids) -> None:
         """Asynchronous mode: one action per environment of env_ids (a row each, in that order)."""
+        self._open_core()
         if self.batch_size is None:
             raise RuntimeError("VectorEnv.send needs batch_size (asynchronous mode)")
         if not self._started:
@@ -134,6 +151,7 @@ class VectorEnv:
 
     def recv(self):
         """Asynchronous mode: the first batch_size environments to be done; infos["env_id"] says whose."""
+        self._open_core()
         if self.batch_size is None:
             raise RuntimeError("VectorEnv.recv needs batch_size (asynchronous mode)")
         observations, rewards, terminations, truncations, infos, final, mask, env_ids = self._core.recv()
@@ -143,4 +161,6 @@ class VectorEnv:
         return observations, rewards, terminations, truncations, infos
 
     def close(self):
+        """Frees the environments (their threads and buffers); any later call raises RuntimeError."""
         self.closed = True
+        self._core = None

@@ -9,10 +9,12 @@
 #include <array>
 
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "roar/config/yaml_section.h"
 #include "roar/rl/async_vector_env.h"
 #include "roar/rl/env_options.h"
 #include "roar/rl/policy.h"
@@ -239,11 +241,29 @@ struct StepBuffers {
   }
 };
 
+// One call at a time: the GIL is released while environments step, so a second Python thread could enter
+// the same environments (and their buffers) mid-step. It gets a clear error instead (test_roar_rl).
+class OneCaller {
+ public:
+  std::unique_lock<std::mutex> enter(const char* what) {
+    std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      throw std::runtime_error(std::string("VectorEnv.") + what +
+                               " while another thread is inside this VectorEnv: call it from one thread at a "
+                               "time (or give each thread its own VectorEnv)");
+    }
+    return lock;
+  }
+
+ private:
+  std::mutex mutex_;
+};
+
 // Actions from Python, a dict of arrays (or one array) with a leading axis of `rows`, read into Values
 // whose tree keeps its shape from call to call (each leaf's Value found once).
 class BatchedActions {
  public:
-  BatchedActions(const rl::Space& space, std::size_t capacity) {
+  BatchedActions(const rl::Space& space, std::size_t capacity) : space_(&space) {
     leavesOf(space, {}, &leaves_);
     for (const auto& leaf : leaves_) {
       std::vector<py::str> keys;
@@ -275,21 +295,65 @@ class BatchedActions {
       }
       const auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
           py::reinterpret_borrow<py::object>(entry));
-      if (!array || static_cast<std::size_t>(array.size()) != rows * leaf.elements) {
-        throw py::value_error(entryName(leaf, leaf.path.size()) + " must hold " + std::to_string(rows) + " x " +
-                              std::to_string(leaf.elements) + " numbers (one row per environment)");
+      if (!array || !shapeFits(array, rows, *leaf.space)) {
+        throw py::value_error(entryName(leaf, leaf.path.size()) + " has shape " + shapeText(array) + ", must be " +
+                              expectedShape(rows, *leaf.space) + " (one row per environment)");
       }
       const double* data = array.data();
       for (std::size_t i = 0; i < rows; ++i) {
         values_[i * leaves_.size() + l]->numbers.assign(data + i * leaf.elements, data + (i + 1) * leaf.elements);
       }
     }
+    checkNoOtherKeys(actions, *space_, "actions");
     if (rows == actions_.size()) return actions_;
     some_.assign(actions_.begin(), actions_.begin() + static_cast<std::ptrdiff_t>(rows));
     return some_;
   }
 
  private:
+  // (rows,) + the leaf's shape; a leaf of one number may also come as (rows,).
+  static bool shapeFits(const py::array& array, std::size_t rows, const rl::Space& space) {
+    if (array.ndim() == 1 && space.elements() == 1) return static_cast<std::size_t>(array.shape(0)) == rows;
+    if (static_cast<std::size_t>(array.ndim()) != space.shape.size() + 1) return false;
+    if (static_cast<std::size_t>(array.shape(0)) != rows) return false;
+    for (std::size_t d = 0; d < space.shape.size(); ++d) {
+      if (array.shape(static_cast<py::ssize_t>(d + 1)) != space.shape[d]) return false;
+    }
+    return true;
+  }
+  static std::string shapeText(const py::array& array) {
+    if (!array) return "(not an array of numbers)";
+    std::string text = "(";
+    for (py::ssize_t d = 0; d < array.ndim(); ++d) text += (d ? ", " : "") + std::to_string(array.shape(d));
+    return text + (array.ndim() == 1 ? ",)" : ")");
+  }
+  static std::string expectedShape(std::size_t rows, const rl::Space& space) {
+    std::string text = "(" + std::to_string(rows);
+    for (int d : space.shape) text += ", " + std::to_string(d);
+    return text + (space.shape.empty() ? ",)" : ")");
+  }
+  // A key the space does not have is a typo (a misspelt 'steer' would otherwise go unread).
+  static void checkNoOtherKeys(const py::handle& actions, const rl::Space& space, const std::string& where) {
+    if (space.kind != rl::Space::Kind::kDict || !PyDict_Check(actions.ptr())) return;
+    const py::dict given = py::reinterpret_borrow<py::dict>(actions);
+    if (static_cast<std::size_t>(given.size()) == space.keys.size()) {
+      for (std::size_t i = 0; i < space.keys.size(); ++i) {
+        if (space.entries[i].kind == rl::Space::Kind::kDict)
+          checkNoOtherKeys(given[py::str(space.keys[i])], space.entries[i], where + "['" + space.keys[i] + "']");
+      }
+      return;
+    }
+    for (const auto& item : given) {
+      const std::string key = py::str(item.first);
+      if (std::find(space.keys.begin(), space.keys.end(), key) != space.keys.end()) continue;
+      const std::string near = config::nearestKey(key, space.keys);
+      std::string keys;
+      for (const auto& k : space.keys) keys += (keys.empty() ? "" : ", ") + k;
+      throw py::key_error(where + " has no entry '" + key + "'" +
+                          (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; its entries: " + keys);
+    }
+  }
+
   // actions['a']['b'], the leaf's first `depth` keys.
   static std::string entryName(const Leaf& leaf, std::size_t depth) {
     std::string where = "actions";
@@ -297,6 +361,7 @@ class BatchedActions {
     return where;
   }
 
+  const rl::Space* space_;  // the environment's, which outlives this
   std::vector<Leaf> leaves_;
   std::vector<std::vector<py::str>> keys_;  // per leaf, its path as Python strings
   std::vector<rl::Value> actions_, some_;
@@ -334,6 +399,7 @@ class PyVectorEnv {
   py::dict observationSpace() const { return describe(env_->observationSpace()); }
 
   py::tuple reset(std::uint64_t seed) {
+    const auto one_caller = caller_.enter("reset");
     std::vector<rl::ResetResult> results;
     {
       py::gil_scoped_release released;
@@ -347,6 +413,7 @@ class PyVectorEnv {
   }
 
   py::tuple step(const py::object& actions) {
+    const auto one_caller = caller_.enter("step");
     const std::size_t n = env_->size();
     const std::vector<rl::Value>& values = actions_->read(actions, n);
     // VectorEnv::step checks every action first (naming actions[i] and the field) and steps nothing then.
@@ -362,6 +429,7 @@ class PyVectorEnv {
 
  private:
   std::unique_ptr<rl::VectorEnv> env_;
+  OneCaller caller_;
   std::unique_ptr<StepBuffers> out_;
   std::unique_ptr<BatchedActions> actions_;
 };
@@ -411,6 +479,7 @@ class PyAsyncVectorEnv {
 
   // Every environment reset (environment i with seed + i): their first observations and infos, by id.
   py::tuple reset(std::uint64_t seed) {
+    const auto one_caller = caller_.enter("reset");
     std::vector<std::size_t> ids;
     {
       py::gil_scoped_release released;
@@ -435,6 +504,7 @@ class PyAsyncVectorEnv {
   }
 
   void send(const py::object& actions, const py::object& env_ids) {
+    const auto one_caller = caller_.enter("send");
     const auto ids = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(env_ids);
     if (!ids || ids.ndim() != 1) throw py::value_error("env_ids must be a 1-d array of environment ids");
     std::vector<std::size_t> list;
@@ -448,6 +518,7 @@ class PyAsyncVectorEnv {
   }
 
   py::tuple recv() {
+    const auto one_caller = caller_.enter("recv");
     std::size_t buffer = 0;
     {
       py::gil_scoped_release released;
@@ -461,6 +532,7 @@ class PyAsyncVectorEnv {
 
  private:
   std::unique_ptr<rl::AsyncVectorEnv> env_;
+  OneCaller caller_;
   std::size_t batch_ = 1;
   std::size_t first_number_ = 0;  // the number of the first result of the first batch since reset()
   std::vector<std::unique_ptr<StepBuffers>> ring_;

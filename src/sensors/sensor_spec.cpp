@@ -308,13 +308,6 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
   return out;
 }
 
-std::string resolveSensorSet(const std::string& name_or_path, const std::string& sensors_dir) {
-  const bool path = name_or_path.find('/') != std::string::npos ||
-                    (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".yaml") == 0) ||
-                    std::filesystem::is_regular_file(name_or_path);
-  return path ? name_or_path : sensors_dir + "/" + name_or_path + ".yaml";
-}
-
 SensorLoad loadOf(const SensorSpec& spec) {
   SensorLoad load;
   if (isCamera(spec.type)) {
@@ -356,15 +349,33 @@ std::vector<std::string> listSensorSets(const std::string& sensors_dir) {
   return names;
 }
 
-std::string sensorSetByName(const std::string& name, const std::string& sensors_dir) {
+namespace {
+
+// The file of the set `name` in sensors_dir, or an error (after `prefix`) naming the nearest set and `paths`
+// (where a path would be taken instead).
+std::string setFile(const std::string& name, const std::string& sensors_dir, const std::string& prefix,
+                    const std::string& paths) {
   const auto sets = listSensorSets(sensors_dir);
   if (std::find(sets.begin(), sets.end(), name) != sets.end()) return sensors_dir + "/" + name + ".yaml";
   std::string known;
   for (const auto& set : sets) known += (known.empty() ? "" : ", ") + set;
   const std::string near = config::nearestKey(name, sets);
-  throw SensorSpecError("sensor_set: no set named '" + name + "' in " + sensors_dir +
-                        (near.empty() ? "" : " (did you mean '" + near + "'?)") + " (sets: " + known +
-                        "; a file's path is taken at launch, not from a service)");
+  throw SensorSpecError(prefix + "no sensor set '" + name + "' in " + sensors_dir +
+                        (near.empty() ? "" : " (did you mean '" + near + "'?)") + " (sets: " + known + "; " + paths +
+                        ")");
+}
+
+}  // namespace
+
+std::string sensorSetByName(const std::string& name, const std::string& sensors_dir) {
+  return setFile(name, sensors_dir, "sensor_set: ", "a file's path is taken at launch, not from a service");
+}
+
+std::string resolveSensorSet(const std::string& name_or_path, const std::string& sensors_dir) {
+  const bool path = name_or_path.find('/') != std::string::npos ||
+                    (name_or_path.size() > 5 && name_or_path.compare(name_or_path.size() - 5, 5, ".yaml") == 0) ||
+                    std::filesystem::is_regular_file(name_or_path);
+  return path ? name_or_path : setFile(name_or_path, sensors_dir, "", "or a YAML file's path");
 }
 
 std::vector<SensorSpec> readSensorSet(const std::string& path) {

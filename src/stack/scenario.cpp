@@ -127,11 +127,8 @@ std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& fie
       fail(where + ".model", e.what());
     }
     if (!car.sensors.empty()) {
-      const std::string set = sensors::resolveSensorSet(car.sensors, context.sensors_dir);
-      if (!fs::is_regular_file(set))
-        fail(where + ".sensors", "no sensor set '" + car.sensors + "' in " + context.sensors_dir);
       try {
-        sensors::readSensorSet(set);
+        sensors::readSensorSet(sensors::resolveSensorSet(car.sensors, context.sensors_dir));
       } catch (const std::exception& e) {
         fail(where + ".sensors", e.what());
       }

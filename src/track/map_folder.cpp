@@ -361,9 +361,12 @@ std::string resolveMapFolder(const std::string& map, const std::string& maps_dir
   if (fs::exists(fs::path(map) / "track.yaml")) return map;
   const fs::path named = fs::path(maps_dir) / map;
   if (fs::exists(named / "track.yaml")) return named.string();
+  const auto maps = listMaps(maps_dir);
   std::string known;
-  for (const auto& name : listMaps(maps_dir)) known += (known.empty() ? "" : ", ") + name;
-  throw MapError("unknown map '" + map + "': not a map folder and not in " + maps_dir + " (available: " + known + ")");
+  for (const auto& name : maps) known += (known.empty() ? "" : ", ") + name;
+  const std::string near = config::nearestKey(map, maps);
+  throw MapError("unknown map '" + map + "': not a map folder and not in " + maps_dir +
+                 (near.empty() ? "" : " (did you mean '" + near + "'?)") + " (available: " + known + ")");
 }
 
 std::vector<std::string> listMaps(const std::string& maps_dir) {

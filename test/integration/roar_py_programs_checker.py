@@ -214,7 +214,9 @@ class RoarPyPrograms(unittest.TestCase):
         self.assertGreaterEqual(len(waypoints), 5, output[-2000:])
         spacing = [np.linalg.norm(b.location[:2] - a.location[:2]) for a, b in zip(waypoints[1:], waypoints[2:])]
         self.assertTrue(all(s > 2.0 for s in spacing), spacing)
-        self.assertTrue(all(w.lane_width == 12.0 for w in waypoints))
+        # Before space is held the program adds the map's nearest waypoints (their own widths); held, it
+        # records where the car is, with its WAYPOINT_LANE_WIDTH: how many of each depends on the keys' timing.
+        self.assertGreaterEqual(sum(w.lane_width == 12.0 for w in waypoints), 3, [w.lane_width for w in waypoints])
         (p0, _), (p1, _) = poses
         self.assertLess(np.linalg.norm(waypoints[-1].location[:2] - p1[:2]), 10.0, "the last one near the car")
 

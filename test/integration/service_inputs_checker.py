@@ -174,7 +174,7 @@ class ServiceInputs(unittest.TestCase):
             self.assertNotIn("root", reply.message, asked)
             replies[asked] = reply.message.replace(asked, "<asked>")
         self.assertEqual(len(set(replies.values())), 1, replies)
-        self.assertIn("sensor_set: no set named", replies["/etc/passwd"])
+        self.assertIn("sensor_set: no sensor set", replies["/etc/passwd"])
         # A map is a folder holding a track.yaml: any other path is refused alike, reading nothing.
         load = proxy("/roar_sim/load_map", LoadMap)
         for asked in ["/etc", "/etc/passwd", "/no/such"]:

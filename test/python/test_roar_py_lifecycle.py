@@ -102,3 +102,55 @@ def test_ctrl_c_ends_a_program_whose_steps_never_wait(mode):
     out, err = program.communicate(timeout=30)
     assert "closed" in out, err[-2000:]
     assert "KeyboardInterrupt" in err
+
+
+def listening_addresses(pids) -> set:
+    """The local addresses the processes listen on (TCP, IPv4 and IPv6), from /proc."""
+    inodes = set()
+    for pid in pids:
+        try:
+            for fd in os.listdir(f"/proc/{pid}/fd"):
+                target = os.readlink(f"/proc/{pid}/fd/{fd}")
+                if target.startswith("socket:["):
+                    inodes.add(target[8:-1])
+        except OSError:
+            continue
+    addresses = set()
+    for table, width in (("/proc/net/tcp", 8), ("/proc/net/tcp6", 32)):
+        with open(table) as f:
+            for line in f.readlines()[1:]:
+                fields = line.split()
+                if fields[3] == "0A" and fields[9] in inodes:  # 0A: LISTEN
+                    addresses.add(fields[1].split(":")[0][:width])
+    return addresses
+
+
+LOOPBACK = {"0100007F", "00000000000000000000000001000000"}  # 127.0.0.1, ::1 as /proc writes them
+
+
+def test_a_private_stack_listens_on_loopback_only():
+    """With no ROS_IP, no shim preloaded and no master: every socket of the program's own stack (rosmaster,
+    roslaunch, rosout, roar_sim, waypoint_server) and of the program itself listens on loopback only."""
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME", "LD_PRELOAD")}
+    program = subprocess.Popen([sys.executable, "-c", PROGRAM, "exit"], env=env, stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        roslaunch_pid = int(program.stdout.readline().split()[0])
+        tree = stack_of(roslaunch_pid)
+        addresses = listening_addresses(tree + [program.pid])
+        assert addresses, "no listening socket found: the check would pass on anything"
+        assert addresses <= LOOPBACK, addresses
+    finally:
+        program.stdin.write("go\n")
+        program.stdin.flush()
+        program.wait(timeout=60)
+
+
+def test_a_misspelt_map_is_one_clear_error():
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    done = subprocess.run([sys.executable, "-c", "import roar_py_ros; roar_py_ros.RoarPyRosInstance(map_name='monzza')"],
+                          env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0
+    error = done.stderr[done.stderr.index("RoarSimError"):]
+    assert "unknown map 'monzza'" in error and "(did you mean 'monza'?)" in error, error
+    assert "\x1b[" not in error and len(error.splitlines()) <= 4, error

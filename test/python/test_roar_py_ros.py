@@ -77,10 +77,18 @@ def test_blueprints_spawn_and_unknown_ones_are_listed(world):
         spawn(world, "vehicle.audi.a2", 6, rgba=np.array([300, 0, 0, 255]))
     with pytest.raises(ValueError, match="location must be 3 finite numbers"):
         world.spawn_vehicle("vehicle.audi.a2", np.array([np.nan, 0, 0]), np.zeros(3))
-    red = spawn(world, "vehicle.audi.a2", 6, name="my vehicle", rgba=np.array([255, 0, 0, 255]))
+    with pytest.warns(roar_py_ros.RoarPyCompatibilityWarning, match="'my vehicle' is no ROS name: this car is "
+                                                                     "'my_vehicle' on ROS"):
+        red = spawn(world, "vehicle.audi.a2", 6, name="my vehicle", rgba=np.array([255, 0, 0, 255]))
     assert red.name == "my vehicle" and red.ros_name == "my_vehicle"
+    # CARLA lets two actors share a name; on ROS the second is renamed, and says so.
+    spawn(world, "vehicle.audi.a2", 7, name="first")
+    with pytest.warns(roar_py_ros.RoarPyCompatibilityWarning, match="'first' is taken: this car is 'first_2' on ROS"):
+        second = spawn(world, "vehicle.audi.a2", 8, name="first")
+    assert second.name == "first" and second.ros_name == "first_2"
+    world.remove_actor(second)
     world.remove_actor(red)
-    assert red.is_closed() and len(world.get_actors()) == 3
+    assert red.is_closed() and len(world.get_actors()) == 4
 
 
 def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):

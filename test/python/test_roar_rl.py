@@ -1,5 +1,6 @@
 """roar_rl: the C++ vectorised racing environment from Python (no ROS): spaces, determinism, autoreset,
 refused actions."""
+import threading
 import time
 
 import numpy as np
@@ -102,8 +103,13 @@ def test_bad_actions_and_arguments_are_named(envs):
     del missing["brake"]
     with pytest.raises(KeyError, match=r"actions\['brake'\] is missing"):
         envs.step(missing)
-    with pytest.raises(ValueError, match=r"actions\['throttle'\] must hold 4 x 1 numbers"):
+    with pytest.raises(ValueError, match=r"actions\['throttle'\] has shape \(3, 1\), must be \(4, 1\)"):
         envs.step({**full_throttle(4), "throttle": np.ones((3, 1))})
+    with pytest.raises(ValueError, match=r"actions\['throttle'\] has shape \(4, 1, 1\), must be \(4, 1\)"):
+        envs.step({**full_throttle(4), "throttle": np.ones((4, 1, 1))})
+    with pytest.raises(KeyError, match=r"actions has no entry 'steerr' \(did you mean 'steer'\?\)"):
+        envs.step({**full_throttle(4), "steerr": np.zeros((4, 1))})
+    envs.step({**full_throttle(4), "throttle": np.ones(4)})  # one number a row: (4,) is (4, 1)
     nan = full_throttle(4)
     nan["throttle"][0, 0] = np.nan
     with pytest.raises(ValueError, match=r"actions\[0\]\['throttle'\]"):
@@ -114,6 +120,42 @@ def test_bad_actions_and_arguments_are_named(envs):
         roar_rl.VectorEnv("roar_sprint", "no_such_options", num_envs=1)
     with pytest.raises(ValueError, match="num_envs"):
         roar_rl.VectorEnv("roar_sprint", "state", num_envs=0)
+    with pytest.raises(ValueError, match="num_envs must be a whole number, got 1.5"):
+        roar_rl.VectorEnv("roar_sprint", "state", num_envs=1.5)
+
+
+def test_a_closed_env_refuses_every_call():
+    env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=1)
+    env.reset(seed=0)
+    env.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        env.reset(seed=0)
+    with pytest.raises(RuntimeError, match="closed"):
+        env.step(full_throttle(1))
+
+
+@pytest.mark.parametrize("batch_size", [None, 2])
+def test_two_threads_stepping_one_env_get_an_error_not_a_crash(batch_size):
+    env = roar_rl.VectorEnv("roar_sprint", "state", num_envs=2, num_threads=2, batch_size=batch_size)
+    env.reset(seed=0)
+    errors, steps = [], [0]
+
+    def stepper():
+        for _ in range(300):
+            try:
+                env.step(full_throttle(2))
+                steps[0] += 1
+            except RuntimeError as error:
+                errors.append(str(error))
+
+    threads = [threading.Thread(target=stepper) for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert steps[0] > 0
+    assert all("another thread is inside this VectorEnv" in e for e in errors), errors[:3]
+    assert errors, "three threads stepping one VectorEnv 900 times never met"
 
 
 def test_asynchronous_batches_give_each_environment_the_same_episode():

@@ -142,9 +142,14 @@ TEST(SensorSpec, AServiceCallerNamesASetAndNeverAFile) {
   // A path, an existing file elsewhere and a missing one get the same answer, naming no file's contents.
   for (const std::string asked : {"/etc/shadow", "/etc/passwd", "/no/such", "../sensors/default", "default.yaml"}) {
     const std::string error = errorOf([&] { sensors::sensorSetByName(asked, dir); });
-    EXPECT_EQ(error.find("sensor_set: no set named '" + asked + "' in " + dir), 0u) << error;
+    EXPECT_EQ(error.find("sensor_set: no sensor set '" + asked + "' in " + dir), 0u) << error;
     EXPECT_EQ(error.find("root"), std::string::npos) << error;
   }
   EXPECT_NE(errorOf([&] { sensors::sensorSetByName("defualt", dir); }).find("(did you mean 'default'?)"),
+            std::string::npos);
+  // A name given at launch (~sensor_set:=defualt, a scenario's sensors:) is looked up the same way.
+  EXPECT_NE(errorOf([&] {
+              sensors::resolveSensorSet("defualt", dir);
+            }).find("no sensor set 'defualt' in " + dir + " (did you mean 'default'?) (sets: default; or a YAML"),
             std::string::npos);
 }
