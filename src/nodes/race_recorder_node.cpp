@@ -9,6 +9,9 @@
 // ~bag: the bag (its folder is created; written as <bag>.active and renamed when closed, as rosbag does);
 // ~topics: the topics to record, a regular expression the whole name must match. Topics are subscribed to
 // as they appear (the master is asked every ~poll_period wall seconds), with unbounded queues.
+// ~thinned: topics (a regular expression) recorded at most once every ~thinned_period seconds of their
+// messages' stamps (default 0.5 s): the planner's windows, 90% of a bag recorded every tick, are kept as
+// samples. Empty (the default): every message of every topic.
 // ~until_finished (false): the bag ends with the race: once /race_status says the race is finished, only
 // what is stamped at or before the finish is still written (a car's odometry of the finishing tick may
 // arrive after the status, on its own connection); progress is still reported, so that roar_sim does not
@@ -38,6 +41,8 @@ namespace {
 struct RecorderOptions {
   std::string bag;
   std::string topics;
+  std::string thinned;
+  double thinned_period = 0.5;
   double poll_period = 0.2;
   bool until_finished = false;
 };
@@ -55,6 +60,13 @@ RecorderOptions readParameters(const ros::NodeHandle& pnh) {
   } catch (const std::regex_error& e) {
     throw ParamError(pnh.resolveName("topics") + ": '" + o.topics + "' is not a regular expression: " + e.what());
   }
+  o.thinned = readString(pnh, "thinned", "");
+  try {
+    std::regex check(o.thinned);
+  } catch (const std::regex_error& e) {
+    throw ParamError(pnh.resolveName("thinned") + ": '" + o.thinned + "' is not a regular expression: " + e.what());
+  }
+  o.thinned_period = readDouble(pnh, "thinned_period", o.thinned_period, 0.0, 3600.0);
   o.poll_period = readDouble(pnh, "poll_period", o.poll_period, 0.01, 10.0);
   o.until_finished = readBool(pnh, "until_finished", o.until_finished);
   return o;
@@ -106,7 +118,11 @@ std::optional<ros::Time> stampOf(const topic_tools::ShapeShifter& message) {
 class RaceRecorder {
  public:
   RaceRecorder(ros::NodeHandle nh, ros::NodeHandle pnh, RecorderOptions options)
-      : nh_(nh), options_(std::move(options)), pattern_(options_.topics), active_(options_.bag + ".active") {
+      : nh_(nh),
+        options_(std::move(options)),
+        pattern_(options_.topics),
+        thinned_(options_.thinned),
+        active_(options_.bag + ".active") {
     std::filesystem::create_directories(std::filesystem::path(options_.bag).parent_path());
     bag_.open(active_, rosbag::bagmode::Write);
     // Latched: a subscriber that connects late still hears how far the recording has got.
@@ -150,7 +166,7 @@ class RaceRecorder {
     // Stamped with wall time, as rosbag record does: the recorded /clock carries the simulated time.
     const ros::WallTime wall = ros::WallTime::now();
     const auto& message = event.getConstMessage();
-    if (!finished_ || stampedBy(*message, finish_)) {
+    if ((!finished_ || stampedBy(*message, finish_)) && keptSample(topic, *message)) {
       bag_.write(topic, ros::Time(wall.sec, wall.nsec), *message, event.getConnectionHeaderPtr());
       ++counts_[topic];
     }
@@ -166,9 +182,21 @@ class RaceRecorder {
     }
   }
 
+  // A thinned topic's message is kept when its stamp is ~thinned_period after the last kept one.
+  bool keptSample(const std::string& topic, const topic_tools::ShapeShifter& message) {
+    if (options_.thinned.empty() || !std::regex_match(topic, thinned_)) return true;
+    const auto stamp = stampOf(message);
+    if (!stamp) return true;
+    auto last = last_kept_.find(topic);
+    if (last != last_kept_.end() && (*stamp - last->second).toSec() < options_.thinned_period) return false;
+    last_kept_[topic] = *stamp;
+    return true;
+  }
+
   ros::NodeHandle nh_;
   RecorderOptions options_;
-  std::regex pattern_;
+  std::regex pattern_, thinned_;
+  std::map<std::string, ros::Time> last_kept_;
   std::string active_;
   rosbag::Bag bag_;
   ros::Publisher recorded_pub_;

@@ -216,3 +216,26 @@ def test_race_control_killed_mid_race_loses_no_lap(tmp_path, sig, status):
     text = results.read_text()
     assert f"status: {status}" in text, text
     assert "laps_completed: 1" in text or "laps_completed: 2" in text, text
+
+
+def test_a_recorded_race_stays_lean(tmp_path):
+    """record:=true keeps what replay and re-simulation need: every tick's odometry and controls, and the
+    planner's windows once a second (record_plans:=true for every tick's, ten times the bag)."""
+    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11663", "ROS_LOG_DIR": str(tmp_path / "log")}
+    out = tmp_path / "out"
+    done = subprocess.run(["roslaunch", "-p", "11663", "roar_ros", "race.launch", "scenario:=multi_car", "laps:=1",
+                           "record:=true", "real_time_factor:=0", f"output_dir:={out}"], capture_output=True, text=True,
+                          env=env, cwd=tmp_path, timeout=400)
+    assert (out / "race.bag").exists(), (done.stdout + done.stderr)[-3000:]
+    import rosbag
+    with rosbag.Bag(str(out / "race.bag")) as bag:
+        info = bag.get_type_and_topic_info().topics
+    ticks = info["/ego/odom"].message_count
+    cars = sum(1 for topic in info if topic.endswith("/odom"))
+    assert cars == 4 and ticks > 1000, (cars, ticks)
+    assert info["/ego/control"].message_count == ticks, "every tick's control: re-simulation needs them all"
+    plans = info["/ego/local_trajectory"].message_count
+    assert ticks / 25 < plans < ticks / 15, f"{plans} windows in {ticks} ticks: one a second is one in 20"
+    car_minutes = cars * ticks * 0.05 / 60
+    size_mb = (out / "race.bag").stat().st_size / 1e6
+    assert size_mb / car_minutes < 5.0, f"{size_mb:.1f} MB for {car_minutes:.1f} car-minutes"
