@@ -81,6 +81,7 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   r.track_limits = readRule(nh, "track_limits_rule", "penalty");
   r.track_limits_penalty = readDouble(nh, "track_limits_penalty", r.track_limits_penalty, 0.0, 3600.0);
   r.track_limits_margin = readDouble(nh, "track_limits_margin", r.track_limits_margin, 0.0, 50.0);
+  r.driver_grace = readDouble(nh, "driver_grace", r.driver_grace, 0.0, 3600.0);
   o.max_sim_time = readDouble(nh, "max_sim_time", 0.0, 0.0, 1e7);
   o.sim_silence = readDouble(nh, "sim_silence", o.sim_silence, 1.0, 3600.0);
   o.output_dir = readString(nh, "output_dir", "");
@@ -151,13 +152,21 @@ class RaceControlNode {
         [this](std::unique_ptr<track::Track> track, const roar_ros::MapInfo& info) {
           onSimMap(std::move(track), info);
         });
-    // A car whose driver died is out of the race (roar_sim stops waiting for it and brings it to a stop).
+    // A car whose driver is lost (roar_sim stops waiting for it and brings it to a stop) waits ~driver_grace
+    // for it: back in time, it races on having lost the time it stood; not, it is retired.
     lost_sub_ =
         nh.subscribe<std_msgs::String>("/roar_sim/driver_lost", 10, [this](const std_msgs::String::ConstPtr& m) {
-          if (!race_->cars().count(m->data) || !race_->car(m->data).retired.empty() || race_->car(m->data).finished)
-            return;
-          race_->retire(m->data, now_, "driver lost");
-          std::printf("%s: retired at t = %.2f s (driver lost)\n", m->data.c_str(), now_);
+          if (!race_->cars().count(m->data)) return;
+          race_->driverLost(m->data, now_);
+          std::printf("%s: driver lost at t = %.2f s: retired unless it is back within %.0f s\n", m->data.c_str(), now_,
+                      race_->rules().driver_grace);
+          std::fflush(stdout);
+        });
+    back_sub_ =
+        nh.subscribe<std_msgs::String>("/roar_sim/driver_back", 10, [this](const std_msgs::String::ConstPtr& m) {
+          if (!race_->cars().count(m->data) || race_->car(m->data).driver_lost_at < 0) return;
+          race_->driverBack(m->data);
+          std::printf("%s: driver back at t = %.2f s\n", m->data.c_str(), now_);
           std::fflush(stdout);
         });
     // Simulated time: the status stops with the simulator.
@@ -198,6 +207,10 @@ class RaceControlNode {
     last_message_ = ros::WallTime::now();
     const double t = odom.header.stamp.toSec();
     now_ = std::max(now_, t);
+    for (const auto& car : race_->retireLostDrivers(now_)) {
+      std::printf("%s: retired at t = %.2f s (driver lost)\n", car.c_str(), race_->car(car).retire_time);
+      std::fflush(stdout);
+    }
     if (!race_->car(name).finished) {
       const auto& v = odom.twist.twist.linear;
       telemetry_[name].push_back(
@@ -323,7 +336,7 @@ class RaceControlNode {
   std::unique_ptr<track::Track> track_;
   std::unique_ptr<race::RaceControl> race_;
   std::unique_ptr<ros_bridge::SimMapFollower> map_follower_;
-  ros::Subscriber lost_sub_;
+  ros::Subscriber lost_sub_, back_sub_;
   ros::WallTime last_message_;
   ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;
@@ -399,14 +412,17 @@ int main(int argc, char** argv) {
       ros::WallDuration(0.002).sleep();
     }
     const bool complete = node.race().finished();
+    // Every car retired and none finished (their drivers lost, the controller killed): not a result.
+    const bool no_finisher = complete && !node.race().anyFinisher();
     // Shut down before the end (roar_sim, a required node, died and took the launch down): aborted too.
     const bool out_of_time = options.max_sim_time > 0 && node.now() > options.max_sim_time;
-    aborted = aborted || (!complete && !out_of_time);
-    std::printf("race_control: race %s at t = %.2f s\n",
-                complete  ? "finished"
+    aborted = aborted || (!complete && !out_of_time) || no_finisher;
+    const bool result = complete && !no_finisher;
+    std::printf("race_control: race %s at t = %.2f s%s\n",
+                result    ? "finished"
                 : aborted ? "aborted"
                           : "timed out",
-                node.now());
+                node.now(), no_finisher ? ": every car retired, none finished" : "");
     for (const auto& standing : node.race().standings()) {
       const race::CarRecord& car = node.race().car(standing.name);
       const auto best = car.timer.bestLap();
@@ -422,7 +438,7 @@ int main(int argc, char** argv) {
           car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);
     }
     if (!options.output_dir.empty()) {
-      const race::RaceOutcome outcome = complete  ? race::RaceOutcome::kFinished
+      const race::RaceOutcome outcome = result    ? race::RaceOutcome::kFinished
                                         : aborted ? race::RaceOutcome::kAborted
                                                   : race::RaceOutcome::kTimedOut;
       race::writeResults(options.output_dir, node.race(), outcome, run_id);
@@ -440,7 +456,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     ros::shutdown();
-    return complete ? 0 : 1;
+    return result ? 0 : 1;
   } catch (const std::exception& e) {
     ROS_FATAL("race_control: %s", e.what());
     return 1;

@@ -228,6 +228,29 @@ void RaceControl::retire(const std::string& name, double time, const std::string
   car.retire_time = time;
 }
 
+void RaceControl::driverLost(const std::string& name, double time) {
+  CarRecord& car = record(name);
+  if (car.finished || !car.retired.empty() || car.driver_lost_at >= 0) return;
+  car.driver_lost_at = time;
+}
+
+void RaceControl::driverBack(const std::string& name) { record(name).driver_lost_at = -1.0; }
+
+std::vector<std::string> RaceControl::retireLostDrivers(double now) {
+  std::vector<std::string> retired;
+  for (auto& [name, car] : cars_) {
+    if (car.driver_lost_at < 0 || now - car.driver_lost_at < rules_.driver_grace) continue;
+    retire(name, car.driver_lost_at, "driver lost");
+    car.driver_lost_at = -1.0;
+    if (car.retired == "driver lost") retired.push_back(name);
+  }
+  return retired;
+}
+
+bool RaceControl::anyFinisher() const {
+  return std::any_of(cars_.begin(), cars_.end(), [](const auto& kv) { return kv.second.finished; });
+}
+
 bool RaceControl::finished() const {
   return std::all_of(cars_.begin(), cars_.end(),
                      [](const auto& kv) { return kv.second.finished || !kv.second.retired.empty(); });

@@ -49,6 +49,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   map_pub_ = private_nh_.advertise<roar_ros::MapInfo>("map", 1, true);
   debug_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("debug_markers", 1, true);
   driver_lost_pub_ = private_nh_.advertise<std_msgs::String>("driver_lost", 10, true);
+  driver_back_pub_ = private_nh_.advertise<std_msgs::String>("driver_back", 10);
   loadMap(options_.map_folder, "start");
   for (const auto& v : options_.vehicles) {
     if (v.spawn_point >= kGridSlots) {
@@ -244,6 +245,9 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
       it->second.driver_lost = false;
       ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(),
                world_->time());
+      std_msgs::String back;
+      back.data = name;
+      driver_back_pub_.publish(back);
     }
   }
 }
@@ -391,6 +395,15 @@ roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
     out.sensor_stamps.push_back(toRosTime(at));
   }
   return out;
+}
+
+bool SimNode::everyDriverLost() const {
+  bool lost = false;
+  for (const auto& [name, io] : io_) {
+    if (io.control.getNumPublishers() > 0 && !io.driver_lost) return false;
+    lost = lost || io.driver_lost;
+  }
+  return lost;
 }
 
 bool SimNode::controlsArrived() const {
@@ -604,9 +617,17 @@ void SimNode::run() {
         if ((controlsArrived() || timed_out) && recordersKeptUp()) {
           if (timed_out) markLostDrivers();
           markDisconnectedDrivers();
+          const ros::WallTime ticked = ros::WallTime::now();
           tick();
           waiting_since = ros::WallTime::now();
           paceToRealTime();
+          // With no driver answering there is nobody to race: time runs no faster than real time, so that a
+          // driver that paused (a stopped process, a loaded machine) finds its car where a real one would be,
+          // within race_control's ~driver_grace (driver_pause rostest).
+          if (everyDriverLost()) {
+            const ros::WallTime due = ticked + ros::WallDuration(options_.world.control_dt);
+            while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
+          }
         }
         break;
       }

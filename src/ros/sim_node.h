@@ -92,6 +92,8 @@ class SimNode {
   sensors::SensorLoad sensorLoad() const;
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
+  // Lockstep: some driver is lost and none that is connected answers.
+  bool everyDriverLost() const;
   void markLostDrivers();
   // A driver that had a control publisher and has none now (it died): lost at once, not after a timeout.
   void markDisconnectedDrivers();
@@ -168,7 +170,7 @@ class SimNode {
   std::size_t spawned_count_ = 0;  // for the palette
   std::uint32_t map_generation_ = 0;
   DebugDrawing debug_;
-  ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_;
+  ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_, driver_back_pub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::vector<ros::ServiceServer> services_;

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """rostest: the controller is killed with SIGKILL (or, with ~kill: rosnode, shut down as `rosnode kill` does)
 in the middle of a lockstep race. roar_sim takes the
-driver as lost (its publisher gone, or after lockstep_timeout; once, not every tick) and the race goes on at
-full speed; the car, left at speed, is brought to a stop on the road without touching the barrier, and
-race_control retires it ("driver lost"): the race, every car finished or retired, ends as finished."""
+driver as lost (its publisher gone, or after lockstep_timeout; once, not every tick) and the race goes on
+(no faster than real time, with no driver left); the car, left at speed, is brought to a stop on the road
+without touching the barrier, and race_control, its driver not back within ~driver_grace, retires it
+("driver lost", as of when it was lost): every car retired and none finished, the race ends aborted."""
 import os
 import signal
 import sys
@@ -47,8 +48,8 @@ class DeadDriver(unittest.TestCase):
             os.kill(pid, signal.SIGKILL)
         killed_at, killed_wall = clock.now, time.time()
 
-        # Before: every tick waited the full 5 s lockstep_timeout (0.05 s of race per 5 s). Now one wait, then
-        # the race runs on; 40 s of race in at most 90 s of wall time.
+        # Not every tick waits the full 5 s lockstep_timeout (0.05 s of race per 5 s): one wait, then the race
+        # runs on; 40 s of race in at most 90 s of wall time.
         while clock.now < killed_at + 40.0:
             self.assertLess(time.time() - killed_wall, 90.0,
                             f"the race stalled at t = {clock.now:.2f} s after the driver was killed")
@@ -65,7 +66,7 @@ class DeadDriver(unittest.TestCase):
             self.assertLess(time.time() - killed_wall, 150.0, "race_control wrote results.yaml")
             time.sleep(0.2)
             results = this_runs_results(results_path, rospy.get_param("/run_id"))
-        self.assertEqual(results["status"], "finished")
+        self.assertEqual(results["status"], "aborted", "no car finished: not a result")
         car = results["cars"][0]
         self.assertEqual(car["name"], "ego")
         self.assertEqual(car["retired"], "driver lost")

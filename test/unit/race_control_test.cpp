@@ -362,3 +362,27 @@ TEST(RaceControl, ResultsAreReplacedWholeAsTheRaceGoes) {
   EXPECT_EQ(files, (std::vector<std::string>{"laps.csv", "results.yaml", "sectors.csv"}))
       << "nothing half-written left";
 }
+
+TEST(RaceControl, ALostDriverBackWithinTheGraceRacesOnAndOneThatIsNotRetires) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 1;
+  rules.driver_grace = 30.0;
+  race::RaceControl race(track, rules, {"paused", "dead"});
+  race.updatePosition("paused", 0.0, atCircle(-5));
+  race.updatePosition("dead", 0.0, atCircle(-10));
+  race.driverLost("paused", 10.0);
+  race.driverLost("dead", 10.0);
+  EXPECT_TRUE(race.retireLostDrivers(39.9).empty()) << "within the grace both wait";
+  EXPECT_FALSE(race.finished()) << "a car waiting for its driver keeps the race open";
+  race.driverBack("paused");
+  EXPECT_EQ(race.retireLostDrivers(40.0), std::vector<std::string>{"dead"});
+  EXPECT_EQ(race.car("dead").retired, "driver lost");
+  EXPECT_DOUBLE_EQ(race.car("dead").retire_time, 10.0) << "retired as of when its driver was lost";
+  EXPECT_EQ(race.car("paused").retired, "") << "back in time: it races on, the time it stood lost";
+  EXPECT_FALSE(race.anyFinisher());
+  double t = 40.0;
+  for (; !race.finished() && t < 120.0; t += 0.05) race.updatePosition("paused", t, atCircle(-5 + 20.0 * (t - 40.0)));
+  ASSERT_TRUE(race.finished());
+  EXPECT_TRUE(race.anyFinisher());
+}

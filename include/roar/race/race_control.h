@@ -32,6 +32,9 @@ struct RaceRules {
   // A car is in traffic while another car (of any lap) is on the road ahead of it within a car's length
   // plus this many seconds at its speed.
   double traffic_gap = 1.0;  // s
+  // A car whose driver is lost (stopped by the simulator) waits this long for it; a driver back in time
+  // costs the car the time it stood, one that is not retires it, as of when it was lost.
+  double driver_grace = 30.0;  // s
 };
 
 struct Incident {
@@ -55,9 +58,10 @@ struct CarRecord {
   double penalties = 0.0;  // s
   int barrier_contacts = 0, car_contacts = 0, track_limit_violations = 0;
   bool finished = false;
-  double finish_time = 0.0;  // s when the last lap was completed
-  std::string retired;       // why the car left the race before finishing ("driver lost"); empty: it did not
-  double retire_time = 0.0;  // s
+  double finish_time = 0.0;      // s when the last lap was completed
+  std::string retired;           // why the car left the race before finishing ("driver lost"); empty: it did not
+  double retire_time = 0.0;      // s
+  double driver_lost_at = -1.0;  // s when its driver was lost; negative: its driver answers
   double last_time = 0.0;
   double last_contact = -1e9;
   bool off_track = false;
@@ -109,6 +113,13 @@ class RaceControl {
   // The car is out of the race (its driver died, say): it is no longer waited for, and is classified
   // behind every car still running, by distance covered. A finished car cannot retire.
   void retire(const std::string& car, double time, const std::string& reason);
+  // The car's driver stopped answering at `time` / answers again. A car whose driver stays lost for
+  // rules().driver_grace is retired "driver lost" by retireLostDrivers (race_control_test).
+  void driverLost(const std::string& car, double time);
+  void driverBack(const std::string& car);
+  // The cars retired now, at simulated time `now`.
+  std::vector<std::string> retireLostDrivers(double now);
+  bool anyFinisher() const;
   bool finished() const;  // every car has completed its laps or retired
   std::vector<Standing> standings() const;
   const CarRecord& car(const std::string& name) const;

@@ -1,0 +1,41 @@
+#!/usr/bin/env python3
+"""rostest: the controller, which drives every car, is stopped (SIGSTOP) at t = 20 s of a lockstep race and
+continued 12 s of wall time later. roar_sim takes its drivers as lost after lockstep_timeout and, with no
+driver answering, runs no faster than real time; race_control waits ~driver_grace for them. The drivers
+come back in time: the race finishes with every car finished, having lost the time they stood."""
+import os
+import signal
+import subprocess
+import sys
+import time
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from race_checker import SimClock, wait_for_results  # noqa: E402
+
+
+class DriverPause(unittest.TestCase):
+    def test_a_paused_controller_costs_time_not_the_race(self):
+        started = time.time()
+        self.assertTrue(SimClock().wait_until(20.0, 120), "the race reaches t = 20 s")
+        pid = int(subprocess.check_output(["pgrep", "-f", "roar_ros/controller __name:=controller"]).split()[0])
+        os.kill(pid, signal.SIGSTOP)
+        try:
+            time.sleep(12.0)
+        finally:
+            os.kill(pid, signal.SIGCONT)
+        results = wait_for_results(rospy.get_param("~output_dir"), started + 280.0)
+        self.assertTrue(results, "the race finished after the controller continued")
+        self.assertEqual(results["status"], "finished")
+        for car in results["cars"]:
+            self.assertTrue(car["finished"], car)
+            self.assertNotIn("retired", car)
+            self.assertEqual(car["barrier_contacts"], 0, car)
+
+
+if __name__ == "__main__":
+    rospy.init_node("driver_pause_checker")
+    rostest.rosrun("roar_ros", "driver_pause", DriverPause, sys.argv)
