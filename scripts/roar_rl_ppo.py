@@ -50,7 +50,9 @@ def evaluate_from_grid(ppo: Ppo, laps: int = 2, max_time: float = 300.0) -> dict
     return {"laps": lap_times, "ended": ended, "best_clean_lap": min(lap_times) if lap_times else None}
 
 
-def plot(curve, path: str, title: str):
+def learning_curve_figure(curve, title: str):
+    """The mean return over wall minutes and, once an episode has finished a lap, the best lap on a second
+    axis; the legend sits below the axes."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -61,18 +63,30 @@ def plot(curve, path: str, title: str):
     ax.plot(minutes, [p.mean_return for p in curve], color="tab:blue", label="mean episode return (last 20)")
     ax.set_xlabel("wall minutes")
     ax.set_ylabel("episode return")
-    ax2 = ax.twinx()
+    lines, labels = ax.get_legend_handles_labels()
     laps = [(m, p.best_lap) for m, p in zip(minutes, curve) if p.best_lap > 0]
     if laps:
+        ax2 = ax.twinx()
         ax2.plot(*zip(*laps), color="tab:red", label="best lap so far (s)")
-    ax2.set_ylabel("best lap (s)")
-    lines = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
-    labels = ax.get_legend_handles_labels()[1] + ax2.get_legend_handles_labels()[1]
+        ax2.set_ylabel("best lap (s)")
+        lines += ax2.get_legend_handles_labels()[0]
+        labels += ax2.get_legend_handles_labels()[1]
+    else:
+        # No lap axis with nothing on it: say that no episode has finished a lap yet.
+        lines.append(plt.Line2D([], [], linestyle="none"))
+        labels.append("no lap completed yet")
     # Below the axes: inside, some part of a curve is always under it.
     ax.legend(lines, labels, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, frameon=False)
     ax.set_title(title)
     ax.grid(alpha=0.3)
     fig.tight_layout()
+    return fig
+
+
+def plot(curve, path: str, title: str):
+    import matplotlib.pyplot as plt
+
+    fig = learning_curve_figure(curve, title)
     fig.savefig(path, dpi=100, bbox_inches="tight")
     plt.close(fig)
 

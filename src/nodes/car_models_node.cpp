@@ -35,12 +35,16 @@ struct CarModel {
 struct CarModelsOptions {
   std::vector<CarModel> cars;
   std::string urdf_dir;
+  // false: no frames from /<car>/joint_states (a replay, whose bag holds them on /tf: publishing them again
+  // makes rviz drop both as TF_REPEATED_DATA).
+  bool joint_frames = true;
 };
 
 CarModelsOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   CarModelsOptions o;
   o.urdf_dir = readString(nh, "urdf_dir", packagePath() + "/urdf");
+  o.joint_frames = readBool(nh, "joint_frames", true);
   for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
     o.cars.push_back({car.name, car.model, car.colour});
   }
@@ -80,6 +84,9 @@ class CarModelsNode {
       nh.setParam(car.name + "/robot_description", urdf_text);
       auto publisher = std::make_shared<robot_state_publisher::RobotStatePublisher>(tree, model);
       publisher->publishFixedTransforms(car.name, true);
+      publishers_.push_back(publisher);
+      ROS_INFO("car_models: %s is a %s (%s)", car.name.c_str(), car.model.c_str(), path.c_str());
+      if (!options.joint_frames) continue;
       const std::string prefix = car.name;
       subs_.push_back(nh.subscribe<sensor_msgs::JointState>(
           car.name + "/joint_states", 20, [publisher, prefix](const sensor_msgs::JointState::ConstPtr& msg) {
@@ -89,8 +96,6 @@ class CarModelsNode {
             }
             publisher->publishTransforms(positions, msg->header.stamp, prefix);
           }));
-      publishers_.push_back(publisher);
-      ROS_INFO("car_models: %s is a %s (%s)", car.name.c_str(), car.model.c_str(), path.c_str());
     }
   }
 

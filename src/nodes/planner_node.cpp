@@ -211,9 +211,8 @@ class PlannerNode {
       car.path_pub.publish(path);
     }
     if (car.manoeuvre_pub.getNumSubscribers() > 0) {  // for rviz: why it passes or waits
-      const Eigen::Vector2d position(odom.pose.pose.position.x, odom.pose.pose.position.y);
-      car.manoeuvre_pub.publish(ros_bridge::manoeuvreMarkers(name, now, field_->predictions(name), position,
-                                                             options_.frame, odom.header.stamp));
+      car.manoeuvre_pub.publish(
+          ros_bridge::manoeuvreMarkers(name, now, field_->predictions(name), options_.frame, odom.header.stamp));
     }
   }
 

@@ -10,6 +10,7 @@
 #include <roar_ros/ResetVehicle.h>
 #include <roar_ros/Trajectory.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 
@@ -23,10 +24,11 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
-#include "roar/ros/frames.h"
+#include "roar/ros/car_label.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
@@ -38,6 +40,8 @@ using namespace roar;
 
 namespace {
 
+constexpr double kRecorderPatience = 5.0;  // s of wall time for the recorder to catch up at the end
+
 struct RaceControlOptions {
   std::string map_folder;
   std::vector<std::string> vehicles;
@@ -45,6 +49,9 @@ struct RaceControlOptions {
   double max_sim_time = 0.0;
   double sim_silence = 10.0;  // s of wall time without odometry before roar_sim is probed (dead: aborted)
   std::string output_dir;
+  // The race's recorder (race_recorder's node name; empty: none): results.yaml says whether its bag reached
+  // the finish.
+  std::string recorder;
   // At a finished race, end the roslaunch that started this node as Ctrl-C would (race.launch's
   // end_with_race), not by exiting as a required node: roslaunch prints that as "REQUIRED process has died".
   bool end_launch = false;
@@ -86,6 +93,7 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   o.sim_silence = readDouble(nh, "sim_silence", o.sim_silence, 1.0, 3600.0);
   o.output_dir = readString(nh, "output_dir", "");
   o.end_launch = readBool(nh, "end_launch", o.end_launch);
+  o.recorder = readString(nh, "recorder", "");
   // One spelling of the folder in what is printed and written ("a/../b/" is "b").
   if (!o.output_dir.empty()) {
     o.output_dir = std::filesystem::absolute(o.output_dir).lexically_normal().string();
@@ -169,11 +177,28 @@ class RaceControlNode {
           std::printf("%s: driver back at t = %.2f s\n", m->data.c_str(), now_);
           std::fflush(stdout);
         });
+    if (!options.recorder.empty()) {
+      recorded_sub_ = nh.subscribe<rosgraph_msgs::Clock>(
+          ros::names::resolve(options.recorder) + "/recorded", 10, [this](const rosgraph_msgs::Clock::ConstPtr& m) {
+            recorded_until_ = std::max(recorded_until_, m->clock.toSec());
+          });
+    }
     // Simulated time: the status stops with the simulator.
     status_timer_ = nh.createTimer(ros::Duration(0.1), [this](const ros::TimerEvent&) { publishStatus(); });
   }
 
   double now() const { return now_; }
+  // How far the recorder got, once it has had up to `patience` s of wall time to reach now() (it runs a few
+  // ticks behind); none without a recorder.
+  std::optional<race::RecordingState> recording(double patience) {
+    if (recorded_sub_.getTopic().empty()) return std::nullopt;
+    const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(patience);
+    while (recorded_until_ < now_ - 1e-6 && ros::ok() && ros::WallTime::now() < until) {
+      ros::spinOnce();
+      ros::WallDuration(0.01).sleep();
+    }
+    return race::RecordingState{recorded_until_, recorded_until_ >= now_ - 1e-6};
+  }
   // Wall time of the last odometry message (zero: none yet).
   ros::WallTime lastMessage() const { return last_message_; }
   const race::RaceControl& race() const { return *race_; }
@@ -303,17 +328,10 @@ class RaceControlNode {
     for (const auto& car : status.cars) {
       auto samples = telemetry_.find(car.name);
       if (samples == telemetry_.end() || samples->second.empty()) continue;
-      visualization_msgs::Marker m;
-      m.header.frame_id = ros_bridge::kMapFrame;
-      m.header.stamp = status.header.stamp;
+      visualization_msgs::Marker m =
+          ros_bridge::carLabel(car.name, ros_bridge::kTimingLabelHeight, 0.8, status.header.stamp);
       m.ns = "timing";
       m.id = static_cast<int>(markers.markers.size());
-      m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-      m.pose.position.x = samples->second.back().position.x();
-      m.pose.position.y = samples->second.back().position.y();
-      m.pose.position.z = 4.5;  // m: above the car, clear of its roof in a view from behind
-      m.pose.orientation.w = 1.0;
-      m.scale.z = 0.8;
       m.color.r = m.color.g = m.color.b = m.color.a = 1.0;
       auto seconds = [](double t) {
         char buf[32] = "-";
@@ -336,7 +354,8 @@ class RaceControlNode {
   std::unique_ptr<track::Track> track_;
   std::unique_ptr<race::RaceControl> race_;
   std::unique_ptr<ros_bridge::SimMapFollower> map_follower_;
-  ros::Subscriber lost_sub_, back_sub_;
+  ros::Subscriber lost_sub_, back_sub_, recorded_sub_;
+  double recorded_until_ = -1.0;
   ros::WallTime last_message_;
   ros::Publisher status_pub_, markers_pub_;
   ros::ServiceClient reset_;
@@ -441,7 +460,14 @@ int main(int argc, char** argv) {
       const race::RaceOutcome outcome = result    ? race::RaceOutcome::kFinished
                                         : aborted ? race::RaceOutcome::kAborted
                                                   : race::RaceOutcome::kTimedOut;
-      race::writeResults(options.output_dir, node.race(), outcome, run_id);
+      const auto recording = node.recording(kRecorderPatience);
+      if (recording && !recording->complete) {
+        std::printf(
+            "race_control: the recorder %s stopped at t = %.2f s, before the end of the race (%.2f s): its bag is "
+            "short and, if it was killed, left .active (rosbag reindex, or replay.launch, recovers it)\n",
+            options.recorder.c_str(), recording->recorded_until, node.now());
+      }
+      race::writeResults(options.output_dir, node.race(), outcome, run_id, recording);
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
       std::printf(
           "race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "

@@ -17,6 +17,7 @@
 // arrive after the status, on its own connection); progress is still reported, so that roar_sim does not
 // wait for a recorder that is done.
 #include <roar_ros/RaceStatus.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosgraph_msgs/Clock.h>
@@ -132,6 +133,18 @@ class RaceRecorder {
     subscribeNew();
   }
 
+  // Writes what is still arriving after a stop was asked for: the finishing tick's controls may be in flight
+  // when roslaunch ends the race (test_a_recorded_race_stays_lean). Returns once nothing has come for
+  // kQuiet, or after kMostDrain.
+  void drain() {
+    constexpr double kQuiet = 0.3, kMostDrain = 2.0;  // s of wall time
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kMostDrain);
+    last_message_ = ros::WallTime::now();
+    while (ros::WallTime::now() < deadline && (ros::WallTime::now() - last_message_).toSec() < kQuiet) {
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.02));
+    }
+  }
+
   // Closes the bag and gives it its name; says what it holds.
   void close() {
     bag_.close();
@@ -165,6 +178,7 @@ class RaceRecorder {
   void write(const std::string& topic, const ros::MessageEvent<const topic_tools::ShapeShifter>& event) {
     // Stamped with wall time, as rosbag record does: the recorded /clock carries the simulated time.
     const ros::WallTime wall = ros::WallTime::now();
+    last_message_ = wall;
     const auto& message = event.getConstMessage();
     if ((!finished_ || stampedBy(*message, finish_)) && keptSample(topic, *message)) {
       bag_.write(topic, ros::Time(wall.sec, wall.nsec), *message, event.getConnectionHeaderPtr());
@@ -205,6 +219,7 @@ class RaceRecorder {
   std::map<std::string, std::size_t> counts_;
   bool finished_ = false;
   ros::Time finish_;  // the stamp of the /race_status that said so
+  ros::WallTime last_message_;
 
   static bool stampedBy(const topic_tools::ShapeShifter& message, const ros::Time& finish) {
     const auto stamp = stampOf(message);
@@ -214,19 +229,23 @@ class RaceRecorder {
 
 }  // namespace
 
-// SIGTERM as SIGINT: the bag is closed and named either way (a bag left .active is unindexed).
-void requestShutdown(int) { ros::requestShutdown(); }
+// SIGTERM as SIGINT: what is in flight is still written, then the bag is closed and named (a bag left
+// .active is unindexed). The node stays up meanwhile, so its subscriptions keep delivering.
+volatile std::sig_atomic_t g_stop_requested = 0;
+void requestStop(int) { g_stop_requested = 1; }
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "race_recorder", ros::init_options::NoSigintHandler);
-  std::signal(SIGINT, requestShutdown);
-  std::signal(SIGTERM, requestShutdown);
+  std::signal(SIGINT, requestStop);
+  std::signal(SIGTERM, requestStop);
   ros::NodeHandle nh, pnh("~");
   try {
     RaceRecorder recorder(nh, pnh, readParameters(pnh));
     ros_bridge::refuseUnknownParameters(pnh);
-    ros::spin();
+    while (!g_stop_requested && ros::ok()) ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.05));
+    recorder.drain();
     recorder.close();
+    ros::shutdown();
   } catch (const std::exception& e) {
     ROS_FATAL("race_recorder: %s", e.what());
     return 1;

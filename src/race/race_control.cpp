@@ -304,15 +304,21 @@ const char* outcomeName(RaceOutcome outcome) {
 
 namespace {
 
-void writeResultFiles(const RaceControl& race, RaceOutcome outcome, const std::string& run, std::ofstream& yaml,
-                      std::ofstream& laps, std::ofstream& sectors) {
+void writeResultFiles(const RaceControl& race, RaceOutcome outcome, const std::string& run,
+                      const std::optional<RecordingState>& recording, std::ofstream& yaml, std::ofstream& laps,
+                      std::ofstream& sectors) {
   for (auto* out :
        {&static_cast<std::ostream&>(yaml), &static_cast<std::ostream&>(laps), &static_cast<std::ostream&>(sectors)}) {
     *out << std::setprecision(10);
   }
   if (!run.empty()) yaml << "run_id: \"" << run << "\"\n";
   yaml << "map: \"" << race.track().info().name << "\"\nlaps: " << race.rules().laps
-       << "\nstatus: " << outcomeName(outcome) << "\ncars:\n";
+       << "\nstatus: " << outcomeName(outcome) << "\n";
+  if (recording) {
+    yaml << "recording:\n  complete: " << (recording->complete ? "true" : "false")
+         << "\n  recorded_until_s: " << recording->recorded_until << "\n";
+  }
+  yaml << "cars:\n";
   laps << "car,lap,lap_time_s,sector_times_s\n";
   sectors << "car,lap,sector,time_s\n";
   std::map<std::string, Standing> standing;
@@ -364,13 +370,14 @@ void writeResultFiles(const RaceControl& race, RaceOutcome outcome, const std::s
 
 }  // namespace
 
-void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run) {
+void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run,
+                  const std::optional<RecordingState>& recording) {
   std::filesystem::create_directories(dir);
   const std::string names[] = {"results.yaml", "laps.csv", "sectors.csv"};
   {
     std::ofstream yaml(dir + "/.results.yaml.new"), laps(dir + "/.laps.csv.new"), sectors(dir + "/.sectors.csv.new");
     if (!yaml || !laps || !sectors) throw std::runtime_error("race control: cannot write results in " + dir);
-    writeResultFiles(race, outcome, run, yaml, laps, sectors);
+    writeResultFiles(race, outcome, run, recording, yaml, laps, sectors);
     if (!yaml.flush() || !laps.flush() || !sectors.flush())
       throw std::runtime_error("race control: cannot write results in " + dir);
   }

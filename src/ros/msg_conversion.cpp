@@ -1,5 +1,8 @@
 #include "roar/ros/msg_conversion.h"
 
+#include "roar/ros/car_label.h"
+#include "roar/ros/frames.h"
+
 #include <cmath>
 
 namespace roar::ros_bridge {
@@ -166,6 +169,19 @@ sensor_msgs::JointState toJointState(const sim::VehicleState& state, const vehic
     }
   }
   return msg;
+}
+
+visualization_msgs::Marker carLabel(const std::string& car, double height, double size, const ros::Time& stamp) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = baseFrame(car);
+  m.header.stamp = stamp;
+  m.frame_locked = true;
+  m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.position.z = height;
+  m.pose.orientation.w = 1.0;
+  m.scale.z = size;
+  return m;
 }
 
 }  // namespace roar::ros_bridge

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "roar/ros/car_label.h"
 #include "roar/track/waypoints.h"
 
 namespace roar::ros_bridge {
@@ -65,8 +66,7 @@ std_msgs::ColorRGBA modeColour(planning::RaceMode mode) {
 
 visualization_msgs::MarkerArray manoeuvreMarkers(const std::string& car, const planning::RaceDecision& decision,
                                                  const std::vector<planning::PredictedPath>& predictions,
-                                                 const Eigen::Vector2d& position, const std::string& frame,
-                                                 const ros::Time& stamp) {
+                                                 const std::string& frame, const ros::Time& stamp) {
   visualization_msgs::MarkerArray out;
   auto marker = [&](const std::string& ns, int id, int type) {
     visualization_msgs::Marker m;
@@ -82,11 +82,8 @@ visualization_msgs::MarkerArray manoeuvreMarkers(const std::string& car, const p
   visualization_msgs::Marker clear = marker("", 0, visualization_msgs::Marker::CUBE);
   clear.action = visualization_msgs::Marker::DELETEALL;
   out.markers.push_back(clear);
-  visualization_msgs::Marker text = marker("decision", 0, visualization_msgs::Marker::TEXT_VIEW_FACING);
-  text.pose.position.x = position.x();
-  text.pose.position.y = position.y();
-  text.pose.position.z = 3.0;  // m: below race_control's timing text (4.5 m), above the roof
-  text.scale.z = 0.7;
+  visualization_msgs::Marker text = carLabel(car, kManoeuvreLabelHeight, 0.7, stamp);
+  text.ns = car + "/decision";
   text.color = modeColour(decision.mode);
   text.text = planning::describe(decision);
   out.markers.push_back(text);

@@ -11,6 +11,7 @@
 #include <regex>
 #include <set>
 
+#include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/queues.h"
@@ -366,7 +367,7 @@ void SimNode::publishState() {
   std::vector<geometry_msgs::TransformStamped> transforms;
   for (auto& [name, io] : io_) {
     const sim::VehicleState state = world_->vehicleState(name);
-    const std::string base = name + "/base_link";
+    const std::string base = baseFrame(name);
     io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
     io.status.publish(toStatus(state, stamp, base));
     for (std::size_t w = 0; w < 4; ++w) {
@@ -388,8 +389,8 @@ roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
   const sim::VehicleState state = world_->vehicleState(name);
   roar_ros::VehicleSnapshot out;
   out.name = name;
-  out.odometry = toOdometry(state, stamp, options_.map_frame, name + "/base_link");
-  out.status = toStatus(state, stamp, name + "/base_link");
+  out.odometry = toOdometry(state, stamp, options_.map_frame, baseFrame(name));
+  out.status = toStatus(state, stamp, baseFrame(name));
   for (const auto& [sensor, at] : io.sensors->lastStamps()) {
     out.sensor_names.push_back(sensor);
     out.sensor_stamps.push_back(toRosTime(at));

@@ -5,6 +5,7 @@
 #include <sensor_msgs/NavSatFix.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/queues.h"
 #include "roar/ros/sensor_msg_conversion.h"
@@ -78,7 +79,7 @@ bool VehicleSensors::detach(const std::string& name) {
 std::vector<geometry_msgs::TransformStamped> VehicleSensors::staticTransforms() const {
   std::vector<geometry_msgs::TransformStamped> out;
   for (const auto& spec : rig_.specs()) {
-    out.push_back(transformMsg(sensors::mountTransform(spec.mount), vehicle_ + "/base_link", frameOf(spec)));
+    out.push_back(transformMsg(sensors::mountTransform(spec.mount), baseFrame(vehicle_), frameOf(spec)));
     if (sensors::isCamera(spec.type)) {
       Eigen::Isometry3d optical = Eigen::Isometry3d::Identity();
       optical.linear() = sensors::opticalFromBody().transpose();

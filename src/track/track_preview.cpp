@@ -86,10 +86,16 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     line_across(track.finishLine(), cv::Scalar(255, 255, 255), 7);
     line_across(track.finishLine(), cv::Scalar(0, 0, 0), 3);
   }
-  // Direction arrow just after the line.
-  const TrackPose a = track.poseAt(track.info().start_finish_s + 20),
-                  b = track.poseAt(track.info().start_finish_s + 60);
-  cv::arrowedLine(image, px(a.position), px(b.position), cv::Scalar(0, 0, 255), 3, cv::LINE_AA, 0, 0.3);
+  // The direction of travel: an arrow beside the road just after the line, outside the barrier, where it
+  // covers neither a path nor a mark, labelled on the map.
+  const auto beside = [&](double s) {
+    const TrackPose pose = track.poseAt(track.info().start_finish_s + s);
+    return Eigen::Vector2d(pose.position + track::leftOf(pose.heading) * (pose.width_left + offset + 12.0));
+  };
+  const double arrow_length = 100.0 / scale;  // m: 100 px on any map
+  cv::arrowedLine(image, px(beside(10)), px(beside(10 + arrow_length)), cv::Scalar(0, 0, 255), 3, cv::LINE_AA, 0, 0.25);
+  cv::putText(image, "direction", px(beside(10 + arrow_length / 2)) + cv::Point(-40, -12), cv::FONT_HERSHEY_SIMPLEX,
+              0.5, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
   char title[256];
   std::snprintf(title, sizeof(title), "%s  %.0f m%s  %d sectors  (100 m = %d px)", track.info().name.c_str(),
                 track.raceDistance(), track.closed() ? "" : " start to finish", sectors, static_cast<int>(100 * scale));
@@ -122,7 +128,9 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
       cv::line(image, {x0 + k, band_y - 14}, {x0 + k, band_y + 2}, colourOf(v_lo + (v_hi - v_lo) * k / w));
     band_y += 22;
   } else if (!paths.empty()) {
-    // Several cars: each its own colour (the speeds are in each car's speed plot), named in the legend.
+    // Several cars: each its own colour (the speeds are in each car's speed plot), named in the legend. The
+    // first is drawn widest and each next one narrower, so cars on the same line show as nested stripes
+    // (RaceReport.CarsOnTheSameLineEachShowTheirColour).
     static const cv::Scalar kPalette[] = {{255, 140, 30}, {14, 127, 255},  {40, 39, 214}, {189, 103, 148},
                                           {230, 220, 40}, {194, 119, 227}, {0, 215, 255}, {245, 245, 245},
                                           {75, 86, 140},  {34, 189, 188}};
@@ -131,8 +139,9 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     for (std::size_t k = 0; k < paths.size(); ++k) {
       const cv::Scalar colour = kPalette[k % kColours];
       const auto& path = paths[k];
+      const int width = 2 + 4 * static_cast<int>(std::min<std::size_t>(paths.size() - 1 - k, 5));
       for (std::size_t i = 0; i + 1 < path.points.size(); ++i) {
-        cv::line(image, px(path.points[i]), px(path.points[i + 1]), colour, 2, cv::LINE_AA);
+        cv::line(image, px(path.points[i]), px(path.points[i + 1]), colour, width, cv::LINE_AA);
       }
       cv::line(image, {x, band_y - 6}, {x + 30, band_y - 6}, colour, 4, cv::LINE_AA);
       cv::putText(image, path.label, {x + 38, band_y}, cv::FONT_HERSHEY_SIMPLEX, 0.6, white, 1, cv::LINE_AA);

@@ -7,6 +7,7 @@
 #include <roar_ros/ControllerConfig.h>
 
 #include "roar/control/trajectory_tracker.h"
+#include "roar/ros/car_label.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/track_msg_conversion.h"
@@ -291,21 +292,38 @@ TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
   EXPECT_EQ(config.max_speed, t.max_speed);
 }
 
+// The timing (race_control) and the decision (planner) float above the same car from two processes with
+// their own lags: drawn in the car's frame and frame-locked, they stay where the car is, one above the other.
+TEST(MsgConversion, CarLabelsRideInTheCarsFrame) {
+  const auto timing = ros_bridge::carLabel("rival", ros_bridge::kTimingLabelHeight, 0.8, ros::Time(3.0));
+  const auto decision = ros_bridge::carLabel("rival", ros_bridge::kManoeuvreLabelHeight, 0.7, ros::Time(3.0));
+  for (const auto& m : {timing, decision}) {
+    EXPECT_EQ(m.header.frame_id, "rival/base_link");
+    EXPECT_TRUE(m.frame_locked);
+    EXPECT_EQ(m.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+    EXPECT_EQ(m.pose.position.x, 0.0);
+    EXPECT_EQ(m.pose.position.y, 0.0);
+  }
+  // Two timing lines below their centre must clear one decision line above its own, with 0.2 m between.
+  EXPECT_GE((timing.pose.position.z - timing.scale.z) - (decision.pose.position.z + decision.scale.z / 2), 0.2);
+  EXPECT_GE(decision.pose.position.z - decision.scale.z / 2, 1.8) << "above the roof";
+}
+
 TEST(MsgConversion, ManoeuvreMarkersShowTheDecisionAndEachPrediction) {
   const planning::RaceDecision decision{planning::RaceMode::kPass, -1, "pace"};
   std::vector<planning::PredictedPath> predictions(2);
   predictions[0] = {"pace", 0.5, {{10.0, 1.0}, {15.0, 1.0}, {20.0, 1.5}}};
   predictions[1] = {"rival", 0.5, {{-5.0, 0.0}, {0.0, 0.0}}};
-  const auto m = ros_bridge::manoeuvreMarkers("ego", decision, predictions, {3.0, 4.0}, "map", ros::Time(12.5));
+  const auto m = ros_bridge::manoeuvreMarkers("ego", decision, predictions, "map", ros::Time(12.5));
   ASSERT_EQ(m.markers.size(), 2u + 2u * predictions.size());
   EXPECT_EQ(m.markers[0].action, visualization_msgs::Marker::DELETEALL) << "stale predictions cleared first";
   const auto& text = m.markers[1];
   EXPECT_EQ(text.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
   EXPECT_EQ(text.text, "pass pace on the right");
-  EXPECT_EQ(text.pose.position.x, 3.0);
-  EXPECT_EQ(text.pose.position.y, 4.0);
-  EXPECT_EQ(text.header.frame_id, "map");
+  EXPECT_EQ(text.header.frame_id, "ego/base_link") << "rides with the car";
+  EXPECT_EQ(text.pose.position.z, ros_bridge::kManoeuvreLabelHeight);
   EXPECT_EQ(text.header.stamp, ros::Time(12.5));
+  EXPECT_EQ(m.markers[2].header.frame_id, "map") << "predictions are where the cars will be on the map";
   EXPECT_EQ(text.ns.rfind("ego/", 0), 0u) << "namespaced by the car: " << text.ns;
   for (std::size_t k = 0; k < predictions.size(); ++k) {
     const auto& line = m.markers[2 + 2 * k];

@@ -335,6 +335,35 @@ TEST(RaceReport, EachCarHasItsOwnColourAndTheLegendCoversNoPath) {
   EXPECT_GT(count(second, map_bottom, image.rows), 20) << "car b in the legend, below the map";
 }
 
+// Three cars driving the very same line: the last one drawn must not hide the others.
+TEST(RaceReport, CarsOnTheSameLineEachShowTheirColour) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 1;
+  race::RaceControl race(track, rules, {"a", "b", "c"});
+  report::Telemetry telemetry;
+  for (double t = 0.0; t < 40.0; t += 0.05) {
+    for (const char* car : {"a", "b", "c"}) {
+      race.updatePosition(car, t, atCircle(-5 + 20.0 * t));
+      telemetry[car].push_back({t, onCircle(-5 + 20.0 * t), 20.0});
+    }
+  }
+  const std::string dir = (std::filesystem::temp_directory_path() / "roar_report_same_line").string();
+  report::writeRaceReport(dir, race, telemetry, {});
+  const cv::Mat image = cv::imread(dir + "/trajectories.png");
+  ASSERT_FALSE(image.empty());
+  const int map_bottom = image.cols + 60;
+  auto count = [&](const cv::Vec3b& bgr) {
+    int n = 0;
+    for (int r = 0; r < map_bottom; ++r)
+      for (int c = 0; c < image.cols; ++c) n += image.at<cv::Vec3b>(r, c) == bgr;
+    return n;
+  };
+  for (const cv::Vec3b& colour : {cv::Vec3b(255, 140, 30), cv::Vec3b(14, 127, 255), cv::Vec3b(40, 39, 214)}) {
+    EXPECT_GT(count(colour), 1000) << "colour " << colour << " shows along the shared line";
+  }
+}
+
 TEST(RaceControl, ResultsAreReplacedWholeAsTheRaceGoes) {
   const auto track = test::circleTrack(100.0);
   race::RaceRules rules;
@@ -356,6 +385,10 @@ TEST(RaceControl, ResultsAreReplacedWholeAsTheRaceGoes) {
   EXPECT_EQ(std::count(laps.begin(), laps.end(), '\n'), 2) << laps;
   race::writeResults(dir, race, race::RaceOutcome::kAborted);
   EXPECT_NE(read("results.yaml").find("status: aborted"), std::string::npos);
+  EXPECT_EQ(read("results.yaml").find("recording:"), std::string::npos) << "no recorder, nothing said";
+  race::writeResults(dir, race, race::RaceOutcome::kFinished, "", race::RecordingState{17.65, false});
+  EXPECT_NE(read("results.yaml").find("recording:\n  complete: false\n  recorded_until_s: 17.65\n"), std::string::npos)
+      << read("results.yaml");
   std::vector<std::string> files;
   for (const auto& e : std::filesystem::directory_iterator(dir)) files.push_back(e.path().filename().string());
   std::sort(files.begin(), files.end());

@@ -163,8 +163,15 @@ class RaceControl {
 // kRunning: the results so far, written after every lap so that a race_control killed mid-race loses none.
 enum class RaceOutcome { kFinished, kTimedOut, kInterrupted, kAborted, kRunning };
 const char* outcomeName(RaceOutcome outcome);
+// How far the race's recorder got: a recorder killed mid-race leaves a bag short of the finish (and
+// unindexed, .active), which results.yaml then says.
+struct RecordingState {
+  double recorded_until = 0.0;  // s: the last simulated time the recorder reported written
+  bool complete = false;        // it reached the finish
+};
 // results.yaml, laps.csv and sectors.csv in `dir`, each written beside and renamed into place, so a reader
 // (or a kill mid-write) sees the previous whole file or the new one (race_control_test).
-void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run = "");
+void writeResults(const std::string& dir, const RaceControl& race, RaceOutcome outcome, const std::string& run = "",
+                  const std::optional<RecordingState>& recording = std::nullopt);
 
 }  // namespace roar::race

@@ -19,13 +19,12 @@ roar_ros::Trajectory toMessage(const planning::Trajectory& trajectory, const std
 planning::Trajectory fromMessage(const roar_ros::Trajectory& msg);
 nav_msgs::Path toPath(const planning::Trajectory& trajectory, const std::string& frame);
 
-// For rviz (/<car>/manoeuvre): the car's decision as text above it (at `position`), coloured by its mode, and
-// each predicted car as a line through its predicted positions with a dot every PredictedPath::step
-// seconds. Begins with a DELETEALL, so that the predictions of cars no longer near it go.
+// For rviz (/<car>/manoeuvre): the car's decision as text above it (a carLabel below the timing), coloured by
+// its mode, and each predicted car as a line through its predicted positions (in `frame`) with a dot every
+// PredictedPath::step seconds. Begins with a DELETEALL, so that the predictions of cars no longer near it go.
 visualization_msgs::MarkerArray manoeuvreMarkers(const std::string& car, const planning::RaceDecision& decision,
                                                  const std::vector<planning::PredictedPath>& predictions,
-                                                 const Eigen::Vector2d& position, const std::string& frame,
-                                                 const ros::Time& stamp);
+                                                 const std::string& frame, const ros::Time& stamp);
 
 // Throws std::invalid_argument naming the problem: no waypoints, not a closed circuit, a bad friction,
 // a non-finite location or width.
