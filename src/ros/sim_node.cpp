@@ -15,6 +15,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/queues.h"
+#include "roar/ros/service_refusal.h"
 #include "roar/ros/wall_throttle.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
@@ -45,7 +46,8 @@ void checkVehicleName(const std::string& name) {
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options)
-    : nh_(nh), private_nh_(private_nh), options_(options) {
+    : nh_(nh), private_nh_(private_nh), options_(options), service_nh_(private_nh) {
+  service_nh_.setCallbackQueue(&service_queue_);
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   map_pub_ = private_nh_.advertise<roar_ros::MapInfo>("map", 1, true);
   debug_pub_ = private_nh_.advertise<visualization_msgs::MarkerArray>("debug_markers", 1, true);
@@ -59,27 +61,50 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
     }
     addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent, v.spawn_point);
   }
-  auto serve = [this](const char* name, auto handler) {
-    services_.push_back(private_nh_.advertiseService(name, handler, this));
+  serveBetweenSteps("spawn_vehicle", &SimNode::onSpawn);
+  serveBetweenSteps("destroy_vehicle", &SimNode::onDestroy);
+  serveBetweenSteps("reset_vehicle", &SimNode::onReset);
+  serveBetweenSteps("set_vehicle_velocity", &SimNode::onSetVelocity);
+  serveBetweenSteps("step", &SimNode::onStep);
+  serveBetweenSteps("reset_episode", &SimNode::onResetEpisode);
+  serveBetweenSteps("attach_sensor", &SimNode::onAttachSensor);
+  serveBetweenSteps("detach_sensor", &SimNode::onDetachSensor);
+  serveBetweenSteps("load_map", &SimNode::onLoadMap);
+  serveBetweenSteps("set_stepping", &SimNode::onSetStepping);
+  serveBetweenSteps("render_sensor", &SimNode::onRenderSensor);
+  // These only read the world (or draw over it): answered between the ticks of a long step too.
+  auto serveAnyTime = [this](const char* name, auto handler) {
+    services_.push_back(service_nh_.advertiseService(name, handler, this));
   };
-  serve("spawn_vehicle", &SimNode::onSpawn);
-  serve("destroy_vehicle", &SimNode::onDestroy);
-  serve("reset_vehicle", &SimNode::onReset);
-  serve("set_vehicle_velocity", &SimNode::onSetVelocity);
-  serve("step", &SimNode::onStep);
-  serve("reset_episode", &SimNode::onResetEpisode);
-  serve("attach_sensor", &SimNode::onAttachSensor);
-  serve("detach_sensor", &SimNode::onDetachSensor);
-  serve("load_map", &SimNode::onLoadMap);
-  serve("list_maps", &SimNode::onListMaps);
-  serve("set_stepping", &SimNode::onSetStepping);
-  serve("get_world_info", &SimNode::onGetWorldInfo);
-  serve("get_geolocation", &SimNode::onGetGeolocation);
-  serve("draw_debug", &SimNode::onDrawDebug);
-  serve("render_sensor", &SimNode::onRenderSensor);
+  serveAnyTime("list_maps", &SimNode::onListMaps);
+  serveAnyTime("get_world_info", &SimNode::onGetWorldInfo);
+  serveAnyTime("get_geolocation", &SimNode::onGetGeolocation);
+  serveAnyTime("draw_debug", &SimNode::onDrawDebug);
+  serveAnyTime("cancel_step", &SimNode::onCancelStep);
   ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s, mode %s",
            track_->info().name.c_str(), track_->length(), io_.size(), options_.world.control_dt,
            options_.world.physics_dt, modeName().c_str());
+}
+
+template <class Request, class Response>
+void SimNode::serveBetweenSteps(const std::string& name, bool (SimNode::*handler)(Request&, Response&)) {
+  const boost::function<bool(Request&, Response&)> call = [this, name, handler](Request& req, Response& res) {
+    if (long_step_) {
+      return refuse(res, name,
+                    "a step of " + std::to_string(long_step_->ticks) + " ticks is running (" +
+                        std::to_string(long_step_->done) +
+                        " done): wait for its reply, or end it early with /roar_sim/cancel_step");
+    }
+    return (this->*handler)(req, res);
+  };
+  services_.push_back(service_nh_.advertiseService(name, call));
+}
+
+void SimNode::spinFor(ros::WallDuration timeout) {
+  // The topics' queue is waited on a few milliseconds at most: a service request waits no longer.
+  constexpr double kServiceLatency = 0.005;  // s
+  service_queue_.callAvailable(ros::WallDuration(0));
+  ros::getGlobalCallbackQueue()->callAvailable(std::min(timeout, ros::WallDuration(kServiceLatency)));
 }
 
 std::string SimNode::modeName() const {
@@ -569,17 +594,15 @@ void SimNode::restartPacing() {
 
 void SimNode::paceToRealTime() {
   if (options_.real_time_factor <= 0) return;
-  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
   const double sim_elapsed = world_->time() - pace_sim_start_;
   const ros::WallTime due = pace_wall_start_ + ros::WallDuration(sim_elapsed / options_.real_time_factor);
-  while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
+  while (ros::ok() && ros::WallTime::now() < due) spinFor(due - ros::WallTime::now());
 }
 
 void SimNode::run() {
-  ros::CallbackQueue* queue = ros::getGlobalCallbackQueue();
   // Give subscribers a moment to connect before the first state goes out (a recorder needs longer).
   const ros::WallTime settle = ros::WallTime::now() + ros::WallDuration(options_.start_wait);
-  while (ros::ok() && ros::WallTime::now() < settle) queue->callAvailable(ros::WallDuration(0.05));
+  while (ros::ok() && ros::WallTime::now() < settle) spinFor(ros::WallDuration(0.05));
   subscribeRecorderProgress();
   // A recorder and the drivers must hear the first tick: wait until they subscribe and connect.
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(60.0);
@@ -588,12 +611,12 @@ void SimNode::run() {
       ROS_WARN("roar_sim: still no %s after 60 s; starting without", missing.c_str());
       break;
     }
-    queue->callAvailable(ros::WallDuration(0.1));
+    spinFor(ros::WallDuration(0.1));
   }
   // The recorder's links to the drivers' control topics are not ours to see: give them a moment.
   if (!options_.wait_for_recorders.empty()) {
     const ros::WallTime links = ros::WallTime::now() + ros::WallDuration(1.0);
-    while (ros::ok() && ros::WallTime::now() < links) queue->callAvailable(ros::WallDuration(0.05));
+    while (ros::ok() && ros::WallTime::now() < links) spinFor(ros::WallDuration(0.05));
   }
   setUpRecorderPacing();
   publishState();
@@ -608,12 +631,13 @@ void SimNode::run() {
   while (ros::ok()) {
     switch (options_.mode) {
       case SteppingMode::kStep:
-        queue->callAvailable(ros::WallDuration(0.01));
+        spinFor(ros::WallDuration(0.01));
         waiting_since = ros::WallTime::now();
         publishIdleClock();
         break;
       case SteppingMode::kLockstep: {
-        queue->callAvailable(ros::WallDuration(0.001));
+        spinFor(ros::WallDuration(0.001));
+        if (options_.mode != SteppingMode::kLockstep) break;  // /roar_sim/set_stepping just now
         const bool timed_out = (ros::WallTime::now() - waiting_since).toSec() > options_.lockstep_timeout;
         if ((controlsArrived() || timed_out) && recordersKeptUp()) {
           if (timed_out) markLostDrivers();
@@ -627,15 +651,16 @@ void SimNode::run() {
           // within race_control's ~driver_grace (driver_pause rostest).
           if (everyDriverLost()) {
             const ros::WallTime due = ticked + ros::WallDuration(options_.world.control_dt);
-            while (ros::ok() && ros::WallTime::now() < due) queue->callAvailable(due - ros::WallTime::now());
+            while (ros::ok() && ros::WallTime::now() < due) spinFor(due - ros::WallTime::now());
           }
         }
         break;
       }
       case SteppingMode::kAsync: {
-        queue->callAvailable(ros::WallDuration(0));
+        spinFor(ros::WallDuration(0));
+        if (options_.mode != SteppingMode::kAsync) break;  // /roar_sim/set_stepping just now
         if (!recordersKeptUp()) {
-          queue->callAvailable(ros::WallDuration(0.001));
+          spinFor(ros::WallDuration(0.001));
           break;
         }
         tick();

@@ -5,7 +5,9 @@
 //
 // The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
 // /clock) cannot drive it. Everything it publishes is stamped with simulated time.
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <std_srvs/Trigger.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
@@ -13,6 +15,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "agent_interface.h"
 #include "debug_drawing.h"
@@ -136,6 +139,12 @@ class SimNode {
   bool recordersKeptUp();
   roar_ros::VehicleSnapshot snapshot(const std::string& name) const;
   std::string modeName() const;
+  // Serves the services' queue, then waits up to `timeout` for the topics' (the global queue).
+  void spinFor(ros::WallDuration timeout);
+  // A service that changes the world: refused while a long step runs, saying so.
+  template <class Request, class Response>
+  void serveBetweenSteps(const std::string& name, bool (SimNode::*handler)(Request&, Response&));
+  bool onCancelStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 
   bool onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res);
   bool onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::DestroyVehicle::Response& res);
@@ -173,7 +182,16 @@ class SimNode {
   ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_, driver_back_pub_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
+  // The services have a queue of their own, so that between the ticks of a long step they are answered
+  // while the topics (drivers' controls) wait for the step's end (service_inputs rostest).
+  ros::CallbackQueue service_queue_;
+  ros::NodeHandle service_nh_;
   std::vector<ros::ServiceServer> services_;
+  struct LongStep {
+    std::uint32_t ticks = 0, done = 0;
+    bool cancelled = false;
+  };
+  std::optional<LongStep> long_step_;  // while /roar_sim/step runs
   ros::WallTime pace_wall_start_;
   ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;

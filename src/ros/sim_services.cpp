@@ -19,6 +19,10 @@ namespace roar::ros_bridge {
 
 namespace {
 
+// The most ticks one step request may ask for: an hour of racing at the default 20 Hz. A caller waits for
+// the reply, but the other services are answered meanwhile and /roar_sim/cancel_step ends it.
+constexpr std::uint32_t kMaxStepTicks = 72000;
+
 Eigen::Vector3d vectorOf(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
 // A spawn point is always set on the road; a pose as asked.
@@ -90,7 +94,9 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   if (req.ticks > 0 && options_.mode != SteppingMode::kStep) {
     return refuse(res, "step", "step is only served in mode 'step' (now " + modeName() + "; /roar_sim/set_stepping)");
   }
-  if (req.ticks > 1000000) return refuse(res, "step", "ticks must be in [0, 1000000]");
+  if (req.ticks > kMaxStepTicks) {
+    return refuse(res, "step", "ticks must be in [0, " + std::to_string(kMaxStepTicks) + "] (an hour at 20 Hz)");
+  }
   if (req.vehicle_names.size() != req.controls.size()) {
     return refuse(res, "step", "vehicle_names and controls must have the same length");
   }
@@ -114,7 +120,16 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
     }
   }
   std::map<std::string, std::vector<roar_ros::CollisionEvent>> collisions;
-  for (std::uint32_t k = 0; k < req.ticks; ++k) {
+  // Between ticks, every kServeEvery of wall time, the other services are answered (those that change the
+  // world refused as busy) and /roar_sim/cancel_step can end the step early.
+  constexpr double kServeEvery = 0.02;  // s of wall time
+  long_step_ = LongStep{req.ticks, 0, false};
+  ros::WallTime served = ros::WallTime::now();
+  for (std::uint32_t k = 0; k < req.ticks && !long_step_->cancelled; ++k) {
+    if ((ros::WallTime::now() - served).toSec() >= kServeEvery) {
+      service_queue_.callAvailable(ros::WallDuration(0));
+      served = ros::WallTime::now();
+    }
     // The request's controls hold for each of its ticks (a long step is no dead driver).
     for (std::size_t i = 0; i < req.controls.size(); ++i) {
       std::string why;
@@ -127,15 +142,30 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
         collisions[name].push_back(toCollisionEvent(contact, toRosTime(world_->time()), options_.map_frame));
       }
     }
+    long_step_->done = k + 1;
   }
+  const LongStep step = *long_step_;
+  long_step_.reset();
   res.success = true;
   res.message = warnings;
+  if (step.cancelled) {
+    res.message += "cancelled after " + std::to_string(step.done) + " of " + std::to_string(step.ticks) + " ticks";
+  }
   res.tick = world_->tick();
   res.stamp = toRosTime(world_->time());
   for (const auto& name : observed) {
     res.vehicles.push_back(snapshot(name));
     res.vehicles.back().collisions = collisions[name];
   }
+  return true;
+}
+
+bool SimNode::onCancelStep(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  if (!long_step_) return refuse(res, "cancel_step", "no step is running");
+  long_step_->cancelled = true;
+  res.success = true;
+  res.message =
+      "the step ends after tick " + std::to_string(long_step_->done + 1) + " of " + std::to_string(long_step_->ticks);
   return true;
 }
 

@@ -364,7 +364,20 @@ bool VehicleDynamics::otherCarNear(const btVector3& from, const btVector3& to) c
   return false;
 }
 
-void VehicleDynamics::beginSubstep() { substep_start_velocity_ = body_->getLinearVelocity(); }
+void VehicleDynamics::beginSubstep() {
+  substep_start_velocity_ = body_->getLinearVelocity();
+  substep_start_spin_ = body_->getAngularVelocity();
+}
+
+void VehicleDynamics::absorbCrash() {
+  // The roll and pitch the hit gave are undone (the yaw it gave, a spin on the road, is kept), and the car
+  // rises no faster than before it.
+  const btVector3 w = body_->getAngularVelocity();
+  body_->setAngularVelocity(btVector3(substep_start_spin_.x(), substep_start_spin_.y(), w.z()));
+  btVector3 v = body_->getLinearVelocity();
+  v.setZ(std::min(v.z(), std::max(substep_start_velocity_.z(), 0.0)));
+  body_->setLinearVelocity(v);
+}
 
 void VehicleDynamics::endSubstep(double dt) {
   last_acceleration_ = (body_->getLinearVelocity() - substep_start_velocity_) / dt;

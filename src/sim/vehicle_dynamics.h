@@ -35,6 +35,9 @@ class VehicleDynamics {
   // Suspension, tyre, drivetrain and aero forces for one substep, to be integrated by Bullet next.
   void applyForces(double dt, const SurfaceFriction& friction);
   void beginSubstep();  // remembers the velocity for the substep's acceleration
+  // A crash into a barrier is inelastic: the crumpling body takes the energy the rigid hit would turn into
+  // roll, pitch and lift (World.BarriersHoldACarAtAnySpeed). Called after a substep with such a hit.
+  void absorbCrash();
   void endSubstep(double dt);
   void reset(const btTransform& base_link_pose);
   // base_link's velocities (map frame) set as they are; the wheels roll with the road.
@@ -81,6 +84,7 @@ class VehicleDynamics {
   double drag_share_ = 1.0;  // of the free-air drag: below 1 in another car's slipstream
   double steering_ = 0.0;    // rad, commanded road-wheel angle after the rate limit
   btVector3 substep_start_velocity_{0, 0, 0};
+  btVector3 substep_start_spin_{0, 0, 0};
   btVector3 last_acceleration_{0, 0, 0};
 };
 

@@ -15,7 +15,11 @@ namespace roar::sim {
 
 namespace {
 
-constexpr double kGroundDrop = 0.02;  // m: the ground lies this far below the road so a ray's first hit is clear
+// m/s: a barrier's hit that changes the car's velocity by more in one substep is a crash, which the car's
+// body absorbs (VehicleDynamics::absorbCrash); a car sliding along the wall is not crashing.
+constexpr double kCrashSpeedChange = 2.0;
+constexpr double kBarrierFriction = 0.3;  // car body on barrier
+constexpr double kGroundDrop = 0.02;      // m: the ground lies this far below the road so a ray's first hit is clear
 
 std::unique_ptr<btTriangleMesh> toBullet(const track::TriangleMesh& mesh) {
   auto out = std::make_unique<btTriangleMesh>(true, false);
@@ -70,6 +74,7 @@ struct World::Impl {
   struct StaticBody {
     std::unique_ptr<btTriangleMesh> mesh;
     std::unique_ptr<btCollisionShape> shape;
+    std::vector<std::unique_ptr<btCollisionShape>> parts;  // a compound shape's children
     std::unique_ptr<btRigidBody> body;
   };
 
@@ -79,6 +84,11 @@ struct World::Impl {
     bool has_control = false;
     std::map<std::string, Contact> tick_contacts;
     std::vector<Contact> contacts;
+    double barrier_impulse_before = 0.0;
+    double barrierImpulse() const {
+      auto it = tick_contacts.find("barrier");
+      return it == tick_contacts.end() ? 0.0 : it->second.impulse.norm();
+    }
   };
 
   void addStatic(StaticBody& sb, int surface, double friction) {
@@ -88,6 +98,37 @@ struct World::Impl {
     sb.body = std::make_unique<btRigidBody>(info);
     sb.body->setUserIndex(surface);
     dynamics->addRigidBody(sb.body.get());
+  }
+
+  // The world's edge: four walls round the circuit, kWorldEdgeMargin beyond its barriers and
+  // kWorldEdgeHeight high, so that a car thrown clear of the circuit stays in the world
+  // (World.TheWorldsEdgeHoldsACarDrivingAway). Contacts with them count as the barrier's.
+  void addWorldEdge() {
+    constexpr double kWorldEdgeMargin = 50.0, kWorldEdgeHeight = 300.0, kThickness = 10.0;  // m
+    Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (std::size_t i = 0; i < track.size(); ++i) {
+      const double reach = std::max(track.point(i).width_left, track.point(i).width_right) +
+                           track.info().barrier_offset + kWorldEdgeMargin;
+      lo = lo.cwiseMin(track.position(i) - Eigen::Vector2d::Constant(reach));
+      hi = hi.cwiseMax(track.position(i) + Eigen::Vector2d::Constant(reach));
+    }
+    const Eigen::Vector2d centre = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    const double bottom = track.lowestPoint() - 10.0, mid_z = bottom + 0.5 * kWorldEdgeHeight;
+    auto compound = std::make_unique<btCompoundShape>();
+    auto wall = [&](double x, double y, double half_x, double half_y) {
+      world_edge.parts.push_back(std::make_unique<btBoxShape>(btVector3(half_x, half_y, 0.5 * kWorldEdgeHeight)));
+      btTransform at;
+      at.setIdentity();
+      at.setOrigin(btVector3(x, y, mid_z));
+      compound->addChildShape(at, world_edge.parts.back().get());
+    };
+    const double t = 0.5 * kThickness;
+    wall(centre.x() - half.x() - t, centre.y(), t, half.y() + kThickness);
+    wall(centre.x() + half.x() + t, centre.y(), t, half.y() + kThickness);
+    wall(centre.x(), centre.y() - half.y() - t, half.x() + kThickness, t);
+    wall(centre.x(), centre.y() + half.y() + t, half.x() + kThickness, t);
+    world_edge.shape = std::move(compound);
+    addStatic(world_edge, kBarrier, kBarrierFriction);
   }
 
   // Each car's drag share for this tick, from where the cars are and go at its start.
@@ -228,7 +269,7 @@ struct World::Impl {
   std::unique_ptr<btBroadphaseInterface> broadphase;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
   std::unique_ptr<btDiscreteDynamicsWorld> dynamics;
-  StaticBody road, barriers, ground;
+  StaticBody road, barriers, ground, world_edge;
   std::map<std::string, Slot> vehicles;  // ordered: every loop over cars runs in the same order
   int next_vehicle_index = kVehicleBase;
 };
@@ -277,15 +318,16 @@ World::World(const track::Track& track, const WorldOptions& options, const World
   w.addStatic(w.road, kRoad, track.info().friction);
   w.barriers.mesh = toBullet(track::barrierMesh(track));
   w.barriers.shape = std::make_unique<btBvhTriangleMeshShape>(w.barriers.mesh.get(), true);
-  w.addStatic(w.barriers, kBarrier, 0.3);
+  w.addStatic(w.barriers, kBarrier, kBarrierFriction);
   w.ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), track.lowestPoint() - kGroundDrop);
   w.addStatic(w.ground, kGround, track.info().ground_friction);
+  w.addWorldEdge();
 }
 
 World::~World() {
   auto& w = *impl_;
   w.vehicles.clear();
-  for (auto* sb : {&w.road, &w.barriers, &w.ground}) w.dynamics->removeRigidBody(sb->body.get());
+  for (auto* sb : {&w.road, &w.barriers, &w.ground, &w.world_edge}) w.dynamics->removeRigidBody(sb->body.get());
 }
 
 const track::Track& World::track() const { return impl_->track; }
@@ -368,8 +410,13 @@ void World::step(const std::function<void(double)>& after_substep) {
       slot.dynamics->applyForces(dt, w.friction);
     }
     w.dynamics->stepSimulation(dt, 0, dt);
-    for (auto& [name, slot] : w.vehicles) slot.dynamics->endSubstep(dt);
+    for (auto& [name, slot] : w.vehicles) slot.barrier_impulse_before = slot.barrierImpulse();
     w.gatherContacts();
+    for (auto& [name, slot] : w.vehicles) {
+      const double hit = slot.barrierImpulse() - slot.barrier_impulse_before;
+      if (hit > kCrashSpeedChange * slot.dynamics->params().chassis.mass) slot.dynamics->absorbCrash();
+      slot.dynamics->endSubstep(dt);
+    }
     if (after_substep) after_substep(time() + (k + 1) * dt);
   }
   ++w.tick;

@@ -6,14 +6,17 @@ message naming the field, or succeeds; after each, the car still steps with fini
 and waypoint_server still answer."""
 import math
 import sys
+import threading
+import time
 import unittest
 
 import rospy
 import rostest
 from geometry_msgs.msg import Point
 from roar_ros.msg import DebugShape, VehicleControl
+from std_srvs.srv import Trigger
 from roar_ros.srv import (DestroyVehicle, DestroyVehicleRequest, DrawDebug, DrawDebugRequest, GetGeolocation,
-                          GetGeolocationRequest, GetRoute, GetRouteRequest, GetSpawnPoints, GetSpawnPointsRequest,
+                          GetGeolocationRequest, GetRoute, GetWorldInfo, GetRouteRequest, GetSpawnPoints, GetSpawnPointsRequest,
                           GetWaypoints, GetWaypointsRequest, LoadMap, LoadMapRequest, ProjectPoint, ProjectPointRequest, ResetVehicle,
                           ResetVehicleRequest, SetStepping, SetSteppingRequest, SetVehicleVelocity,
                           SetVehicleVelocityRequest, SpawnVehicle, SpawnVehicleRequest, Step, StepRequest)
@@ -182,6 +185,40 @@ class ServiceInputs(unittest.TestCase):
             self.assertFalse(reply.success, asked)
             self.assertIn("unknown map '%s': not a map folder" % asked, reply.message)
         self.still_alive("after the refused paths")
+
+    def test_6_a_long_step_stays_answerable(self):
+        """Between the ticks of a long step the services answer: reading ones as usual, those that change the
+        world refused as busy; /roar_sim/cancel_step ends it early. More than an hour at 20 Hz is refused."""
+        too_long = self.step(StepRequest(ticks=72001, vehicle_names=["ego"], controls=[VehicleControl()]))
+        self.assertFalse(too_long.success)
+        self.assertIn("ticks must be in [0, 72000]", too_long.message)
+        long_step = rospy.ServiceProxy("/roar_sim/step", Step)
+        replies = []
+        worker = threading.Thread(target=lambda: replies.append(
+            long_step(StepRequest(ticks=72000, vehicle_names=["ego"], controls=[VehicleControl(brake=1.0)]))))
+        info = proxy("/roar_sim/get_world_info", GetWorldInfo)
+        before = info().tick
+        worker.start()
+        time.sleep(1.0)
+        started = time.monotonic()
+        answer = info()
+        self.assertLess(time.monotonic() - started, 5.0, "get_world_info waited for the step")
+        self.assertTrue(worker.is_alive(), "the step is still running")
+        self.assertGreater(answer.tick, before, "answered between the step's ticks")
+        spawn = proxy("/roar_sim/spawn_vehicle", SpawnVehicle)
+        busy = spawn(SpawnVehicleRequest(name="second", spawn_point=3))
+        self.assertFalse(busy.success)
+        self.assertIn("a step of 72000 ticks is running", busy.message)
+        self.assertIn("/roar_sim/cancel_step", busy.message)
+        cancel = proxy("/roar_sim/cancel_step", Trigger)
+        self.assertTrue(cancel().success)
+        worker.join(timeout=30)
+        self.assertFalse(worker.is_alive(), "cancel_step ended the step")
+        self.assertTrue(replies[0].success, replies[0].message)
+        self.assertIn("cancelled after", replies[0].message)
+        self.assertLess(replies[0].tick - before, 72000)
+        self.assertFalse(cancel().success, "no step is running")
+        self.still_alive("after a cancelled step")
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "roar/sim/world.h"
+#include "roar/track/map_folder.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -267,4 +268,103 @@ TEST(World, ACarInAnotherCarsSlipstreamMeetsLessDrag) {
   EXPECT_NEAR(free_air[1], free_air[0], 0.05) << "without the wake both slow alike";
   // 4 s of coasting from 35 m/s loses about 3.6 m/s in free air, drag most of it.
   EXPECT_GT(towed[1], towed[0] + 0.2) << "the towed car keeps more of its speed";
+}
+
+// A car driven into the barrier at up to 90 m/s (324 km/h), at up to 60 degrees, is held by it: the hit is
+// absorbed (VehicleDynamics::absorbCrash), not turned into a roll that throws the car over the 1 m wall.
+TEST(World, BarriersHoldACarAtAnySpeed) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  const double s0 = track.info().start_finish_s + 300.0;  // on the main straight
+  const track::TrackPose on = track.poseAt(s0);
+  for (const char* model : {"sedan", "carla_model3"}) {
+    for (double speed : {20.0, 45.0, 70.0, 90.0}) {
+      for (double angle_deg : {5.0, 15.0, 30.0, 60.0}) {
+        World world(track, {});
+        track::TrackPose start = on;
+        start.heading += angle_deg * M_PI / 180.0;  // towards the left barrier
+        world.spawnVehicle("ego", test::vehicle(model), sim::poseOnTrack(start));
+        const Eigen::Vector2d forward(std::cos(start.heading), std::sin(start.heading));
+        world.setVehicleVelocity("ego", Eigen::Vector3d(forward.x(), forward.y(), 0) * speed, Eigen::Vector3d::Zero());
+        vehicle::VehicleControl go;
+        go.throttle = 1.0;
+        double widest = 0.0, highest = 0.0;
+        for (int i = 0; i < 20 * 4; ++i) {
+          world.setControl("ego", go);
+          world.step();
+          const auto& state = world.vehicleState("ego");
+          widest = std::max(widest, std::abs(track.projectNear(state.pose.position.head<2>(), s0, 300.0).lateral));
+          highest = std::max(highest, state.pose.position.z());
+        }
+        const double wall = std::max(on.width_left, on.width_right) + track.info().barrier_offset + 0.5;
+        EXPECT_LT(widest, wall + 1.0) << model << " at " << speed << " m/s, " << angle_deg << " degrees";
+        EXPECT_LT(highest, 2.0) << model << " at " << speed << " m/s, " << angle_deg << " degrees: thrown up";
+      }
+    }
+  }
+}
+
+// A ROAR_PY program that never steers: the sedan leaves the main straight's end at 61 m/s, meets the barrier
+// at a shallow angle and stays inside it (it used to roll up and over, 30 m clear).
+TEST(World, TheBarrierHoldsACarDrivenStraightOffTheMainStraight) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.gridSpawnPoints(20).at(0)));
+  vehicle::VehicleControl go;
+  go.throttle = 1.0;
+  double widest = 0.0, near = track.info().start_finish_s;
+  for (int i = 0; i < 20 * 25; ++i) {
+    world.setControl("ego", go);
+    world.step();
+    const auto projection = track.projectNear(world.vehicleState("ego").pose.position.head<2>(), near, 200.0);
+    near = projection.s;
+    widest = std::max(widest, std::abs(projection.lateral));
+  }
+  const auto pose = track.poseAt(near);
+  EXPECT_LT(widest, std::max(pose.width_left, pose.width_right) + track.info().barrier_offset + 1.5);
+}
+
+// Driven straight on with no steering, as a ROAR_PY program that never steers does, a car meets the barrier
+// at the end of the straight at full speed: wherever it goes then, it stays within the world's edge.
+TEST(World, ACarThrownClearStaysInTheWorld) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (std::size_t i = 0; i < track.size(); ++i) {
+    lo = lo.cwiseMin(track.position(i));
+    hi = hi.cwiseMax(track.position(i));
+  }
+  for (const char* model : {"sedan", "carla_model3"}) {
+    World world(track, {});
+    world.spawnVehicle("ego", test::vehicle(model), sim::poseOnTrack(track.gridSpawnPoints(20).at(0)));
+    vehicle::VehicleControl go;
+    go.throttle = 1.0;
+    double farthest = 0.0;
+    for (int i = 0; i < 20 * 300; ++i) {
+      world.setControl("ego", go);
+      world.step();
+      const Eigen::Vector3d p = world.vehicleState("ego").pose.position;
+      ASSERT_TRUE(p.allFinite()) << model << " at t = " << world.time();
+      const Eigen::Vector2d outside = (lo - p.head<2>()).cwiseMax(p.head<2>() - hi).cwiseMax(0.0);
+      farthest = std::max(farthest, outside.norm());
+    }
+    EXPECT_LT(farthest, 100.0) << model << ": metres beyond the circuit's extent";
+  }
+}
+
+// Beyond the barriers the ground goes on for ever: a car out there (spawned as given, or one that got out)
+// driving away meets the world's edge, 50 m beyond the circuit's barriers, and goes no further.
+TEST(World, TheWorldsEdgeHoldsACarDrivingAway) {
+  const auto track = test::circleTrack(60.0);
+  World world(track, {});
+  world.spawnVehicle("ego", test::sedan(), at(80, 0, 0.0), sim::Placement::kAsGiven);  // outside, facing out
+  world.setVehicleVelocity("ego", Eigen::Vector3d(60, 0, 0), Eigen::Vector3d::Zero());
+  vehicle::VehicleControl go;
+  go.throttle = 1.0;
+  double farthest = 0.0;
+  for (int i = 0; i < 20 * 20; ++i) {
+    world.setControl("ego", go);
+    world.step();
+    farthest = std::max(farthest, world.vehicleState("ego").pose.position.head<2>().norm());
+  }
+  const double barrier = 60.0 + 6.0 + track.info().barrier_offset;  // circleTrack's half-width is 6 m
+  EXPECT_LT(farthest, barrier + 50.0 + 20.0);
 }
