@@ -87,8 +87,11 @@ control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::Con
 // One car: its tracker, topics and odometry watchdog.
 class Driver {
  public:
-  Driver(ros::NodeHandle& nh, const DrivenCar& car, double odom_timeout, double window_wait)
+  // `racing_line`: the node's one copy of the latched /racing_line (null until it comes).
+  Driver(ros::NodeHandle& nh, const DrivenCar& car, double odom_timeout, double window_wait,
+         const std::shared_ptr<const planning::Trajectory>& racing_line)
       : car_(car),
+        racing_line_(racing_line),
         odom_timeout_(odom_timeout),
         window_wait_(window_wait),
         // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
@@ -97,14 +100,6 @@ class Driver {
     control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", ros_bridge::kPerTickQueue);
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,
                                    ros::TransportHints().tcpNoDelay());
-    racing_line_sub_ =
-        nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
-          try {
-            racing_line_ = std::make_unique<planning::Trajectory>(ros_bridge::fromMessage(*m));
-          } catch (const std::exception& e) {
-            ROAR_ERROR_WALL_THROTTLE(2.0, "controller: racing line refused: %s", e.what());
-          }
-        });
     odom_sub_ = nh.subscribe<nav_msgs::Odometry>(
         car.name + "/odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onOdometry(*m, m); },
         ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
@@ -216,11 +211,11 @@ class Driver {
   }
 
   DrivenCar car_;
+  const std::shared_ptr<const planning::Trajectory>& racing_line_;  // the planner's whole line: when windows stop
   double odom_timeout_, window_wait_;
   control::TrajectoryTracker tracker_;
   ros::Publisher control_pub_;
-  ros::Subscriber trajectory_sub_, odom_sub_, racing_line_sub_;
-  std::unique_ptr<planning::Trajectory> racing_line_;  // the planner's whole line (latched): when windows stop
+  ros::Subscriber trajectory_sub_, odom_sub_;
   bool on_racing_line_ = false;
   ros::WallTime last_odom_;   // of the last odometry received or answered
   ros::WallTime first_wait_;  // of the first odometry that found no trajectory
@@ -233,7 +228,17 @@ class Driver {
 class ControllerNode {
  public:
   ControllerNode(ros::NodeHandle& nh, const ControllerOptions& options) {
-    for (const auto& car : options.cars) drivers_.emplace_back(nh, car, options.odom_timeout, options.window_wait);
+    // One copy of the latched racing line for every car's driver.
+    racing_line_sub_ =
+        nh.subscribe<roar_ros::Trajectory>("racing_line", 1, [this](const roar_ros::Trajectory::ConstPtr& m) {
+          try {
+            racing_line_ = std::make_shared<const planning::Trajectory>(ros_bridge::fromMessage(*m));
+          } catch (const std::exception& e) {
+            ROAR_ERROR_WALL_THROTTLE(2.0, "controller: racing line refused: %s", e.what());
+          }
+        });
+    for (const auto& car : options.cars)
+      drivers_.emplace_back(nh, car, options.odom_timeout, options.window_wait, racing_line_);
     reconfigure_.setCallback([this](const roar_ros::ControllerConfig& config, uint32_t) {
       if (config.lateral_control != "pure_pursuit" && config.lateral_control != "stanley") {
         ROS_ERROR(
@@ -253,6 +258,8 @@ class ControllerNode {
   }
 
  private:
+  std::shared_ptr<const planning::Trajectory> racing_line_;  // before the drivers, which refer to it
+  ros::Subscriber racing_line_sub_;
   std::list<Driver> drivers_;  // a list: drivers hold subscriptions bound to `this`, so they never move
   dynamic_reconfigure::Server<roar_ros::ControllerConfig> reconfigure_{ros::NodeHandle("~")};
   ros::WallTimer watchdog_;

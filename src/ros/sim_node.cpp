@@ -231,7 +231,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
 sensors::SensorLoad SimNode::sensorLoad() const {
   sensors::SensorLoad load;
   for (const auto& [name, io] : io_) {
-    for (const auto& spec : io.sensors->rig().specs()) load += sensors::loadOf(spec);
+    load += sensors::totalLoad(io.sensors->rig().specs());
   }
   return load;
 }

@@ -64,9 +64,7 @@ void SensorRig::add(const SensorSpec& spec, double now) {
       throw SensorSpecError("sensor '" + spec.name + "': the car already has a sensor of that name");
   }
   checkRate(spec, timing_.control_dt, timing_.physics_dt);
-  SensorLoad in_use;
-  for (const auto& s : sensors_) in_use += loadOf(s->spec);
-  checkBudget(in_use, spec, kCarSensorBudget);
+  checkBudget(totalLoad(specs()), spec, kCarSensorBudget);
   sensors_.push_back(std::make_unique<Sensor>(spec, now));
   rebuildCameraGroups();
 }

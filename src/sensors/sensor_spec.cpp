@@ -323,6 +323,12 @@ SensorLoad loadOf(const SensorSpec& spec) {
   return load;
 }
 
+SensorLoad totalLoad(const std::vector<SensorSpec>& specs) {
+  SensorLoad total;
+  for (const auto& spec : specs) total += loadOf(spec);
+  return total;
+}
+
 void checkBudget(const SensorLoad& in_use, const SensorSpec& adding, const SensorBudget& budget) {
   SensorLoad total = in_use;
   total += loadOf(adding);

@@ -133,6 +133,7 @@ struct SensorLoad {
   }
 };
 SensorLoad loadOf(const SensorSpec& spec);
+SensorLoad totalLoad(const std::vector<SensorSpec>& specs);
 
 // Each sensor passes validate() alone; these bound their sum, so that many large sensors cannot take the
 // machine's memory or stall every tick (sensor_spec_test SensorsBeyondABudgetAreRefusedByName).
