@@ -192,20 +192,30 @@ def test_scripts_race_refuses_an_argument_race_launch_does_not_declare():
     assert "race report" not in done.stdout and "output" not in done.stdout
 
 
+def start_race(tmp_path, port, *arguments):
+    """race.launch on its own master at `port`, writing to tmp_path/out: (the roslaunch, its env, out)."""
+    env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_LOG_DIR": str(tmp_path / "log")}
+    out = tmp_path / "out"
+    launch = subprocess.Popen(["roslaunch", "-p", str(port), "roar_ros", "race.launch", *arguments,
+                               f"output_dir:={out}"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+                              cwd=tmp_path)
+    return launch, env, out
+
+
+def wait_until(condition, seconds):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline and not condition():
+        time.sleep(0.1)
+
+
 @pytest.mark.parametrize("sig, status", [(signal.SIGTERM, "aborted"), (signal.SIGKILL, "running")])
 def test_race_control_killed_mid_race_loses_no_lap(tmp_path, sig, status):
     """Results are on disk after every lap (status running); SIGTERM writes them as aborted; even SIGKILL
     loses no lap already timed."""
-    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11660", "ROS_LOG_DIR": str(tmp_path / "log")}
-    out = tmp_path / "out"
-    launch = subprocess.Popen(["roslaunch", "-p", "11660", "roar_ros", "race.launch", "map:=roar_sprint", "laps:=3",
-                               "real_time_factor:=0", f"output_dir:={out}"], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL, env=env, cwd=tmp_path)
+    launch, _, out = start_race(tmp_path, 11660, "map:=roar_sprint", "laps:=3", "real_time_factor:=0")
     try:
         results = out / "results.yaml"
-        deadline = time.monotonic() + 200
-        while time.monotonic() < deadline and not (results.exists() and "laps_completed: 1" in results.read_text()):
-            time.sleep(0.2)
+        wait_until(lambda: results.exists() and "laps_completed: 1" in results.read_text(), 200)
         assert results.exists(), "no results after the first lap"
         pid = int(subprocess.check_output(["pgrep", "-f", f"race_control __name:=race_control.*{tmp_path}"]).split()[0])
         os.kill(pid, sig)
@@ -251,16 +261,10 @@ def test_a_recorded_race_stays_lean(tmp_path):
 def test_a_killed_recorders_bag_replays(tmp_path):
     """A recorder killed mid-race: the race goes on, results.yaml says how far the bag got, and replay.launch
     rebuilds the .active bag's index and plays it, with car_models leaving the bag's wheel frames alone."""
-    env = {**os.environ, "ROS_MASTER_URI": "http://127.0.0.1:11664", "ROS_LOG_DIR": str(tmp_path / "log")}
-    out = tmp_path / "out"
-    launch = subprocess.Popen(["roslaunch", "-p", "11664", "roar_ros", "race.launch", "scenario:=multi_car", "laps:=1",
-                               "record:=true", f"output_dir:={out}"], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL, env=env, cwd=tmp_path)
+    launch, env, out = start_race(tmp_path, 11664, "scenario:=multi_car", "laps:=1", "record:=true")
     try:
         active = out / "race.bag.active"
-        deadline = time.monotonic() + 200
-        while time.monotonic() < deadline and not (active.exists() and active.stat().st_size > 2e6):
-            time.sleep(0.1)
+        wait_until(lambda: active.exists() and active.stat().st_size > 2e6, 200)
         pid = int(subprocess.check_output(["pgrep", "-f", f"race_recorder __name:=recorder.*{tmp_path}"]).split()[0])
         os.kill(pid, signal.SIGKILL)
         launch.wait(timeout=300)
