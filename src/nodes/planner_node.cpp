@@ -36,7 +36,9 @@ namespace {
 struct PlannerNodeOptions {
   std::vector<std::string> vehicles;
   std::map<std::string, double> pace;  // share of the planned speeds, per car of the scenario (default 1)
-  vehicle::VehicleParams vehicle;
+  // Each car is planned for its own model (its grip, power, brakes and size): one racing line per model.
+  std::map<std::string, std::string> model_of;           // by car
+  std::map<std::string, vehicle::VehicleParams> models;  // by model
   double grip_use = 0.85;
   planning::PlannerOptions planner;
   planning::FieldOptions field;
@@ -66,16 +68,17 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   PlannerNodeOptions o;
   const std::string pkg = packagePath();
   // Every car of the race: the stack's cars follow or pass any car ahead of them.
-  const std::string model = readString(nh, "model", "sedan");
-  for (const auto& car : readRaceCars(nh, readScenario(nh), model)) {
+  const std::string urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
+  const std::string vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
     o.vehicles.push_back(car.name);
     o.pace[car.name] = car.pace;
+    o.model_of[car.name] = car.model;
+    if (!o.models.count(car.model))
+      o.models[car.model] = vehicle::loadVehicleModel(car.model, urdf_dir, vehicle_config_dir);
   }
-  o.vehicle = vehicle::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
-                                        readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"));
   o.grip_use = readDouble(nh, "grip_use", o.grip_use, 0.05, 1.0);
   auto& line = o.planner.line;
-  line.vehicle_width = o.vehicle.chassis.box_size.y();
   line.safety_margin = readDouble(nh, "safety_margin", line.safety_margin, 0.0, 10.0);
   line.step = readDouble(nh, "step", line.step, 0.5, 20.0);
   line.max_iterations = readInt(nh, "max_iterations", line.max_iterations, 1, 100);
@@ -86,8 +89,6 @@ PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   field.window_behind = readDouble(nh, "window_behind", field.window_behind, 0.0, 100.0);
   o.frame = readMapFrame(nh);
   field.overtaking = readBool(nh, "overtaking", field.overtaking);
-  field.overtake.car.length = o.vehicle.chassis.box_size.x();
-  field.overtake.car.width = o.vehicle.chassis.box_size.y();
   readOvertakeOptions(nh, &field.overtake);
   field.overtake.prediction.keep = true;  // for /<vehicle>/manoeuvre
   o.tick_wait = readDouble(nh, "tick_wait", o.tick_wait, 0.0, 60.0);
@@ -116,7 +117,7 @@ class PlannerNode {
     waiting_timer_ = nh.createWallTimer(
         ros::WallDuration(3.0),
         [this](const ros::WallTimerEvent&) {
-          if (!field_) {
+          if (fields_.empty()) {
             ROS_INFO("planner: waiting for the track's waypoints on %s (waypoint_server publishes them)",
                      waypoints_sub_.getTopic().c_str());
           }
@@ -136,15 +137,14 @@ class PlannerNode {
     try {
       const auto started = std::chrono::steady_clock::now();
       const track::Track track = ros_bridge::trackFromMessage(msg);
-      const auto limits = planning::vehicleLimits(options_.vehicle, track.info().friction, options_.grip_use);
-      auto field = std::make_unique<planning::FieldPlanner>(
-          track, planning::planRacingTrajectory(track, limits, options_.planner), limits, options_.field);
-      for (const auto& [name, pace] : options_.pace) field->setPace(name, pace);
+      std::map<std::string, std::unique_ptr<planning::FieldPlanner>> fields;
+      for (const auto& [model, params] : options_.models) fields[model] = fieldFor(track, params);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-      field_ = std::move(field);
+      fields_ = std::move(fields);
       ticks_ = std::make_unique<planning::TickGathering>(options_.vehicles, options_.tick_wait);
       for (auto& [name, car] : cars_) car.held.clear();
-      const planning::Trajectory& line = field_->line();
+      // /racing_line: the line of the first car's model (the controller's fallback, rviz).
+      const planning::Trajectory& line = field(options_.vehicles.front()).line();
       roar_ros::Trajectory out = ros_bridge::toMessage(line, options_.frame, msg.map_name);
       out.header.stamp = ros::Time::now();
       line_pub_.publish(out);
@@ -156,18 +156,22 @@ class PlannerNode {
       for (auto& [name, car] : cars_) {
         if (car.last_odom) onOdometry(name, car.last_odom);
       }
-      ROS_INFO("planner: racing line of '%s' (%.0f m, %zu points) in %.0f ms; the profile promises a %.2f s lap",
-               msg.map_name.c_str(), line.length, line.points.size(), ms, line.lap_time);
+      for (const auto& [model, planner] : fields_) {
+        ROS_INFO("planner: racing line of '%s' for the %s (%.0f m, %zu points); the profile promises a %.2f s lap",
+                 msg.map_name.c_str(), model.c_str(), planner->line().length, planner->line().points.size(),
+                 planner->line().lap_time);
+      }
+      ROS_INFO("planner: %zu racing line(s) in %.0f ms", fields_.size(), ms);
     } catch (const std::exception& e) {
       ROS_ERROR("planner: waypoints on %s refused: %s%s", waypoints_sub_.getTopic().c_str(), e.what(),
-                field_ ? "; keeping the previous racing line" : "");
+                fields_.empty() ? "" : "; keeping the previous racing lines");
     }
   }
 
   void onOdometry(const std::string& name, const nav_msgs::Odometry::ConstPtr& odom_msg) {
     Car& car = cars_[name];
     car.last_odom = odom_msg;
-    if (!field_) return;
+    if (fields_.empty()) return;
     car.held.push_back(odom_msg);
     plan(ticks_->arrive(name, odom_msg->header.stamp.toSec(), ros::WallTime::now().toSec()));
   }
@@ -184,10 +188,13 @@ class PlannerNode {
         odoms.emplace_back(name, held.front());
         held.pop_front();
       }
+      // Every model's planner knows where every car is: a car passes or follows cars of any model.
       for (const auto& [name, odom] : odoms) {
         const sim::VehicleState state = ros_bridge::fromOdometry(*odom);
-        field_->locate(name, state.pose.position, state.forward_speed, odom->header.stamp.toSec(),
-                       Eigen::Vector2d(state.linear_velocity.head<2>()));
+        for (auto& [model, planner] : fields_) {
+          planner->locate(name, state.pose.position, state.forward_speed, odom->header.stamp.toSec(),
+                          Eigen::Vector2d(state.linear_velocity.head<2>()));
+        }
       }
       for (const auto& [name, odom] : odoms) planAndPublish(name, *odom);
     }
@@ -195,9 +202,10 @@ class PlannerNode {
 
   void planAndPublish(const std::string& name, const nav_msgs::Odometry& odom) {
     Car& car = cars_[name];
-    const planning::RaceDecision before = field_->decision(name);
-    const planning::Trajectory local = field_->window(name);
-    const planning::RaceDecision now = field_->decision(name);
+    planning::FieldPlanner& planner = field(name);
+    const planning::RaceDecision before = planner.decision(name);
+    const planning::Trajectory local = planner.window(name);
+    const planning::RaceDecision now = planner.decision(name);
     if (now.mode != before.mode || now.other != before.other || now.side != before.side) {
       ROS_INFO("planner: %s: %s at t = %.2f s", name.c_str(), planning::describe(now).c_str(),
                odom.header.stamp.toSec());
@@ -212,12 +220,28 @@ class PlannerNode {
     }
     if (car.manoeuvre_pub.getNumSubscribers() > 0) {  // for rviz: why it passes or waits
       car.manoeuvre_pub.publish(
-          ros_bridge::manoeuvreMarkers(name, now, field_->predictions(name), options_.frame, odom.header.stamp));
+          ros_bridge::manoeuvreMarkers(name, now, planner.predictions(name), options_.frame, odom.header.stamp));
     }
   }
 
+  // The racing line and field planner of one model: its limits and size, every car's pace.
+  std::unique_ptr<planning::FieldPlanner> fieldFor(const track::Track& track, const vehicle::VehicleParams& params) {
+    const auto limits = planning::vehicleLimits(params, track.info().friction, options_.grip_use);
+    planning::PlannerOptions planner = options_.planner;
+    planner.line.vehicle_width = params.chassis.box_size.y();
+    planning::FieldOptions field = options_.field;
+    field.overtake.car.length = params.chassis.box_size.x();
+    field.overtake.car.width = params.chassis.box_size.y();
+    auto out = std::make_unique<planning::FieldPlanner>(track, planning::planRacingTrajectory(track, limits, planner),
+                                                        limits, field);
+    for (const auto& [name, pace] : options_.pace) out->setPace(name, pace);
+    return out;
+  }
+
+  planning::FieldPlanner& field(const std::string& car) { return *fields_.at(options_.model_of.at(car)); }
+
   PlannerNodeOptions options_;
-  std::unique_ptr<planning::FieldPlanner> field_;
+  std::map<std::string, std::unique_ptr<planning::FieldPlanner>> fields_;  // by model
   std::unique_ptr<planning::TickGathering> ticks_;
   ros::WallTimer expiry_timer_, waiting_timer_;
   std::string map_name_;

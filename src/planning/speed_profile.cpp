@@ -45,11 +45,22 @@ SpeedProfile computeSpeedProfile(const std::vector<double>& step, const std::vec
     if (!(std::abs(options.grade[i]) <= 1.0))
       throw std::invalid_argument("speed profile: grade " + std::to_string(i) + " is not the sine of a slope");
   }
+  if (!options.vertical_curvature.empty() && options.vertical_curvature.size() != n) {
+    throw std::invalid_argument("speed profile: " + std::to_string(options.vertical_curvature.size()) +
+                                " vertical curvatures for " + std::to_string(n) + " points");
+  }
+  for (std::size_t i = 0; i < options.vertical_curvature.size(); ++i) {
+    if (!std::isfinite(options.vertical_curvature[i]))
+      throw std::invalid_argument("speed profile: vertical curvature " + std::to_string(i) + " is not finite");
+  }
   auto along = [&](std::size_t i) { return options.grade.empty() ? 0.0 : limits.gravity * options.grade[i]; };
+  auto vertical = [&](std::size_t i) {
+    return options.vertical_curvature.empty() ? 0.0 : options.vertical_curvature[i];
+  };
   const double top = options.max_speed > 0 ? std::min(options.max_speed, limits.max_speed) : limits.max_speed;
 
   std::vector<double> v(n);
-  for (std::size_t i = 0; i < n; ++i) v[i] = std::min(top, limits.corneringSpeed(curvature[i]));
+  for (std::size_t i = 0; i < n; ++i) v[i] = std::min(top, limits.corneringSpeed(curvature[i], vertical(i)));
   if (!closed) {
     if (options.start_speed >= 0) v.front() = std::min(v.front(), options.start_speed);
     if (options.end_speed >= 0) v.back() = std::min(v.back(), options.end_speed);

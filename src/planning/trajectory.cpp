@@ -44,11 +44,39 @@ std::vector<double> gradesAlong(const std::vector<double>& z, const std::vector<
   return grade;
 }
 
-// The racing line's grades, from the road's height at its points.
-std::vector<double> roadGrade(const track::Track& track, const RacingLine& line) {
+// Per point, the road's curvature in the vertical plane (1/m, negative over a crest), from its heights
+// kVerticalSpan either side: a centimetre of noise between points, as a surveyed or CARLA map has, is no
+// crest (roar_bench: Monza's lap holds).
+std::vector<double> verticalCurvaturesAlong(const std::vector<double>& z, const std::vector<double>& step,
+                                            bool closed) {
+  constexpr double kVerticalSpan = 15.0;  // m
+  const std::size_t n = z.size();
+  std::vector<double> at(n, 0.0);  // distance of each point from the first
+  for (std::size_t i = 1; i < n; ++i) at[i] = at[i - 1] + step[i - 1];
+  const double length = closed ? at.back() + step.back() : at.back();
+  auto heightAt = [&](double d) {
+    if (closed) d -= std::floor(d / length) * length;
+    if (d <= 0) return z.front();
+    if (!closed && d >= at.back()) return z.back();
+    const std::size_t k = static_cast<std::size_t>(std::upper_bound(at.begin(), at.end(), d) - at.begin()) - 1;
+    const double next_z = k + 1 < n ? z[k + 1] : z.front(), next_at = k + 1 < n ? at[k + 1] : length;
+    const double t = next_at > at[k] ? (d - at[k]) / (next_at - at[k]) : 0.0;
+    return (1 - t) * z[k] + t * next_z;
+  };
+  std::vector<double> kappa(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!closed && (at[i] < kVerticalSpan || at[i] > at.back() - kVerticalSpan)) continue;
+    kappa[i] = (heightAt(at[i] + kVerticalSpan) - 2.0 * z[i] + heightAt(at[i] - kVerticalSpan)) /
+               (kVerticalSpan * kVerticalSpan);
+  }
+  return kappa;
+}
+
+// The racing line's heights at its points, from the road's.
+std::vector<double> roadHeights(const track::Track& track, const RacingLine& line) {
   std::vector<double> z(line.points.size());
   for (std::size_t i = 0; i < z.size(); ++i) z[i] = track.surfaceHeightAt(line.track_s[i], line.offset[i]);
-  return gradesAlong(z, line.step, line.closed);
+  return z;
 }
 
 }  // namespace
@@ -106,8 +134,11 @@ Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& 
   RacingLine line = minimumCurvatureLine(track, options.line);
   if (options.minimum_time) line = minimumTimeLine(track, line, limits, options.line).line;
   SpeedProfileOptions profile = options.profile;
-  const std::vector<double> grade = roadGrade(track, line);
+  const std::vector<double> heights = roadHeights(track, line);
+  const std::vector<double> grade = gradesAlong(heights, line.step, line.closed);
+  const std::vector<double> vertical = verticalCurvaturesAlong(heights, line.step, line.closed);
   profile.grade = grade;
+  profile.vertical_curvature = vertical;
   if (line.closed)
     return trajectoryOf(track, line, computeSpeedProfile(line.step, line.curvature, limits, true, profile));
   // A course's road runs on past its finish line for the cars to stop: stopped kCourseStopMargin before its
@@ -117,6 +148,7 @@ Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& 
   auto upTo = [&](const std::vector<double>& v) { return std::vector<double>(v.begin(), v.begin() + stop + 1); };
   profile.end_speed = 0.0;
   profile.grade = upTo(grade);
+  profile.vertical_curvature = upTo(vertical);
   SpeedProfile run = computeSpeedProfile(upTo(line.step), upTo(line.curvature), limits, false, profile);
   run.speed.resize(line.points.size(), 0.0);
   run.acceleration.resize(line.points.size(), 0.0);
@@ -132,6 +164,7 @@ Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& 
   SpeedProfileOptions standing = profile;
   standing.start_speed = 0.0;
   standing.grade = from(grade);
+  standing.vertical_curvature = from(vertical);
   const SpeedProfile from_pole = computeSpeedProfile(from(line.step), from(line.curvature), limits, false, standing);
   t.lap_time = raceTime(track, from(line.track_s), from_pole.time);
   return t;

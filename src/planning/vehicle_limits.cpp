@@ -17,11 +17,16 @@ double VehicleLimits::driveForce(double speed) const {
   return (1 - t) * drive_force[i] + t * drive_force[i + 1];
 }
 
-double VehicleLimits::corneringSpeed(double curvature) const {
-  // m v^2 |kappa| = mu (m g + k v^2)  =>  v^2 = mu m g / (m |kappa| - mu k)
-  const double denominator = mass * std::abs(curvature) - friction * downforce_coefficient;
-  if (denominator <= 0) return max_speed;
-  return std::min(max_speed, std::sqrt(friction * mass * gravity / denominator));
+double VehicleLimits::corneringSpeed(double curvature, double vertical_curvature) const {
+  // m v^2 |kappa| = mu (m g + m v^2 kappa_v + k v^2)  =>  v^2 = mu m g / (m |kappa| - mu m kappa_v - mu k)
+  double speed = max_speed;
+  const double denominator =
+      mass * std::abs(curvature) - friction * (mass * vertical_curvature + downforce_coefficient);
+  if (denominator > 0) speed = std::min(speed, std::sqrt(friction * mass * gravity / denominator));
+  // Over a crest: m g + m v^2 kappa_v + k v^2 >= kMinCrestLoad m g.
+  const double lift = -mass * vertical_curvature - downforce_coefficient;
+  if (lift > 0) speed = std::min(speed, std::sqrt((1.0 - kMinCrestLoad) * mass * gravity / lift));
+  return speed;
 }
 
 double VehicleLimits::longitudinalGrip(double speed, double curvature) const {

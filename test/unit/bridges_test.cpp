@@ -234,3 +234,23 @@ TEST(Bridges, ACarFirstSeenAtTheCrossingIsFollowedOnTheRoadAtItsHeight) {
     EXPECT_NEAR(track.surfaceHeightAt(progress.projection().s, 0.0), height, 0.1) << "RL progress";
   }
 }
+
+// CARLA's Model 3 corners at 3 g: planned for it, the racing line over Roar Eight's bridge keeps at least
+// kMinCrestLoad of its weight on the tyres over the crest, where it used to fly and land in the barrier.
+TEST(Bridges, TheLineOverTheBridgeKeepsAFastCarOnTheRoad) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
+  const auto limits = planning::vehicleLimits(test::vehicle("carla_model3"), track.info().friction, 0.85);
+  const planning::Trajectory line = planning::planRacingTrajectory(track, limits, {});
+  constexpr double kSpan = 15.0;  // m: the crest's curvature over the span the planner reads it
+  double crest_speed = 0.0;
+  for (const auto& p : line.points) {
+    const double before = planning::sampleAt(line, p.s - kSpan).z, after = planning::sampleAt(line, p.s + kSpan).z;
+    const double vertical = (after - 2.0 * p.z + before) / (kSpan * kSpan);
+    if (vertical >= -1e-5) continue;
+    crest_speed = std::max(crest_speed, p.speed);
+    EXPECT_GE(limits.gravity + p.speed * p.speed * vertical,
+              planning::VehicleLimits::kMinCrestLoad * limits.gravity - 0.05)
+        << "at s = " << p.s << " m, " << p.speed << " m/s";
+  }
+  EXPECT_GT(crest_speed, 40.0) << "the crest was found and driven fast";
+}

@@ -71,6 +71,32 @@ TEST(SpeedProfile, DownforceRaisesTheCorneringSpeed) {
   EXPECT_NEAR(limits.mass * v * v * kappa, limits.gripForce(v), 1e-6 * limits.gripForce(v)) << "exactly at the limit";
 }
 
+// Over a crest the car weighs less: a corner on it is taken slower, and on a straight crest the car keeps
+// kMinCrestLoad of its weight on the tyres, where a 3 g car would otherwise leave the ground.
+TEST(SpeedProfile, ACrestSlowsTheCornerOnItAndTheCarKeepsItsWheelsDown) {
+  auto limits = sedanLimits();
+  limits.downforce_coefficient = 0.0;
+  const double kappa = 1.0 / 200.0, crest = -1.0 / 1200.0;
+  const double level = limits.corneringSpeed(kappa), over = limits.corneringSpeed(kappa, crest);
+  EXPECT_LT(over, level);
+  // At that speed the tyres carry the corner with the weight the crest leaves: m v^2 k = mu m (g + v^2 kv).
+  EXPECT_NEAR(over * over * kappa, limits.friction * (limits.gravity + over * over * crest), 1e-9);
+  const double straight = limits.corneringSpeed(0.0, crest);
+  EXPECT_NEAR(straight * straight * -crest, (1.0 - planning::VehicleLimits::kMinCrestLoad) * limits.gravity, 1e-9);
+  EXPECT_GT(limits.corneringSpeed(kappa, 1.0 / 1200.0), level) << "a dip presses the car down";
+
+  // A straight 1 km with a crest in its middle: the profile keeps the car on the road over it.
+  std::vector<double> step(500, 2.0), curvature(500, 0.0), vertical(500, 0.0);
+  for (int i = 240; i < 260; ++i) vertical[i] = crest;
+  planning::SpeedProfileOptions options;
+  options.vertical_curvature = vertical;
+  const auto profile = planning::computeSpeedProfile(step, curvature, limits, false, options);
+  for (int i = 240; i < 260; ++i) EXPECT_LE(profile.speed[i], straight + 1e-9) << "point " << i;
+  EXPECT_GT(profile.speed[300], straight) << "and goes on beyond it";
+  options.vertical_curvature.pop_back();
+  EXPECT_THROW(planning::computeSpeedProfile(step, curvature, limits, false, options), std::invalid_argument);
+}
+
 TEST(SpeedProfile, ClosedLoopIsTheSameWhereverItStarts) {
   std::vector<double> step, kappa;
   wavyLoop(&step, &kappa);

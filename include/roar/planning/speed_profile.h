@@ -23,6 +23,9 @@ struct SpeedProfileOptions {
   // Per point, the sine of the road's slope from it to the next (positive uphill); empty: level. Gravity
   // along the road takes from the drive uphill and from the brakes downhill.
   std::vector<double> grade;
+  // Per point, the road's curvature in the vertical plane (1/m, negative over a crest); empty: none. The
+  // cornering speed falls where the car weighs less (VehicleLimits::corneringSpeed).
+  std::vector<double> vertical_curvature;
 };
 
 // The hardest a car gains speed at speed v on curvature kappa: the engine or the grip the corner leaves

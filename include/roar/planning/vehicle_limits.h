@@ -33,8 +33,12 @@ struct VehicleLimits {
   double resistance(double speed) const { return dragForce(speed) + rolling_resistance * mass * gravity; }
   // Total tyre force the road can take: friction x (weight + downforce).
   double gripForce(double speed) const { return friction * (mass * gravity + downforce_coefficient * speed * speed); }
-  // Highest speed on a curvature (1/m) where the grip carries the centripetal force alone.
-  double corneringSpeed(double curvature) const;
+  // Highest speed on a curvature (1/m) where the grip carries the centripetal force alone. Over a crest
+  // (`vertical_curvature`, 1/m in the vertical plane, negative over a crest) the car weighs less: it
+  // corners slower there, and goes no faster than keeps kMinCrestLoad of its weight on the tyres
+  // (SpeedProfile.ACrestSlowsTheCornerOnItAndTheCarKeepsItsWheelsDown).
+  double corneringSpeed(double curvature, double vertical_curvature = 0.0) const;
+  static constexpr double kMinCrestLoad = 0.6;
   // Longitudinal force left once the cornering force m v^2 kappa is taken from the friction circle.
   double longitudinalGrip(double speed, double curvature) const;
 };
