@@ -86,11 +86,11 @@ void renderTrackPreview(const Track& track, const std::string& png_path, int wid
     line_across(track.finishLine(), cv::Scalar(255, 255, 255), 7);
     line_across(track.finishLine(), cv::Scalar(0, 0, 0), 3);
   }
-  // The direction of travel: an arrow beside the road just after the line, outside the barrier, where it
-  // covers neither a path nor a mark, labelled on the map.
+  // The direction of travel: an arrow beside the road just after the line, 30 px outside the barrier at
+  // any scale, where it covers neither a path nor a mark, labelled on the map.
   const auto beside = [&](double s) {
     const TrackPose pose = track.poseAt(track.info().start_finish_s + s);
-    return Eigen::Vector2d(pose.position + track::leftOf(pose.heading) * (pose.width_left + offset + 12.0));
+    return Eigen::Vector2d(pose.position + track::leftOf(pose.heading) * (pose.width_left + offset + 30.0 / scale));
   };
   const double arrow_length = 100.0 / scale;  // m: 100 px on any map
   cv::arrowedLine(image, px(beside(10)), px(beside(10 + arrow_length)), cv::Scalar(0, 0, 255), 3, cv::LINE_AA, 0, 0.25);
