@@ -27,6 +27,7 @@
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
+#include "roar/stack/race.h"
 #include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
@@ -224,16 +225,10 @@ class PlannerNode {
     }
   }
 
-  // The racing line and field planner of one model: its limits and size, every car's pace.
+  // One model's field planner, with every car's pace.
   std::unique_ptr<planning::FieldPlanner> fieldFor(const track::Track& track, const vehicle::VehicleParams& params) {
-    const auto limits = planning::vehicleLimits(params, track.info().friction, options_.grip_use);
-    planning::PlannerOptions planner = options_.planner;
-    planner.line.vehicle_width = params.chassis.box_size.y();
-    planning::FieldOptions field = options_.field;
-    field.overtake.car.length = params.chassis.box_size.x();
-    field.overtake.car.width = params.chassis.box_size.y();
-    auto out = std::make_unique<planning::FieldPlanner>(track, planning::planRacingTrajectory(track, limits, planner),
-                                                        limits, field);
+    auto out = std::make_unique<planning::FieldPlanner>(
+        stack::fieldPlannerFor(track, params, options_.grip_use, options_.planner, options_.field));
     for (const auto& [name, pace] : options_.pace) out->setPace(name, pace);
     return out;
   }

@@ -88,15 +88,21 @@ int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& orde
   return out;
 }
 
+planning::FieldPlanner fieldPlannerFor(const track::Track& track, const vehicle::VehicleParams& vehicle,
+                                       double grip_use, planning::PlannerOptions planner,
+                                       planning::FieldOptions field) {
+  const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, grip_use);
+  planner.line.vehicle_width = vehicle.chassis.box_size.y();
+  field.overtake.car.length = vehicle.chassis.box_size.x();
+  field.overtake.car.width = vehicle.chassis.box_size.y();
+  return planning::FieldPlanner(track, planning::planRacingTrajectory(track, limits, planner), limits, field);
+}
+
 RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options) {
   checkCars(cars);
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
-  planning::FieldOptions field_options = options.field;
-  field_options.overtake.car.length = vehicle.chassis.box_size.x();
-  field_options.overtake.car.width = vehicle.chassis.box_size.y();
-  planning::FieldPlanner field(track, planning::planRacingTrajectory(track, limits, options.planner), limits,
-                               field_options);
+  planning::FieldPlanner field = fieldPlannerFor(track, vehicle, options.grip_use, options.planner, options.field);
   const planning::Trajectory& line = field.line();
 
   sim::World world(track, {});

@@ -9,6 +9,7 @@
 
 #include "roar/control/trajectory_tracker.h"
 #include "roar/planning/field_planner.h"
+#include "roar/planning/trajectory.h"
 #include "roar/race/race_control.h"
 #include "roar/track/track.h"
 #include "roar/vehicle/vehicle_params.h"
@@ -105,6 +106,12 @@ struct RaceResult {
   bool finished = false;  // every car finished within the time limit
   const RaceCarResult& car(const std::string& name) const;
 };
+
+// The field planner for cars of one model: the racing line and its profile from the model's limits
+// (`grip_use` of the road's friction), the line's margins and the overtaking geometry sized to its body.
+// The planner node builds one per model in the race; runRace, one for its cars' model.
+planning::FieldPlanner fieldPlannerFor(const track::Track& track, const vehicle::VehicleParams& vehicle,
+                                       double grip_use, planning::PlannerOptions planner, planning::FieldOptions field);
 
 // Throws std::invalid_argument for no cars, repeated names or grid slots, or a pace outside (0, 1].
 RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
