@@ -124,6 +124,11 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   // world refused as busy) and /roar_sim/cancel_step can end the step early.
   constexpr double kServeEvery = 0.02;  // s of wall time
   long_step_ = LongStep{req.ticks, 0, false};
+  // Whatever ends the step, an error in a tick too, the other services are served again after it.
+  struct EndOfStep {
+    std::optional<LongStep>& step;
+    ~EndOfStep() { step.reset(); }
+  } end_of_step{long_step_};
   ros::WallTime served = ros::WallTime::now();
   for (std::uint32_t k = 0; k < req.ticks && !long_step_->cancelled; ++k) {
     if ((ros::WallTime::now() - served).toSec() >= kServeEvery) {
@@ -145,7 +150,6 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
     long_step_->done = k + 1;
   }
   const LongStep step = *long_step_;
-  long_step_.reset();
   res.success = true;
   res.message = warnings;
   if (step.cancelled) {
