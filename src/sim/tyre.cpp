@@ -25,12 +25,43 @@ double peakSlip(double b, double c, double e) {
   return 0.5 * (lo + hi);
 }
 
+constexpr double kG = 9.81;
+
+// CarSimEd's saturating curve (its equation 20): rises like K at first and reaches 1 at K = 3.
+double carSimEdCurve(double k) { return std::min(1.0, k - k * k / 3.0 + k * k * k / 27.0); }
+
+double carSimEdCorneringStiffness(const vehicle::TyreParams& p, double load) {
+  return p.nominal_load * p.lateral_stiffness *
+         carSimEdCurve(3.0 * (load / p.nominal_load) / p.lateral_stiffness_max_load);
+}
+
 }  // namespace
 
-TyreModel::TyreModel(const vehicle::TyreParams& params)
-    : params_(params),
-      peak_slip_ratio_(peakSlip(params.long_b, params.long_c, params.long_e)),
-      peak_slip_angle_(peakSlip(params.lat_b, params.lat_c, params.lat_e)) {}
+TyreModel::TyreModel(const vehicle::TyreParams& params) : params_(params) {
+  if (params.curve == vehicle::TyreCurve::kCarSimEd) {
+    // K = 3 in pure slip at the nominal load: kappa C_x = 3 mu Fz, tan(alpha) C_y = 3 mu Fz.
+    const double friction = 3.0 * params.grip * params.nominal_load;
+    peak_slip_ratio_ = friction / (params.longitudinal_stiffness * kG);
+    peak_slip_angle_ = std::atan(friction / carSimEdCorneringStiffness(params, params.nominal_load));
+  } else {
+    peak_slip_ratio_ = peakSlip(params.long_b, params.long_c, params.long_e);
+    peak_slip_angle_ = peakSlip(params.lat_b, params.lat_c, params.lat_e);
+  }
+}
+
+TyreForce TyreModel::carSimEd(double slip_ratio, double slip_angle, double load, double mu) const {
+  const double friction = peakForce(load, mu);
+  if (friction <= 0) return {};
+  const double cx = params_.longitudinal_stiffness * kG, cy = carSimEdCorneringStiffness(params_, load);
+  const double t = std::tan(slip_angle);
+  const double k = std::hypot(cx * slip_ratio, cy * t) / friction;
+  if (k < 1e-12) return {};
+  // The share between the slips: nu blends the stiffnesses' ratio (small K) towards 1 (K = 2 pi and beyond).
+  const double ratio = cy / cx;
+  const double nu = k <= 2.0 * M_PI ? 0.5 * (1.0 + ratio - (1.0 - ratio) * std::cos(0.5 * k)) : 1.0;
+  const double scale = friction * carSimEdCurve(k) / std::hypot(slip_ratio, nu * t);
+  return {slip_ratio * scale, -nu * t * scale};
+}
 
 double TyreModel::peakForce(double load, double mu) const {
   if (load <= 0) return 0.0;
@@ -40,6 +71,7 @@ double TyreModel::peakForce(double load, double mu) const {
 }
 
 TyreForce TyreModel::force(double slip_ratio, double slip_angle, double load, double mu) const {
+  if (params_.curve == vehicle::TyreCurve::kCarSimEd) return carSimEd(slip_ratio, slip_angle, load, mu);
   const double d = peakForce(load, mu);
   if (d <= 0) return {};
   const double sx = slip_ratio / peak_slip_ratio_;
@@ -53,6 +85,7 @@ TyreForce TyreModel::force(double slip_ratio, double slip_angle, double load, do
 
 double TyreModel::longitudinalForce(double slip_ratio, double slip_angle, double load, double mu) const {
   // force()'s longitudinal half, without the lateral curve: the wheel-spin integration asks for it twice.
+  if (params_.curve == vehicle::TyreCurve::kCarSimEd) return carSimEd(slip_ratio, slip_angle, load, mu).longitudinal;
   const double d = peakForce(load, mu);
   if (d <= 0) return 0.0;
   const double sx = slip_ratio / peak_slip_ratio_;

@@ -136,8 +136,9 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   }
   steering_ = 0.0;
   anti_roll_load_.fill(0.0);
-  powertrain_.reset();
+  powertrain_.reset(false);  // moved, not spawned: CARLA keeps a teleported car in gear
   control_ = vehicle::parkedControl();
+  brake_level_ = 0.0;  // the pedals released: the parked car is held by its hand brake, at once
   substep_start_velocity_ = btVector3(0, 0, 0);
   last_acceleration_ = btVector3(0, 0, 0);
 }
@@ -150,6 +151,12 @@ void VehicleDynamics::setVelocity(const btVector3& linear, const btVector3& angu
   body_->activate(true);
   const btVector3 forward = base.getBasis().getColumn(0);
   for (std::size_t i = 0; i < wheels_.size(); ++i) wheels_[i].omega = linear.dot(forward) / params_.wheels[i].radius;
+  // A car set moving is driving: in gear, its pedals' lags settled at its control (a car stopped is not:
+  // ROAR_PY_RL's resets stop it and drive off at once, as over CARLA).
+  if (linear.length() > 0.1) {
+    powertrain_.settle(control_.throttle);
+    brake_level_ = control_.brake;
+  }
   substep_start_velocity_ = body_->getLinearVelocity();
   last_acceleration_ = btVector3(0, 0, 0);
 }
@@ -170,7 +177,9 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   const double forward_speed = std::abs(velocity.dot(body_->getCenterOfMassTransform().getBasis().getColumn(0)));
   const double target = control_.steer * params_.steering.maxAngleAt(forward_speed);
   const double max_change = params_.steering.max_rate * dt;
-  steering_ += std::clamp(target - steering_, -max_change, max_change);
+  const double lag = params_.steering.response_time;
+  const double wanted = lag > 0 ? (target - steering_) * -std::expm1(-dt / lag) : target - steering_;
+  steering_ += std::clamp(wanted, -max_change, max_change);
   const auto angles = wheelSteerAngles();
   for (int i = 0; i < 4; ++i) wheels_[i].steer = angles[i];
 
@@ -183,6 +192,10 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   const double driven_omega =
       0.5 * front * (wheels_[0].omega + wheels_[1].omega) + 0.5 * rear * (wheels_[2].omega + wheels_[3].omega);
   const double drive = powertrain_.update(request, driven_omega, dt);
+  const auto& brakes = params_.brakes;
+  const double brake_lag = control_.brake > brake_level_ ? brakes.rise_time : brakes.release_time;
+  brake_level_ =
+      brake_lag > 0 ? brake_level_ + (control_.brake - brake_level_) * -std::expm1(-dt / brake_lag) : control_.brake;
   // Anti-roll bars from the last substep's compressions (one substep of lag, far below the roll mode).
   const double bars[2] = {params_.suspension.anti_roll_front, params_.suspension.anti_roll_rear};
   for (int axle = 0; axle < 2; ++axle) {
@@ -225,7 +238,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const double r = wp.radius;
   const double inertia = params_.tyre.wheel_inertia;
   const bool rear = index >= 2;
-  double brake_torque = control_.brake * (rear ? params_.brakes.max_torque_rear : params_.brakes.max_torque_front);
+  double brake_torque = brake_level_ * (rear ? params_.brakes.max_torque_rear : params_.brakes.max_torque_front);
   const double hand_brake_torque = (rear && control_.hand_brake) ? params_.brakes.hand_brake_torque : 0.0;
 
   if (!ray.hit) {

@@ -81,8 +81,9 @@ class VehicleDynamics {
   std::array<Wheel, 4> wheels_;
   std::array<double, 4> anti_roll_load_{0.0, 0.0, 0.0, 0.0};  // N added to each wheel's spring
   vehicle::VehicleControl control_ = vehicle::parkedControl();
-  double drag_share_ = 1.0;  // of the free-air drag: below 1 in another car's slipstream
-  double steering_ = 0.0;    // rad, commanded road-wheel angle after the rate limit
+  double drag_share_ = 1.0;   // of the free-air drag: below 1 in another car's slipstream
+  double steering_ = 0.0;     // rad, commanded road-wheel angle after the rate limit
+  double brake_level_ = 0.0;  // the brake pedal as the pressure follows it (BrakeParams::rise_time)
   btVector3 substep_start_velocity_{0, 0, 0};
   btVector3 substep_start_spin_{0, 0, 0};
   btVector3 last_acceleration_{0, 0, 0};

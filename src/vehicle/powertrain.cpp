@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace roar::vehicle {
 
@@ -20,13 +21,61 @@ constexpr double kKickdownHoldTime = 1.0;
 constexpr double kKickdownHoldLoss = 0.1;
 }  // namespace
 
-Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(); }
+Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(true); }
 
-void Powertrain::reset() {
-  gear_ = 1;
+void Powertrain::reset(bool put_down) {
+  standing_ = put_down && gearbox_.engage_time > 0;
+  gear_ = standing_ ? 0 : 1;
   shift_timer_ = 0.0;
   since_upshift_ = kKickdownHoldTime;
   rpm_ = engine_.idle_rpm;
+  throttle_level_ = 0.0;
+  engage_timer_ = std::numeric_limits<double>::infinity();
+  clutch_slipping_ = false;
+  engine_omega_ = engine_.idle_rpm / kRadPerSecToRpm;
+}
+
+void Powertrain::settle(double throttle) {
+  standing_ = false;
+  clutch_slipping_ = false;
+  if (gear_ == 0) gear_ = 1;
+  throttle_level_ = std::clamp(throttle, 0.0, 1.0);
+}
+
+double Powertrain::ownTorque(double throttle) const {
+  return rpm_ > engine_.redline_rpm ? 0.0 : throttle * engineTorqueAt(rpm_);
+}
+
+bool Powertrain::standInNeutral(double throttle, double dt) {
+  if (std::isinf(engage_timer_) && throttle > 0) engage_timer_ = gearbox_.engage_time;
+  engage_timer_ -= dt;
+  // In neutral the engine revs against its own drag (its engine braking at the throttle's share).
+  const double drag = (1.0 - throttle) * engine_.engine_brake_torque * (rpm_ / engine_.redline_rpm);
+  const double idle = engine_.idle_rpm / kRadPerSecToRpm, redline = engine_.redline_rpm / kRadPerSecToRpm;
+  engine_omega_ = std::clamp(engine_omega_ + dt * (ownTorque(throttle) - drag) / engine_.inertia, idle, redline);
+  rpm_ = engine_omega_ * kRadPerSecToRpm;
+  if (engage_timer_ > 0) return true;
+  standing_ = false;
+  gear_ = 1;
+  clutch_slipping_ = true;
+  return false;
+}
+
+bool Powertrain::slipClutch(double throttle, double wheel_rpm, double dt, double* wheel_torque) {
+  const double r = ratio(gear_);
+  const double coupled = wheel_rpm * r / kRadPerSecToRpm;
+  const double clutch = gearbox_.clutch_strength * (engine_omega_ - coupled);
+  const double own = ownTorque(throttle);
+  // The clutch closes once the engine has come down to the wheels, or stops coming down (its own torque
+  // now as much as the slipping clutch passes): from then on engine and wheels turn together.
+  if (engine_omega_ <= coupled || clutch <= own) {
+    clutch_slipping_ = false;
+    return false;
+  }
+  engine_omega_ = std::max(coupled, engine_omega_ + dt * (own - clutch) / engine_.inertia);
+  rpm_ = engine_omega_ * kRadPerSecToRpm;
+  *wheel_torque = clutch * r * gearbox_.efficiency;
+  return true;
 }
 
 double Powertrain::ratio(int gear) const {
@@ -67,6 +116,17 @@ int Powertrain::strongestGear(double wheel_rpm, double headroom_rpm) const {
 }
 
 double Powertrain::update(const DriveRequest& request, double driven_wheel_omega, double dt) {
+  const double pedal = std::clamp(request.throttle, 0.0, 1.0);
+  throttle_level_ = engine_.response_time > 0
+                        ? throttle_level_ + (pedal - throttle_level_) * -std::expm1(-dt / engine_.response_time)
+                        : pedal;
+  // A car standing in neutral waits for its first gear unless the driver picks one or reverse.
+  if (standing_ && (request.manual || request.reverse)) standing_ = false;
+  if (standing_ && standInNeutral(throttle_level_, dt)) return 0.0;
+  double launch_torque = 0.0;
+  if (clutch_slipping_ &&
+      slipClutch(throttle_level_, std::abs(driven_wheel_omega) * kRadPerSecToRpm, dt, &launch_torque))
+    return launch_torque;
   const int top = static_cast<int>(gearbox_.ratios.size());
   int wanted = gear_;
   if (request.manual) {
@@ -82,8 +142,8 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
   }
 
   const double wheel_rpm = std::abs(driven_wheel_omega) * kRadPerSecToRpm;
-  const double throttle = std::clamp(request.throttle, 0.0, 1.0);
-  if (throttle < kKickdownThrottle) floored_since_upshift_ = false;
+  const double throttle = throttle_level_;
+  if (pedal < kKickdownThrottle) floored_since_upshift_ = false;
   if (!request.manual && gear_ > 0 && shift_timer_ <= 0) {
     const double rpm = wheel_rpm * ratio(gear_);
     int next = gear_;
@@ -98,7 +158,7 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
       // mid-corner makes engine braking jump and unsettles the car.
       const bool holding = since_upshift_ < kKickdownHoldTime && floored_since_upshift_ &&
                            wheel_rpm > (1.0 - kKickdownHoldLoss) * upshift_wheel_rpm_;
-      if (gearbox_.kickdown && throttle >= kKickdownThrottle && !holding) {
+      if (gearbox_.kickdown && pedal >= kKickdownThrottle && !holding) {
         const int strongest = strongestGear(wheel_rpm, kKickdownHeadroomRpm);
         if (strongest > 0 && strongest < gear_) next = strongest;
       }
@@ -119,9 +179,10 @@ double Powertrain::update(const DriveRequest& request, double driven_wheel_omega
   }
   const double coupled_rpm = wheel_rpm * std::abs(r);
   rpm_ = std::max(engine_.idle_rpm, coupled_rpm);
+  engine_omega_ = rpm_ / kRadPerSecToRpm;
   if (shift_timer_ > 0) return 0.0;
 
-  double engine_torque = rpm_ > engine_.redline_rpm ? 0.0 : throttle * engineTorqueAt(rpm_);
+  double engine_torque = ownTorque(throttle);
   // Engine braking only once the clutch is closed (the wheels turn the engine above idle).
   if (coupled_rpm > engine_.idle_rpm) {
     engine_torque -= (1.0 - throttle) * engine_.engine_brake_torque * (rpm_ / engine_.redline_rpm);

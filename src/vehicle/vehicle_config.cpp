@@ -160,6 +160,8 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.engine.idle_rpm = above(engine, "idle_rpm", 0, 5000, " rpm");
   p.engine.redline_rpm = above(engine, "redline_rpm", 0, 25000, " rpm");
   p.engine.engine_brake_torque = inRange(engine, "engine_brake_torque_nm", 0, 2000, " N m");
+  if (engine.has("response_time_s")) p.engine.response_time = inRange(engine, "response_time_s", 0, 2, " s");
+  if (engine.has("inertia_kg_m2")) p.engine.inertia = above(engine, "inertia_kg_m2", 0, 10, " kg m^2");
   const YAML::Node curve = engine.raw("torque_curve_rpm_nm");
   engine.finish();
   if (!curve || !curve.IsSequence() || curve.size() < 2) {
@@ -200,6 +202,9 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.gearbox.shift_down_rpm = above(gearbox, "shift_down_rpm", 0, 25000, " rpm");
   p.gearbox.shift_time = inRange(gearbox, "shift_time_s", 0, 2, " s");
   p.gearbox.kickdown = flag(gearbox, "kickdown", true);
+  if (gearbox.has("engage_time_s")) p.gearbox.engage_time = inRange(gearbox, "engage_time_s", 0, 5, " s");
+  if (gearbox.has("clutch_strength_nm_s_per_rad"))
+    p.gearbox.clutch_strength = above(gearbox, "clutch_strength_nm_s_per_rad", 0, 1000, " N m s/rad");
   gearbox.finish();
 
   p.brakes.max_torque_front = above(brakes, "max_torque_front_nm", 0, 20000, " N m");
@@ -207,10 +212,13 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.brakes.hand_brake_torque = above(brakes, "hand_brake_torque_nm", 0, 20000, " N m");
   p.brakes.abs = flag(brakes, "abs", true);
   p.brakes.rear_grip_share = inRange(brakes, "rear_grip_share", 0, 1);
+  if (brakes.has("rise_time_s")) p.brakes.rise_time = inRange(brakes, "rise_time_s", 0, 2, " s");
+  if (brakes.has("release_time_s")) p.brakes.release_time = inRange(brakes, "release_time_s", 0, 2, " s");
   brakes.finish();
 
   p.steering.max_angle = above(steering, "max_angle_rad", 0, 1.4, " rad");
   p.steering.max_rate = above(steering, "max_rate_rad_per_s", 0, 20, " rad/s");
+  if (steering.has("response_time_s")) p.steering.response_time = inRange(steering, "response_time_s", 0, 2, " s");
   p.steering.speed_curve = readSpeedCurve(steering, yaml_path);
   steering.finish();
 
@@ -223,13 +231,28 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   if (suspension.has("roll_influence")) p.suspension.roll_influence = inRange(suspension, "roll_influence", 0, 1);
   suspension.finish();
 
-  for (const char* direction : {"longitudinal", "lateral"}) {
-    Section curve_params = tyre.child(direction);
-    const bool lon = direction[1] == 'o';
-    (lon ? p.tyre.long_b : p.tyre.lat_b) = above(curve_params, "b", 0, 100);
-    (lon ? p.tyre.long_c : p.tyre.lat_c) = above(curve_params, "c", 0, 5);
-    (lon ? p.tyre.long_e : p.tyre.lat_e) = inRange(curve_params, "e", -10, 1);
-    curve_params.finish();
+  std::string tyre_curve = "magic_formula";
+  tyre.read("curve", &tyre_curve);
+  if (tyre_curve == "carsimed") {
+    // CarSimEd's tyre in CARLA's names (WheelPhysicsControl's lat_stiff_value, lat_stiff_max_load,
+    // long_stiff_value).
+    p.tyre.curve = TyreCurve::kCarSimEd;
+    Section stiffness = tyre.child("carsimed");
+    p.tyre.lateral_stiffness = above(stiffness, "lat_stiff_value", 0, 1000, " per rad");
+    p.tyre.lateral_stiffness_max_load = above(stiffness, "lat_stiff_max_load", 0, 10);
+    p.tyre.longitudinal_stiffness = above(stiffness, "long_stiff_value", 0, 1e6, " kg");
+    stiffness.finish();
+  } else if (tyre_curve == "magic_formula") {
+    for (const char* direction : {"longitudinal", "lateral"}) {
+      Section curve_params = tyre.child(direction);
+      const bool lon = direction[1] == 'o';
+      (lon ? p.tyre.long_b : p.tyre.lat_b) = above(curve_params, "b", 0, 100);
+      (lon ? p.tyre.long_c : p.tyre.lat_c) = above(curve_params, "c", 0, 5);
+      (lon ? p.tyre.long_e : p.tyre.lat_e) = inRange(curve_params, "e", -10, 1);
+      curve_params.finish();
+    }
+  } else {
+    tyre.fail("tyre.curve", "'" + tyre_curve + "' is neither magic_formula nor carsimed");
   }
   p.tyre.nominal_load = above(tyre, "nominal_load_n", 0, 1e5, " N");
   p.tyre.load_sensitivity = inRange(tyre, "load_sensitivity", 0, 1);

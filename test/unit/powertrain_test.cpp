@@ -142,3 +142,61 @@ TEST(Powertrain, NoKickdownStraightBackAfterAShiftUpAtFullThrottle) {
     EXPECT_EQ(pt.gear(), 1) << "15% slower than at the shift up: kickdown at once";
   }
 }
+
+// EngineParams::response_time: the torque follows the pedal as a first-order lag, both ways.
+TEST(Powertrain, TorqueFollowsThePedalWithTheEnginesResponseTime) {
+  auto p = roar::test::vehicle("carla_model3");
+  p.engine.response_time = 0.2;
+  p.gearbox.engage_time = 0.0;
+  Powertrain pt(p);
+  const double omega = 30.0;  // rad/s at the wheels, clutch closed
+  const double full = pt.fullThrottleWheelTorque(1, omega * 60 / (2 * M_PI));
+  double torque = 0.0;
+  for (int i = 0; i < 40; ++i) torque = pt.update({1.0, false, false, 0}, omega, 0.005);  // 0.2 s: one lag
+  EXPECT_NEAR(torque / full, 1.0 - std::exp(-1.0), 0.02);
+  for (int i = 0; i < 400; ++i) torque = pt.update({1.0, false, false, 0}, omega, 0.005);
+  EXPECT_NEAR(torque / full, 1.0, 1e-3);
+  pt.update({0.0, false, false, 0}, omega, 0.005);
+  EXPECT_GT(pt.update({0.0, false, false, 0}, omega, 0.005), 0.9 * full) << "lifting takes the lag too";
+  pt.settle(0.0);
+  EXPECT_LT(pt.update({0.0, false, false, 0}, omega, 0.005), 0.0) << "settled: closed at once, engine braking";
+}
+
+// GearboxParams::engage_time: put down, the car stands in neutral until engage_time after its first
+// throttle, its engine revving free; then the clutch takes the engine up and passes more than the engine's
+// own torque until engine and wheels turn together (CARLA's cars: 1.5 s still, then a surge).
+TEST(Powertrain, APutDownCarStandsInNeutralThenSurgesAsTheClutchTakesUpTheEngine) {
+  auto p = roar::test::vehicle("carla_model3");
+  p.gearbox.engage_time = 1.5;
+  p.engine.response_time = 0.0;
+  Powertrain pt(p);
+  EXPECT_TRUE(pt.standing());
+  EXPECT_EQ(pt.gear(), 0);
+  for (int i = 0; i < 200; ++i) EXPECT_EQ(pt.update({0.0, false, false, 0}, 0.0, 0.005), 0.0);
+  EXPECT_TRUE(pt.standing()) << "no throttle yet: the wait has not begun";
+  double torque = 0.0;
+  int drive_from = -1;
+  for (int i = 0; i < 400 && drive_from < 0; ++i) {
+    torque = pt.update({1.0, false, false, 0}, 0.0, 0.005);
+    if (torque > 0) drive_from = i;
+  }
+  EXPECT_NEAR(drive_from * 0.005, 1.5, 0.01) << "drive 1.5 s after the first throttle";
+  EXPECT_EQ(pt.gear(), 1);
+  EXPECT_GT(pt.engineRpm(), 0.9 * p.engine.redline_rpm) << "the engine revved free meanwhile";
+  const double locked = pt.fullThrottleWheelTorque(1, 0.0);
+  EXPECT_GT(torque, 2.0 * locked) << "the spinning engine's surge";
+  // The wheels follow the engine down: once they turn together, the engine's own torque again.
+  double omega = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    torque = pt.update({1.0, false, false, 0}, omega, 0.005);
+    omega += 0.5;  // rad/s a substep: the car gathering speed
+  }
+  EXPECT_NEAR(torque, pt.fullThrottleWheelTorque(1, omega * 60 / (2 * M_PI)), 1.0);
+  pt.reset(false);
+  EXPECT_FALSE(pt.standing()) << "moved, not spawned: in gear";
+  pt.reset(true);
+  EXPECT_TRUE(pt.standing()) << "put down again";
+  pt.settle(1.0);
+  EXPECT_FALSE(pt.standing()) << "a car set moving is in gear";
+  EXPECT_GT(pt.update({1.0, false, false, 0}, 30.0, 0.005), 0.0);
+}

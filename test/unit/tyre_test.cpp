@@ -65,3 +65,32 @@ TEST(Tyre, LongitudinalForceIsForcesLongitudinalHalfExactly) {
     }
   }
 }
+
+// CarSimEd's tyre (CARLA 0.9's, through PhysX): linear at small slip with the stiffnesses CARLA names,
+// saturating at mu Fz where K reaches 3 and never falling past it, and combined slip inside the circle.
+TEST(Tyre, CarSimEdIsLinearThenSaturatesAtFrictionWithoutFallingOff) {
+  roar::vehicle::TyreParams p;
+  p.curve = roar::vehicle::TyreCurve::kCarSimEd;
+  p.nominal_load = 4500;
+  p.grip = 3.0;
+  p.load_sensitivity = 0.0;
+  p.lateral_stiffness = 17.0;  // CARLA's WheelPhysicsControl defaults
+  p.lateral_stiffness_max_load = 2.0;
+  p.longitudinal_stiffness = 1000.0;
+  const roar::sim::TyreModel tyre(p);
+  const double load = 4500, cy = 4500 * 17.0 * (1.5 - 0.75 + 0.125);  // CarSimEd's curve at 3 * 1 / 2
+  EXPECT_NEAR(-tyre.force(0.0, 0.001, load, 1.0).lateral / 0.001, cy, 0.01 * cy) << "cornering stiffness";
+  EXPECT_NEAR(tyre.force(1e-4, 0.0, load, 1.0).longitudinal / 1e-4, 1000 * 9.81, 10.0) << "slip stiffness";
+  const double friction = 3.0 * load;
+  EXPECT_NEAR(-tyre.force(0.0, tyre.peakSlipAngle(), load, 1.0).lateral, friction, 1e-6 * friction);
+  EXPECT_NEAR(-tyre.force(0.0, 1.2, load, 1.0).lateral, friction, 1e-6 * friction) << "no fall-off past the peak";
+  EXPECT_NEAR(tyre.force(tyre.peakSlipRatio(), 0.0, load, 1.0).longitudinal, friction, 1e-6 * friction);
+  for (double kappa : {-0.5, -0.1, 0.05, 0.3, 2.0}) {
+    for (double alpha : {-0.6, -0.1, 0.0, 0.2, 0.9}) {
+      const auto f = tyre.force(kappa, alpha, load, 0.8);
+      EXPECT_LE(std::hypot(f.longitudinal, f.lateral), 0.8 * friction * (1 + 1e-9)) << kappa << " " << alpha;
+      EXPECT_DOUBLE_EQ(f.longitudinal, tyre.longitudinalForce(kappa, alpha, load, 0.8));
+      if (alpha != 0) EXPECT_LT(f.lateral * alpha, 0) << "opposes the slip angle";
+    }
+  }
+}

@@ -237,3 +237,52 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
               fields.size(), refused, drove);
   fs::remove_all(dir);
 }
+
+// The response times, the stand in neutral and CarSimEd's tyre read by name, each refused out of range.
+TEST(VehicleConfig, LagsStandAndCarSimEdTyreAreReadAndRangeChecked) {
+  test::TempDir dir;
+  std::ifstream in(test::sourceDir() + "/config/vehicles/sedan.yaml");
+  const std::string sedan((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = sedan;
+    const auto pos = text.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    text.replace(pos, from.size(), to);
+    return dir.write("car.yaml", text);
+  };
+  vehicle::VehicleParams p;
+  vehicle::readVehicleYaml(with("brakes:\n", "brakes:\n  rise_time_s: 0.25\n  release_time_s: 0.5\n"), &p);
+  EXPECT_DOUBLE_EQ(p.brakes.rise_time, 0.25);
+  EXPECT_DOUBLE_EQ(p.brakes.release_time, 0.5);
+  vehicle::readVehicleYaml(with("gearbox:\n", "gearbox:\n  engage_time_s: 1.5\n  clutch_strength_nm_s_per_rad: 2\n"),
+                           &p);
+  EXPECT_DOUBLE_EQ(p.gearbox.engage_time, 1.5);
+  EXPECT_DOUBLE_EQ(p.gearbox.clutch_strength, 2.0);
+  vehicle::readVehicleYaml(with("engine:\n", "engine:\n  response_time_s: 0.3\n  inertia_kg_m2: 0.2\n"), &p);
+  EXPECT_DOUBLE_EQ(p.engine.response_time, 0.3);
+  EXPECT_DOUBLE_EQ(p.engine.inertia, 0.2);
+  const auto tyre = sedan.find("  longitudinal:");
+  const auto end = sedan.find("  nominal_load_n:");
+  ASSERT_NE(tyre, std::string::npos);
+  ASSERT_NE(end, std::string::npos);
+  const std::string magic = sedan.substr(tyre, end - tyre);
+  vehicle::readVehicleYaml(
+      with(magic,
+           "  curve: carsimed\n  carsimed: {lat_stiff_value: 17, lat_stiff_max_load: 2, long_stiff_value: 1000}\n"),
+      &p);
+  EXPECT_EQ(p.tyre.curve, vehicle::TyreCurve::kCarSimEd);
+  EXPECT_DOUBLE_EQ(p.tyre.lateral_stiffness, 17.0);
+  EXPECT_DOUBLE_EQ(p.tyre.longitudinal_stiffness, 1000.0);
+  auto error = [&](const std::string& from, const std::string& to) {
+    return errorOf([&] { vehicle::readVehicleYaml(with(from, to), &p); });
+  };
+  EXPECT_NE(error("brakes:\n", "brakes:\n  rise_time_s: 5\n").find("brakes.rise_time_s: 5 is outside [0, 2] s"),
+            std::string::npos);
+  EXPECT_NE(error("gearbox:\n", "gearbox:\n  engage_time_s: -1\n").find("gearbox.engage_time_s: -1 is outside"),
+            std::string::npos);
+  EXPECT_NE(error(magic, "  curve: pacejka\n").find("tyre.curve: 'pacejka' is neither magic_formula nor carsimed"),
+            std::string::npos);
+  EXPECT_NE(error(magic, "  curve: carsimed\n  carsimed: {lat_stiff_value: 17, lat_stiff_max_load: 2}\n")
+                .find("tyre.carsimed.long_stiff_value: is missing"),
+            std::string::npos);
+}

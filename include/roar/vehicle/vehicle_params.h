@@ -45,12 +45,26 @@ struct SuspensionParams {
   double roll_influence = 1.0;
 };
 
+// Which curve gives a tyre's forces from its slips (roar/sim/tyre.h).
+enum class TyreCurve {
+  kMagicFormula,  // Pacejka's, each slip normalised by its peak slip
+  kCarSimEd,      // CarSimEd's (the Michigan model), as PhysX's vehicles and so CARLA 0.9's cars have it
+};
+
 struct TyreParams {
+  TyreCurve curve = TyreCurve::kMagicFormula;
   // Pacejka magic formula, pure slip, with normalised combined slip (see tyre.h).
   double long_b = 20.0, long_c = 1.55, long_e = 0.3;
   double lat_b = 18.0, lat_c = 1.45, lat_e = 0.3;
-  double nominal_load = 4500.0;    // N, Fz0
-  double load_sensitivity = 0.08;  // friction drop per unit of (Fz - Fz0) / Fz0
+  // CarSimEd: the cornering stiffness is lateral_stiffness (per rad) times the nominal load, rising with the
+  // load until lateral_stiffness_max_load times it; the longitudinal stiffness is longitudinal_stiffness
+  // (per unit slip) times g, whatever the load. CARLA's names: lat_stiff_value, lat_stiff_max_load,
+  // long_stiff_value.
+  double lateral_stiffness = 17.0;
+  double lateral_stiffness_max_load = 2.0;
+  double longitudinal_stiffness = 1000.0;  // N per unit slip, per m/s^2 of gravity
+  double nominal_load = 4500.0;            // N, Fz0
+  double load_sensitivity = 0.08;          // friction drop per unit of (Fz - Fz0) / Fz0
   double rolling_resistance = 0.012;
   double wheel_inertia = 1.2;  // kg m^2, wheel and tyre about the axle
   // The tyre's friction relative to the road's rating: 1 for performance road tyres, below for economy
@@ -63,6 +77,11 @@ struct EngineParams {
   double idle_rpm = 900.0;
   double redline_rpm = 7000.0;
   double engine_brake_torque = 60.0;  // N m at redline with the throttle closed, proportional to rpm
+  // s: the torque follows the pedal as a first-order lag of this time constant (0: at once). A drive-by-wire
+  // motor's torque ramp (carla_model3: fitted to CARLA's telemetry, doc/cars.md).
+  double response_time = 0.0;
+  // The motor or engine's own rotation, felt only while the clutch slips (below): kg m^2.
+  double inertia = 0.2;
 };
 
 struct GearboxParams {
@@ -76,6 +95,13 @@ struct GearboxParams {
   // Automatic mode shifts down to the strongest gear at (nearly) full throttle, not only below
   // shift_down_rpm.
   bool kickdown = true;
+  // s: a car spawned stands in neutral until this long after its first throttle, its engine free to rev,
+  // then engages first gear through a slipping clutch (0: in first from the start, the clutch never slips).
+  // CARLA's cars stand still for their first 1.5 s at full throttle and then surge (carla_model3); a car
+  // moved (reset, teleported) keeps its gear.
+  double engage_time = 0.0;
+  // N m per rad/s of slip between engine and gearbox while the clutch slips after engaging.
+  double clutch_strength = 1.0;
 };
 
 struct BrakeParams {
@@ -86,11 +112,16 @@ struct BrakeParams {
   // Electronic brake-force distribution: the rear wheels brake with at most this share of their grip,
   // keeping lateral grip at the rear when braking into a corner.
   double rear_grip_share = 0.8;
+  // s: brake pressure follows the pedal as a first-order lag, building with rise_time and releasing with
+  // release_time (0: at once).
+  double rise_time = 0.0;
+  double release_time = 0.0;
 };
 
 struct SteeringParams {
   double max_angle = 0.61;             // rad, road wheel angle at steer = 1
   double max_rate = 2.5;               // rad/s
+  double response_time = 0.0;          // s: the wheels follow the command as a first-order lag (0: at once)
   vehicle::SteeringCurve speed_curve;  // share of max_angle by speed (CARLA's steering curve); empty: all of it
   double maxAngleAt(double speed) const { return max_angle * vehicle::steeringShare(speed_curve, speed); }
 };
