@@ -100,6 +100,16 @@ visualization_msgs::MarkerArray trackMarkers(const track::Track& track, const st
       road.points.push_back(point(mesh.vertices[t[k]].x(), mesh.vertices[t[k]].y(), mesh.vertices[t[k]].z()));
   }
   out.markers.push_back(road);
+  // The grass run-off from the road's edges to the barriers, a centimetre below the road as the road is.
+  Marker runoff = marker(frame, "runoff", Marker::TRIANGLE_LIST, 1.0, 0.2f, 0.45f, 0.15f);
+  const auto grass = track::runoffMesh(track);
+  for (const auto& t : grass.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& v = grass.vertices[t[k]];
+      runoff.points.push_back(point(v.x(), v.y(), v.z() - 0.02));
+    }
+  }
+  out.markers.push_back(runoff);
   // The cameras' red and white kerbs: stripes alternate every 2 m of the centre line.
   Marker kerbs = marker(frame, "kerbs", Marker::TRIANGLE_LIST, 1.0, 1, 1, 1);
   const track::KerbMesh kerb = track::kerbMesh(track);

@@ -93,6 +93,8 @@ struct RayScene::Impl {
     kerb_segments = std::move(kerbs.segment_of);
     kerb_geom = attach(static_scene, triangleGeometry(device, kerbs.mesh, kStaticMask));
     ground_geom = attach(static_scene, triangleGeometry(device, groundMesh(), kStaticMask));
+    // The run-off at the road's height (grass, as the ground beyond the barriers): the physics' run-off.
+    attach(static_scene, triangleGeometry(device, track::runoffMesh(track), kStaticMask));
     rtcCommitScene(static_scene);
 
     scene = rtcNewScene(device);

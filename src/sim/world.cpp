@@ -149,10 +149,13 @@ struct World::Impl {
     for (auto& [name, slot] : vehicles) slot.dynamics->setDragShare(shares[k++]);
   }
 
+  static bool isDrivenOn(const btCollisionObject* object) {
+    return object->getUserIndex() == kRoad || object->getUserIndex() == kGround;
+  }
+
   std::string nameOf(const btCollisionObject* object) const {
     const int id = object->getUserIndex();
     if (id == kBarrier) return "barrier";
-    if (id == kRoad || id == kGround) return "ground";
     for (const auto& [name, slot] : vehicles) {
       if (slot.dynamics->body() == object) return name;
     }
@@ -175,6 +178,8 @@ struct World::Impl {
       Slot* slot_a = a->getUserIndex() >= kVehicleBase ? findSlot(a) : nullptr;
       Slot* slot_b = b->getUserIndex() >= kVehicleBase ? findSlot(b) : nullptr;
       if (!slot_a && !slot_b) continue;
+      // The body on the road or the ground it drives on is no collision, as CARLA's collision sensor has it.
+      if (isDrivenOn(a) || isDrivenOn(b)) continue;
       for (int c = 0; c < manifold->getNumContacts(); ++c) {
         const btManifoldPoint& pt = manifold->getContactPoint(c);
         if (pt.getAppliedImpulse() <= 0) continue;
@@ -269,7 +274,7 @@ struct World::Impl {
   std::unique_ptr<btBroadphaseInterface> broadphase;
   std::unique_ptr<btSequentialImpulseConstraintSolver> solver;
   std::unique_ptr<btDiscreteDynamicsWorld> dynamics;
-  StaticBody road, barriers, ground, world_edge;
+  StaticBody road, barriers, runoff, ground, world_edge;
   std::map<std::string, Slot> vehicles;  // ordered: every loop over cars runs in the same order
   int next_vehicle_index = kVehicleBase;
 };
@@ -319,6 +324,9 @@ World::World(const track::Track& track, const WorldOptions& options, const World
   w.barriers.mesh = toBullet(track::barrierMesh(track));
   w.barriers.shape = std::make_unique<btBvhTriangleMeshShape>(w.barriers.mesh.get(), true);
   w.addStatic(w.barriers, kBarrier, kBarrierFriction);
+  w.runoff.mesh = toBullet(track::runoffMesh(track));
+  w.runoff.shape = std::make_unique<btBvhTriangleMeshShape>(w.runoff.mesh.get(), true);
+  w.addStatic(w.runoff, kGround, track.info().ground_friction);
   w.ground.shape = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), track.lowestPoint() - kGroundDrop);
   w.addStatic(w.ground, kGround, track.info().ground_friction);
   w.addWorldEdge();
@@ -327,7 +335,8 @@ World::World(const track::Track& track, const WorldOptions& options, const World
 World::~World() {
   auto& w = *impl_;
   w.vehicles.clear();
-  for (auto* sb : {&w.road, &w.barriers, &w.ground, &w.world_edge}) w.dynamics->removeRigidBody(sb->body.get());
+  for (auto* sb : {&w.road, &w.barriers, &w.runoff, &w.ground, &w.world_edge})
+    w.dynamics->removeRigidBody(sb->body.get());
 }
 
 const track::Track& World::track() const { return impl_->track; }

@@ -242,7 +242,6 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
     for (auto& e : entrants) {
       const std::string& name = e.spec.name;
       for (const auto& contact : world.contacts(name)) {
-        if (contact.other == "ground") continue;
         const auto incident = control.updateContact(name, time, contact.other);
         // Each contact between two cars once, as the first of the two (by name) saw it.
         if (incident && contact.other != "barrier" && name < contact.other) {

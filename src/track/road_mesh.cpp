@@ -113,6 +113,68 @@ TriangleMesh barrierMesh(const Track& track, double thickness) {
   return mesh;
 }
 
+namespace {
+
+// A flat strip between two lines at the heights z, one quad per centre-line segment.
+void addStrip(TriangleMesh* mesh, const std::vector<Eigen::Vector2d>& inner, const std::vector<Eigen::Vector2d>& outer,
+              const std::vector<double>& z, bool closed) {
+  const int n = static_cast<int>(inner.size());
+  const int base = static_cast<int>(mesh->vertices.size());
+  for (int i = 0; i < n; ++i) {
+    mesh->vertices.emplace_back(inner[i].x(), inner[i].y(), z[i]);
+    mesh->vertices.emplace_back(outer[i].x(), outer[i].y(), z[i]);
+  }
+  for (int i = 0; i < (closed ? n : n - 1); ++i) {
+    const int a = base + 2 * i, b = base + 2 * ((i + 1) % n);
+    mesh->triangles.push_back({a, b, b + 1});
+    mesh->triangles.push_back({a, b + 1, a + 1});
+  }
+}
+
+// The run-off beyond a point-to-point course's end point i, out to its end wall, at the end's height.
+void addEndApron(TriangleMesh* mesh, const Track& track, std::size_t i, const Eigen::Vector2d& outwards, double reach) {
+  const auto& p = track.point(i);
+  const Eigen::Vector2d left = track.leftEdge(i, reach), right = track.rightEdge(i, reach);
+  const double left_z = track.surfaceHeight(i, p.width_left), right_z = track.surfaceHeight(i, -p.width_right);
+  const std::vector<Eigen::Vector2d> at_end = {left, right},
+                                     beyond = {left + reach * outwards, right + reach * outwards};
+  // Counter-clockwise from above whichever way the end faces.
+  const bool forwards = (right - left).x() * outwards.y() - (right - left).y() * outwards.x() > 0;
+  addStrip(mesh, forwards ? at_end : beyond, forwards ? beyond : at_end, {left_z, right_z}, false);
+}
+
+}  // namespace
+
+TriangleMesh runoffMesh(const Track& track, double thickness) {
+  TriangleMesh mesh;
+  const std::size_t n = track.size();
+  const std::vector<bool> deck = bridgeDeckPoints(track);
+  for (int side = 0; side < 2; ++side) {
+    std::vector<Eigen::Vector2d> inner(n), outer(n);
+    std::vector<double> z(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double reach = (deck[i] ? kParapetOffset : track.info().barrier_offset) + thickness;
+      const auto& p = track.point(i);
+      inner[i] = side == 0 ? track.leftEdge(i) : track.rightEdge(i);
+      outer[i] = side == 0 ? track.leftEdge(i, reach) : track.rightEdge(i, reach);
+      z[i] = track.surfaceHeight(i, side == 0 ? p.width_left : -p.width_right);
+    }
+    unfold(track, &outer);
+    // Counter-clockwise from above: the right side's strip runs from its outer line in.
+    if (side == 0)
+      addStrip(&mesh, inner, outer, z, track.closed());
+    else
+      addStrip(&mesh, outer, inner, z, track.closed());
+  }
+  if (!track.closed()) {
+    auto heading = [&](std::size_t i) { return track::forwardOf(track.heading(i)); };
+    const double reach = track.info().barrier_offset + thickness;
+    addEndApron(&mesh, track, 0, -heading(0), reach);
+    addEndApron(&mesh, track, n - 1, heading(n - 1), reach);
+  }
+  return mesh;
+}
+
 KerbMesh kerbMesh(const Track& track, double width, double min_radius, double lift) {
   KerbMesh out;
   const std::size_t n = track.size();

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <yaml-cpp/yaml.h>
 #include <algorithm>
 #include <cstdio>
@@ -284,6 +286,37 @@ TEST(CircuitBuilder, ClosedSmoothEvenlySpaced) {
     EXPECT_NEAR(seg, 3.0, 0.3);
   }
   EXPECT_THROW(track::buildCircuit({{0, 0, 10}, {1, 1, 10}}, 3.0), std::invalid_argument);
+}
+
+// The run-off reaches from each road edge under the barrier, level with the edge across (banked and
+// climbing roads too), and faces up: the grass a wheel over the edge rolls on.
+TEST(RoadMesh, TheRunOffLiesLevelWithEachEdgeOutToBeyondTheBarrier) {
+  std::vector<track::CentreLinePoint> points;
+  for (int i = 0; i < 120; ++i) {
+    const double a = 2 * M_PI * i / 120;
+    points.push_back({200 * std::cos(a), 200 * std::sin(a), 6, 5, 10 + 4 * std::sin(a), 0.08});
+  }
+  const track::Track track(points, {});
+  const auto runoff = track::runoffMesh(track);
+  ASSERT_EQ(runoff.triangles.size(), 4 * track.size());
+  for (const auto& t : runoff.triangles) {
+    const Eigen::Vector3d n =
+        (runoff.vertices[t[1]] - runoff.vertices[t[0]]).cross(runoff.vertices[t[2]] - runoff.vertices[t[0]]);
+    EXPECT_GT(n.z(), 0) << "faces up";
+  }
+  const std::size_t n = track.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = track.point(i);
+    // Each side's strip has two vertices a station: the left's from its edge out, the right's from out in.
+    const Eigen::Vector3d left_in = runoff.vertices[2 * i], left_out = runoff.vertices[2 * i + 1];
+    const Eigen::Vector3d right_out = runoff.vertices[2 * n + 2 * i], right_in = runoff.vertices[2 * n + 2 * i + 1];
+    for (const auto& v : {left_in, left_out}) EXPECT_NEAR(v.z(), track.surfaceHeight(i, p.width_left), 1e-9);
+    for (const auto& v : {right_in, right_out}) EXPECT_NEAR(v.z(), track.surfaceHeight(i, -p.width_right), 1e-9);
+    EXPECT_NEAR((left_in.head<2>() - track.leftEdge(i)).norm(), 0.0, 1e-9) << "from the road's edge";
+    EXPECT_NEAR((right_in.head<2>() - track.rightEdge(i)).norm(), 0.0, 1e-9);
+    EXPECT_GT((left_out.head<2>() - left_in.head<2>()).norm(), track.info().barrier_offset) << "under the barrier";
+    EXPECT_GT((right_out.head<2>() - right_in.head<2>()).norm(), track.info().barrier_offset);
+  }
 }
 
 TEST(RoadMesh, CoversTheRoadAndWallsStandOutside) {

@@ -368,3 +368,78 @@ TEST(World, TheWorldsEdgeHoldsACarDrivingAway) {
   const double barrier = 60.0 + 6.0 + track.info().barrier_offset;  // circleTrack's half-width is 6 m
   EXPECT_LT(farthest, barrier + 50.0 + 20.0);
 }
+
+// The run-off (issue 62): on ROAR's Monza a car running at 150 km/h with its right wheels a metre beyond the
+// road's edge rolls on over the grass at the road's height: no collision reported (CARLA's collision sensor
+// sees cars, barriers and objects, not the ground driven on) and the car stays on its wheels.
+TEST(World, TheRunOffCarriesAWheelOverTheEdgeWithoutACollision) {
+  const auto track = track::loadMapFolder(test::sourceDir() + "/maps/monza");
+  const vehicle::VehicleParams car = test::vehicle("vehicle.tesla.model3");
+  // The pit straight, 500 m before the line.
+  const double s0 = track.length() - 500.0;
+  track::TrackPose pose = track.poseAt(s0);
+  const double half_track = 0.5 * car.track_width();
+  const Eigen::Vector2d left(-std::sin(pose.heading), std::cos(pose.heading));
+  pose.position -= left * (pose.width_right + 1.0 - half_track);  // the right wheels 1 m beyond the edge
+  World world(track, {});
+  world.spawnVehicle("ego", car, sim::poseOnTrack(pose));
+  vehicle::VehicleControl hold;
+  hold.throttle = 0.6;
+  world.setControl("ego", hold);  // before the velocity: a car set moving has its pedals settled at its control
+  const Eigen::Vector3d forward(std::cos(pose.heading), std::sin(pose.heading), 0.0);
+  world.setVehicleVelocity("ego", forward * (150 / 3.6), Eigen::Vector3d::Zero());
+  const double lane = track.projectNear(pose.position, s0, 50.0).lateral;
+  double worst_roll = 0.0;
+  int contacts = 0, right_on_grass = 0;
+  for (int i = 0; i < 40; ++i) {  // 2 s, 83 m, held at that offset from the centre line
+    const auto now = world.vehicleState("ego");
+    const auto where = track.projectNear(now.pose.position.head<2>(), s0, 200.0);
+    const double heading_error = track::wrapAngle(sim::yawOf(now.pose.orientation) - where.heading);
+    hold.steer = std::clamp(0.02 * (lane - where.lateral) - 0.3 * heading_error, -0.1, 0.1);
+    world.setControl("ego", hold);
+    world.step();
+    contacts += static_cast<int>(world.contacts("ego").size());
+    const auto s = world.vehicleState("ego");
+    const Eigen::Vector3d up = s.pose.orientation * Eigen::Vector3d::UnitZ();
+    worst_roll = std::max(worst_roll, std::acos(std::clamp(up.z(), -1.0, 1.0)));
+    for (int w : {1, 3}) right_on_grass += s.wheels[w].in_contact && !s.wheels[w].on_road;
+    EXPECT_TRUE(s.wheels[1].in_contact && s.wheels[3].in_contact) << "tick " << i << ": the right wheels on the ground";
+  }
+  EXPECT_EQ(contacts, 0) << "driving on the run-off is no collision";
+  EXPECT_LT(worst_roll, 0.05) << "rad: the car stays level, on its wheels";
+  EXPECT_GT(right_on_grass, 60) << "the right wheels did run on the grass";
+  EXPECT_GT(world.vehicleState("ego").speed, 140 / 3.6);
+}
+
+// The ground beside the road, out to the barrier, is at the road's edge height at that station on every
+// shipped map (Roar Eight's bridge among them): a car set down next to the barrier sits at that height.
+TEST(World, TheGroundAtTheBarrierIsAtTheRoadsHeightOnEveryShippedMap) {
+  const auto car = test::sedan();
+  for (const auto& name : track::listMaps(test::sourceDir() + "/maps")) {
+    SCOPED_TRACE(name);
+    const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
+    World world(track, {});
+    int checked = 0;
+    for (std::size_t i = 0; i < track.size(); i += std::max<std::size_t>(1, track.size() / 40)) {
+      // Away from a crossing, where the other branch's road is nearer than this one's edge.
+      bool near_crossing = false;
+      for (std::size_t j = 0; j < track.size(); ++j) {
+        near_crossing |= std::abs(track.s(i) - track.s(j)) > 100.0 &&
+                         std::abs(track.s(i) - track.s(j)) < track.length() - 100.0 &&
+                         (track.position(i) - track.position(j)).norm() < 40.0;
+      }
+      if (near_crossing) continue;
+      const auto& p = track.point(i);
+      for (int side : {1, -1}) {
+        const double offset = track.info().barrier_offset - 0.3;  // just inside the barrier's face
+        const Eigen::Vector2d spot = side > 0 ? track.leftEdge(i, offset) : track.rightEdge(i, offset);
+        const double edge = track.surfaceHeight(i, side > 0 ? p.width_left : -p.width_right);
+        world.spawnVehicle("probe", car, at(spot.x(), spot.y(), track.heading(i)));
+        EXPECT_NEAR(world.vehicleState("probe").pose.position.z(), edge, 0.02) << "point " << i << " side " << side;
+        world.destroyVehicle("probe");
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 40);
+  }
+}

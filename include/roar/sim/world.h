@@ -66,9 +66,11 @@ struct VehicleState {
   vehicle::VehicleControl applied_control;
 };
 
-// A contact of a vehicle's body during the last tick, summed per other body.
+// A collision of a vehicle's body during the last tick, summed per other body: other cars and the barriers
+// (the world's edge among them), not the road or the run-off the car drives on, as CARLA's collision sensor
+// reports them (world_test TheRunOffCarriesAWheelOverTheEdgeWithoutACollision).
 struct Contact {
-  std::string other;                                   // vehicle name, "barrier" or "ground"
+  std::string other;                                   // vehicle name or "barrier"
   Eigen::Vector3d impulse = Eigen::Vector3d::Zero();   // N s on this vehicle, map frame
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // impulse-weighted contact point, map frame
 };
