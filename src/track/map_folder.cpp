@@ -1,9 +1,13 @@
 #include "roar/track/map_folder.h"
 
+#include "roar/track/waypoints.h"
+
 #include "roar/config/number.h"
 #include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 #include "roar/track/circuit_builder.h"
+#include "roar/track/npz.h"
+#include "roar/track/waypoints.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -213,7 +217,7 @@ void checkEdges(const Track& track, const std::string& path, const std::vector<i
   }
 }
 
-TrackInfo readTrackYaml(const std::string& path, std::string* centreline) {
+TrackInfo readTrackYaml(const std::string& path, std::string* centreline, std::string* waypoints) {
   YAML::Node root;
   try {
     root = YAML::Load(config::readTextFile<MapError>(path, config::kMaxYamlBytes));
@@ -230,6 +234,9 @@ TrackInfo readTrackYaml(const std::string& path, std::string* centreline) {
   top.read("centerline", &file);
   if (file.empty()) top.fail("centerline", "must name the centre-line file");
   if (centreline) *centreline = file;
+  std::string waypoint_file;
+  top.read("waypoints", &waypoint_file);
+  if (waypoints) *waypoints = waypoint_file;
   auto origin = top.child("origin");
   origin.read("latitude", &info.origin.latitude);
   origin.read("longitude", &info.origin.longitude);
@@ -337,8 +344,8 @@ std::vector<CentreLinePoint> readPointList(const std::string& path, double width
 Track loadMapFolder(const std::string& folder) {
   const fs::path yaml_path = fs::path(folder) / "track.yaml";
   if (!fs::exists(yaml_path)) throw MapError(yaml_path.string() + ": no such file (is '" + folder + "' a map folder?)");
-  std::string centreline;
-  TrackInfo info = readTrackYaml(yaml_path.string(), &centreline);
+  std::string centreline, waypoints;
+  TrackInfo info = readTrackYaml(yaml_path.string(), &centreline, &waypoints);
   const std::string csv_path = (fs::path(folder) / centreline).string();
   CentreLineFile file = readCentreLineCsv(csv_path);
   auto made = [&]() {
@@ -354,6 +361,16 @@ Track loadMapFolder(const std::string& folder) {
                    std::to_string(track.length()) + ")");
   }
   checkEdges(track, csv_path, file.lines);
+  if (!waypoints.empty()) {
+    const std::string npz = (fs::path(folder) / waypoints).string();
+    try {
+      track.setRecordedWaypoints(readRoarWaypoints(npz));
+    } catch (const NpzError& e) {
+      throw MapError(std::string(e.what()) + " (the waypoints " + yaml_path.string() + " names)");
+    } catch (const std::invalid_argument& e) {
+      throw MapError(npz + " (the waypoints " + yaml_path.string() + " names) with " + csv_path + ": " + e.what());
+    }
+  }
   return track;
 }
 

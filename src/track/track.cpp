@@ -117,6 +117,23 @@ double Track::surfaceHeightAt(double s, double lateral) const {
   return z + lateral * std::tan(banking);
 }
 
+void Track::setRecordedWaypoints(std::vector<Waypoint> waypoints) {
+  if (waypoints.size() != points_.size()) {
+    throw std::invalid_argument(std::to_string(waypoints.size()) + " recorded waypoints for " +
+                                std::to_string(points_.size()) + " centre-line points (one each)");
+  }
+  for (std::size_t i = 0; i < waypoints.size(); ++i) {
+    const Eigen::Vector2d off = waypoints[i].location.head<2>() - position(i);
+    if (!waypoints[i].location.allFinite() || !waypoints[i].roll_pitch_yaw.allFinite() || off.norm() > 0.05 ||
+        !(waypoints[i].lane_width > 0 && waypoints[i].lane_width <= 2 * kMaxEdgeDistance)) {
+      throw std::invalid_argument("recorded waypoint " + std::to_string(i) + " is not centre-line point " +
+                                  std::to_string(i) + " (" + std::to_string(off.norm()) +
+                                  " m from it, or not finite, or its lane width out of range)");
+    }
+  }
+  recorded_waypoints_ = std::move(waypoints);
+}
+
 double Track::lowestPoint() const {
   double lowest = 0.0;
   for (std::size_t i = 0; i < size(); ++i) {

@@ -80,6 +80,7 @@ Waypoint interpolate(const Waypoint& a, const Waypoint& b, double t) {
 }
 
 std::vector<Waypoint> waypointsOf(const Track& track) {
+  if (!track.recordedWaypoints().empty()) return track.recordedWaypoints();
   std::vector<Waypoint> out;
   for (std::size_t i = 0; i < track.size(); ++i) {
     Waypoint w;

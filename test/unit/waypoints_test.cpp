@@ -291,3 +291,36 @@ TEST(Waypoints, ImplausibleHeightStepsAreSmoothedAndPlausibleProfilesKept) {
   EXPECT_LT(steepest, 0.1) << "the steps became ramps";
   EXPECT_NEAR(pts[236].z, 20.0, 0.1) << "the hill's top is kept";
 }
+
+// A map may carry the waypoints its source recorded (track.yaml's `waypoints`): ROAR's Monza carries
+// ROAR_PY's own, which are then its waypoints point for point; a file that does not fit the centre line
+// (another count, or points off it) is refused naming both files.
+TEST(Waypoints, AMapsRecordedWaypointsAreItsWaypointsPointForPoint) {
+  const std::string monza = test::sourceDir() + "/maps/monza";
+  const auto track = track::loadMapFolder(monza);
+  const auto recorded = track::readRoarWaypoints(monza + "/waypoints.npz");
+  ASSERT_EQ(recorded.size(), 2775u) << "ROAR_PY's count";
+  const auto waypoints = track::waypointsOf(track);
+  ASSERT_EQ(waypoints.size(), recorded.size());
+  for (std::size_t i = 0; i < recorded.size(); ++i) {
+    ASSERT_EQ(waypoints[i].location, recorded[i].location) << i;
+    ASSERT_EQ(waypoints[i].roll_pitch_yaw, recorded[i].roll_pitch_yaw) << i;
+    ASSERT_EQ(waypoints[i].lane_width, recorded[i].lane_width) << i;
+  }
+  TempDir dir;
+  for (const char* file : {"centerline.csv", "track.yaml"}) fs::copy_file(monza + "/" + file, dir.file(file));
+  auto shorter = recorded;
+  shorter.pop_back();
+  track::writeRoarWaypoints(dir.file("waypoints.npz"), shorter);
+  auto msg = errorOf([&] { track::loadMapFolder(dir.path.string()); });
+  EXPECT_NE(msg.find("waypoints.npz (the waypoints"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("2774 recorded waypoints for 2775 centre-line points"), std::string::npos) << msg;
+  auto moved = recorded;
+  moved[100].location.x() += 1.0;
+  track::writeRoarWaypoints(dir.file("waypoints.npz"), moved);
+  msg = errorOf([&] { track::loadMapFolder(dir.path.string()); });
+  EXPECT_NE(msg.find("recorded waypoint 100 is not centre-line point 100"), std::string::npos) << msg;
+  fs::remove(dir.file("waypoints.npz"));
+  msg = errorOf([&] { track::loadMapFolder(dir.path.string()); });
+  EXPECT_NE(msg.find("waypoints.npz"), std::string::npos) << msg;
+}

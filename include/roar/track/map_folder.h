@@ -28,8 +28,9 @@ void writeCentreLineCsv(const std::string& path, const std::vector<CentreLinePoi
 void checkEdges(const Track& track, const std::string& path, const std::vector<int>& lines);
 
 // track.yaml, strictly (an unknown key is refused naming the nearest known one; every number in its
-// physical range); `centreline`, when given, receives the centre-line file it names.
-TrackInfo readTrackYaml(const std::string& path, std::string* centreline = nullptr);
+// physical range); `centreline`, when given, receives the centre-line file it names, and `waypoints` the
+// recorded waypoints' file (a ROAR_PY .npz, one waypoint per centre-line point), "" when it names none.
+TrackInfo readTrackYaml(const std::string& path, std::string* centreline = nullptr, std::string* waypoints = nullptr);
 void writeTrackYaml(const std::string& path, const TrackInfo& info, const std::string& centreline = "centerline.csv");
 
 // Writes the centre line (to the file an existing track.yaml names; centerline.csv for a new map) and
@@ -39,7 +40,8 @@ void writeMapFolder(const std::string& folder, const std::vector<CentreLinePoint
 // A closed centre line from a file of points `x,y` (or `x y`), one per line, `#` comments; constant width.
 std::vector<CentreLinePoint> readPointList(const std::string& path, double width);
 
-// Loads `<folder>/track.yaml` and the centre line it names (default `centerline.csv`), validated.
+// Loads `<folder>/track.yaml`, the centre line it names (default `centerline.csv`) and the recorded
+// waypoints it names (Track::recordedWaypoints), validated.
 Track loadMapFolder(const std::string& folder);
 
 // `map` is a folder path, or a name looked up as `<maps_dir>/<map>`.

@@ -44,6 +44,13 @@ inline constexpr double kMaxGrade = 0.4;  // rise over run between points (the s
 // Empty when the point is within those ranges, else what is not (the column, its value and its range).
 std::string centreLinePointProblem(const CentreLinePoint& point);
 
+// A waypoint as ROAR_PY has it: the centre of the drivable road, the road's roll/pitch/yaw, the lane width.
+struct Waypoint {
+  Eigen::Vector3d location = Eigen::Vector3d::Zero();        // m, map frame (x forward/east, y left/north, z up)
+  Eigen::Vector3d roll_pitch_yaw = Eigen::Vector3d::Zero();  // rad; yaw is the road heading
+  double lane_width = 0.0;                                   // m
+};
+
 struct GeoOrigin {
   double latitude = 0.0;   // degrees
   double longitude = 0.0;  // degrees
@@ -99,6 +106,11 @@ class Track {
   Track(std::vector<CentreLinePoint> points, TrackInfo info);
 
   const TrackInfo& info() const { return info_; }
+  // The waypoints the map's source recorded, one per centre-line point (ROAR_PY's own for ROAR's maps: their
+  // heights, rotations and lane widths as recorded); empty: waypointsOf derives them from the centre line.
+  const std::vector<Waypoint>& recordedWaypoints() const { return recorded_waypoints_; }
+  // Throws std::invalid_argument unless there is one per centre-line point, each within 5 cm of it.
+  void setRecordedWaypoints(std::vector<Waypoint> waypoints);
   std::size_t size() const { return points_.size(); }
   double length() const { return length_; }
   const std::vector<CentreLinePoint>& points() const { return points_; }
@@ -162,6 +174,7 @@ class Track {
 
   std::vector<CentreLinePoint> points_;
   TrackInfo info_;
+  std::vector<Waypoint> recorded_waypoints_;
   std::vector<double> s_;
   std::vector<double> heading_;
   std::vector<double> curvature_;

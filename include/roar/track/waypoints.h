@@ -10,12 +10,6 @@
 
 namespace roar::track {
 
-struct Waypoint {
-  Eigen::Vector3d location = Eigen::Vector3d::Zero();        // m, map frame (x forward/east, y left/north, z up)
-  Eigen::Vector3d roll_pitch_yaw = Eigen::Vector3d::Zero();  // rad; yaw is the road heading
-  double lane_width = 0.0;                                   // m
-};
-
 // ROAR_PY's line representation: the road's left and right edge points, location -/+ R(rpy) [0, w/2, 0].
 std::pair<Eigen::Vector3d, Eigen::Vector3d> lineRepresentation(const Waypoint& w);
 // The waypoint whose line representation is (left, right), with the given pitch.
@@ -23,7 +17,8 @@ Waypoint fromLineRepresentation(const Eigen::Vector3d& left, const Eigen::Vector
 // Between a (t = 0) and b (t = 1): locations and widths linearly, angles the short way round.
 Waypoint interpolate(const Waypoint& a, const Waypoint& b, double t);
 
-// One waypoint per centre-line point: the middle of the road between its edges, full road width.
+// One waypoint per centre-line point: the ones the map recorded (Track::recordedWaypoints), else the middle
+// of the road between its edges with the road's rotation and full width.
 std::vector<Waypoint> waypointsOf(const Track& track);
 // A track through waypoint locations with half the lane width each side and their roll as banking (closed
 // or a point-to-point course as `info` says). Consecutive waypoints closer than 1 cm (and on a circuit a
