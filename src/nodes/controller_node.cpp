@@ -72,14 +72,15 @@ ControllerOptions readParameters(const ros::NodeHandle& nh) {
 // The tighter of two speed caps, 0 meaning none.
 double tighter(double a, double b) { return a <= 0 ? b : b <= 0 ? a : std::min(a, b); }
 
-control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::ControllerConfig& c, double car_cap) {
+control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::ControllerConfig& c, double car_cap,
+                                  double pedal_response) {
   t.lateral = c.lateral_control == "stanley" ? control::LateralMethod::kStanley : control::LateralMethod::kPurePursuit;
   t.lookahead_min = c.lookahead_min;
   t.lookahead_time = c.lookahead_time;
   t.stanley_gain = c.stanley_gain;
   t.yaw_rate_gain = c.yaw_rate_gain;
   t.speed_gain = c.speed_gain;
-  t.speed_preview = c.speed_preview;
+  t.speed_preview = std::max(c.speed_preview, pedal_response);  // as stack::trackerFor reads the car
   t.max_speed = tighter(c.max_speed, car_cap);
   return t;
 }
@@ -106,7 +107,7 @@ class Driver {
   }
 
   void configure(const roar_ros::ControllerConfig& config) {
-    tracker_.setOptions(withGains(tracker_.options(), config, car_.max_speed));
+    tracker_.setOptions(withGains(tracker_.options(), config, car_.max_speed, car_.params.pedalResponseTime()));
   }
 
   // Wall time: when the simulator (and so /clock) stops, a ros::Timer would stop too.

@@ -130,6 +130,63 @@ Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const
   return t;
 }
 
+Trajectory recordedTrajectory(const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds,
+                              double smoothing) {
+  if (positions.size() != speeds.size())
+    throw TrajectoryError("recorded trajectory: " + std::to_string(positions.size()) + " positions for " +
+                          std::to_string(speeds.size()) + " speeds");
+  Trajectory t;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (!positions[i].allFinite() || !std::isfinite(speeds[i]) || speeds[i] < 0)
+      throw TrajectoryError("recorded trajectory: sample " + std::to_string(i) +
+                            " is not finite or its speed negative");
+    // Samples closer than a metre (the car slow, or standing) add nothing but noise to the heading.
+    if (!t.points.empty() && (positions[i] - t.points.back().position).norm() < 1.0) continue;
+    TrajectoryPoint p;
+    p.position = positions[i];
+    p.speed = speeds[i];
+    p.s = t.points.empty() ? 0.0 : t.points.back().s + (positions[i] - t.points.back().position).norm();
+    t.points.push_back(p);
+  }
+  const std::size_t n = t.points.size();
+  if (n < 10)
+    throw TrajectoryError("recorded trajectory: needs at least 10 points a metre apart, has " + std::to_string(n));
+  t.length = t.points.back().s + (t.points.front().position - t.points.back().position).norm();
+  // Heading from the points +-smoothing metres away (round the loop), curvature from the heading's change.
+  auto ahead = [&](std::size_t i, double metres, int dir) {
+    std::size_t j = i;
+    double gone = 0.0;
+    while (gone < metres) {
+      const std::size_t k = (j + n + static_cast<std::size_t>(dir)) % n;
+      gone += (t.points[k].position - t.points[j].position).norm();
+      j = k;
+    }
+    return j;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2d d = t.points[ahead(i, smoothing, 1)].position - t.points[ahead(i, smoothing, -1)].position;
+    t.points[i].yaw = std::atan2(d.y(), d.x());
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t a = ahead(i, smoothing, -1), b = ahead(i, smoothing, 1);
+    double run = 0.0;
+    for (std::size_t k = a; k != b; k = (k + 1) % n)
+      run += (t.points[(k + 1) % n].position - t.points[k].position).norm();
+    t.points[i].curvature = track::wrapAngle(t.points[b].yaw - t.points[a].yaw) / run;
+    const double v_next = t.points[(i + 1) % n].speed,
+                 step = (t.points[(i + 1) % n].position - t.points[i].position).norm();
+    t.points[i].acceleration = (v_next * v_next - t.points[i].speed * t.points[i].speed) / (2.0 * step);
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    const double mean = 0.5 * (t.points[i].speed + t.points[i - 1].speed);
+    t.points[i].time = t.points[i - 1].time + (t.points[i].s - t.points[i - 1].s) / std::max(mean, 0.1);
+  }
+  t.lap_time = t.points.back().time +
+               (t.length - t.points.back().s) / std::max(0.5 * (t.points.back().speed + t.points.front().speed), 0.1);
+  validate(t);
+  return t;
+}
+
 Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options) {
   RacingLine line = minimumCurvatureLine(track, options.line);
   if (options.minimum_time) line = minimumTimeLine(track, line, limits, options.line).line;

@@ -1,5 +1,6 @@
 // roar_core: roar_ros's readers for Python, so that Python reads a map name, a scenario's cars and a sensor
-// set exactly as the C++ nodes do (one reader each) instead of reading the files again.
+// set exactly as the C++ nodes do (one reader each) instead of reading the files again; and the simulator's
+// world (world_binding.h).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -9,6 +10,7 @@
 #include "roar/sensors/sensor_spec.h"
 #include "roar/stack/scenario.h"
 #include "roar/track/map_folder.h"
+#include "world_binding.h"
 
 namespace py = pybind11;
 using namespace roar;
@@ -81,4 +83,5 @@ PYBIND11_MODULE(roar_core, m) {
         "agent); ScenarioError names the file and field");
   m.def("read_sensor_set", &readSensorSet, py::arg("name_or_path"), py::arg("sensors_dir"),
         "A sensor set (a file, or a name in sensors_dir): its sensors' names and types");
+  bindWorld(m);
 }

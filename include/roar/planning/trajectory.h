@@ -55,6 +55,13 @@ inline constexpr double kCourseStopMargin = 20.0;
 Trajectory planRacingTrajectory(const track::Track& track, const VehicleLimits& limits, const PlannerOptions& options);
 Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const SpeedProfile& profile);
 
+// A closed trajectory along a recorded lap (a car's positions at a fixed rate, with its speeds there: CARLA's
+// telemetry of a lap): the points a metre or more apart, heading and curvature from the path smoothed over
+// +-`smoothing` metres, accelerations from the speeds, times by integration. Throws TrajectoryError for fewer
+// than 10 distinct points or a non-finite or negative value, naming the sample.
+Trajectory recordedTrajectory(const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds,
+                              double smoothing = 6.0);
+
 // Interpolated at s (wrapped on a closed trajectory, clamped to the ends of an open one).
 TrajectoryPoint sampleAt(const Trajectory& trajectory, double s);
 

@@ -1,6 +1,7 @@
 #pragma once
 // The racing stack in one process, without ROS: the simulator world, the planner's racing trajectory, the
 // trajectory tracker and the lap timer, ticking in lockstep. What roar_bench measures and the tests drive.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,8 @@ struct TimeTrialOptions {
   double grip_use = 0.85;   // share of the road's friction the plan uses
   planning::PlannerOptions planner;
   control::TrackerOptions tracker;  // wheelbase and steering angle are taken from the vehicle
+  // Called after every tick with the simulated time and the car's state (a trace for a report or a plot).
+  std::function<void(double, const sim::VehicleState&)> on_tick;
 };
 
 struct TimeTrialResult {
@@ -36,6 +39,11 @@ struct TimeTrialResult {
 // Plans with the vehicle's own limits (planning::vehicleLimits) and drives from the grid's pole position.
 TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehicleParams& vehicle,
                              const TimeTrialOptions& options);
+
+// The same with a trajectory of the caller's (a recorded lap: planning::recordedTrajectory), tracked from the
+// grid's pole position; options.planner is not used.
+TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::VehicleParams& vehicle,
+                                planning::Trajectory trajectory, const TimeTrialOptions& options);
 
 // The tracker options the vehicle implies: its wheelbase and maximum steering angle over `base`.
 control::TrackerOptions trackerFor(const vehicle::VehicleParams& vehicle, control::TrackerOptions base = {});

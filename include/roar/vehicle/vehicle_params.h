@@ -2,6 +2,7 @@
 // Everything the simulator knows about a car model, in SI units. Geometry and mass come from the URDF,
 // drivetrain, tyres and aerodynamics from config/vehicles/<model>.yaml (see vehicle_config.h).
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <string>
 #include <utility>
@@ -151,6 +152,8 @@ struct VehicleParams {
   double rear_grip_share = 0.8;    // traction control lets the rear wheels drive with at most this share of their grip
 
   double wheelbase() const { return wheels[0].position.x() - wheels[2].position.x(); }
+  // s the pedals take to act: the longer of the torque's response and the brakes' build (0: at once).
+  double pedalResponseTime() const { return std::max(engine.response_time, brakes.rise_time); }
   double track_width() const { return wheels[0].position.y() - wheels[1].position.y(); }
 };
 

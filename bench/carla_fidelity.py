@@ -1,0 +1,157 @@
+#!/usr/bin/env python3
+"""Our vehicle.tesla.model3 beside CARLA's, from CARLA's own telemetry of ROAR's car (the logs ROAR entries
+wrote racing it on Monza; ../shared/fixtures/carla_telemetry): full-throttle acceleration and full-brake
+deceleration per 20 km/h band on straight-line ticks, the standing start, top speed, open-loop replay of
+2 s windows from logged states with the logged controls (final speed and position errors, straights and
+corners apart), and the yaw rate for the logged steering in corners. Targets of issue 62 beside each.
+
+    /usr/bin/python3 bench/carla_fidelity.py [--telemetry DIR] [--model vehicle.tesla.model3] [--stride 25]
+        [--plot fidelity.png]
+"""
+import argparse
+import glob
+import os
+import sys
+import time
+
+import numpy as np
+
+from roar_fidelity import measure, read_telemetry
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def band_table(title, carla, ours, tolerance, min_samples, lo_band, hi_band):
+    print(f"\n{title}")
+    print(f"  {'band km/h':>10} {'CARLA':>8} {'(n)':>6} {'ours':>8} {'(n)':>6} {'diff':>7}")
+    met = True
+    for band in sorted(set(carla) | set(ours)):
+        c, o = carla.get(band, np.array([])), ours.get(band, np.array([]))
+        cm = np.median(c) if len(c) else float("nan")
+        om = np.median(o) if len(o) else float("nan")
+        diff = (om - cm) / abs(cm) if len(c) and len(o) and cm != 0 else float("nan")
+        counted = lo_band <= band < hi_band and len(c) >= min_samples and len(o) >= min_samples
+        ok = counted and abs(diff) <= tolerance
+        met = met and (ok or not counted)
+        mark = ("ok" if ok else "MISS") if counted else ""
+        print(f"  {measure.band_label(band):>10} {cm:8.2f} {len(c):6d} {om:8.2f} {len(o):6d} {diff:+7.1%} {mark}")
+    return met
+
+
+def percentiles(values):
+    return (np.median(values), np.percentile(values, 95)) if len(values) else (float("nan"), float("nan"))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--telemetry", default=os.path.join(ROOT, "..", "shared", "fixtures", "carla_telemetry"),
+                        help="a folder of CARLA telemetry logs (*.json)")
+    parser.add_argument("--model", default="vehicle.tesla.model3")
+    parser.add_argument("--config-dir", default=os.path.join(ROOT, "config", "vehicles"))
+    parser.add_argument("--urdf-dir", default=os.path.join(ROOT, "urdf"))
+    parser.add_argument("--stride", type=int, default=25, help="ticks between open-loop windows")
+    parser.add_argument("--plot", help="write the figures as a PNG here")
+    args = parser.parse_args()
+    files = sorted(glob.glob(os.path.join(args.telemetry, "*.json")))
+    if not files:
+        sys.exit(f"carla_fidelity: no telemetry (*.json) in {args.telemetry}")
+    if not 1 <= args.stride <= 1000:
+        sys.exit("carla_fidelity: --stride must be 1 to 1000")
+    logs = [read_telemetry(f) for f in files]
+    model = measure.Model(args.model, args.urdf_dir, args.config_dir)
+    started = time.time()
+    print(f"{args.model} beside CARLA's: {sum(len(l.speed) for l in logs)} ticks of {len(logs)} logs "
+          f"({', '.join(l.name for l in logs)})")
+
+    starts = measure.windows_of(logs, args.stride)
+    located = measure.Replayer(model, "monza", os.path.join(ROOT, "maps"), estimate_heading=False)
+    estimated = measure.Replayer(model, "monza", os.path.join(ROOT, "maps"), estimate_heading=True)
+    plain = [located.window(logs, k, i) for k, i in starts]
+    fitted = [estimated.window(logs, k, i) for k, i in starts]
+    # Every tick of every straight stretch, for the accelerations: windows a quarter-window apart.
+    dense = [estimated.window(logs, k, i) for k, i in measure.windows_of(logs, measure.WINDOW * 3 // 4)]
+
+    met = band_table("Full-throttle acceleration, m/s^2 (straight-line ticks, median per band; target 5 % "
+                     "from 20 to 240 km/h)", measure.logged_accelerations(logs, "throttle"),
+                     measure.our_accelerations(dense, logs, "throttle"), 0.05, 5, 1, 12)
+    met &= band_table("Full-brake acceleration, m/s^2 (target 10 % in bands with 10 samples or more)",
+                      measure.logged_accelerations(logs, "brake"), measure.our_accelerations(dense, logs, "brake"),
+                      0.10, 10, 0, 99)
+
+    starts_at_rest = [s for s in (measure.logged_start(l) for l in logs) if s is not None]
+    nothing = {"still_ticks": -1, "after_s": {}, "zero_to_100": float("nan")}
+    carla_start = starts_at_rest[0] if starts_at_rest else nothing
+    our_start, our_top = measure.our_standing_start(model)
+    carla_top = max(l.speed.max() for l in logs) * 3.6
+    print("\nStanding start at full throttle     CARLA     ours" +
+          ("" if starts_at_rest else "   (no log starts at rest: CARLA's column is empty)"))
+    print(f"  ticks before moving            {carla_start['still_ticks']:8d} {our_start['still_ticks']:8d}")
+    for s in (1, 2, 5, 10, 20):
+        print(f"  km/h after {s:2d} s                {carla_start['after_s'].get(s, float('nan')):8.1f} "
+              f"{our_start['after_s'].get(s, float('nan')):8.1f}")
+    print(f"  0-100 km/h from the throttle, s {carla_start['zero_to_100']:7.2f} {our_start['zero_to_100']:8.2f}")
+    moving = [s["zero_to_100"] - s["still_ticks"] * measure.TICK for s in (carla_start, our_start)]
+    print(f"  0-100 km/h from moving, s      {moving[0]:8.2f} {moving[1]:8.2f}")
+    top_ok = abs(our_top - carla_top) <= 0.01 * carla_top
+    print(f"Top speed, km/h (CARLA: the logs' fastest tick; ours: 150 s floored)  {carla_top:.1f}  {our_top:.1f}  "
+          f"{'ok' if top_ok else 'MISS'} (target 1 %)")
+    met &= top_ok
+
+    print(f"\nOpen loop: {len(starts)} windows of {measure.WINDOW * measure.TICK:.0f} s from logged states, the logged "
+          "controls applied (targets: speed median 2 %, p95 6 %; position median 0.5 m, p95 2 m)")
+    for name, windows in (("heading from the locations", plain), ("heading estimated", fitted)):
+        e = measure.window_errors(windows)
+        for part, mask in (("straights", e[:, 2] == 0), ("corners", e[:, 2] == 1), ("all", e[:, 2] >= 0)):
+            sm, sp = percentiles(e[mask, 1])
+            pm, pp = percentiles(e[mask, 0])
+            print(f"  {name:27} {part:9} n {mask.sum():4d}  speed {sm:6.1%} {sp:6.1%}  position {pm:5.2f} {pp:6.2f} m")
+    e = measure.window_errors(fitted)
+    loop_ok = (np.median(e[:, 1]) <= 0.02 and np.percentile(e[:, 1], 95) <= 0.06 and np.median(e[:, 0]) <= 0.5
+               and np.percentile(e[:, 0], 95) <= 2.0)
+    met &= loop_ok
+
+    rates = measure.yaw_rates(fitted)
+    turning = np.abs(rates[:, 0]) > 0.05
+    ratio = rates[turning, 1] / rates[turning, 0]
+    error = np.median(np.abs(ratio - 1))
+    rate_ok = error <= 0.10
+    print(f"\nYaw rate in corners ({turning.sum()} windows, each its mean over the window): ours / CARLA's "
+          f"median {np.median(ratio):.3f}, median error {error:.1%}, {np.mean(np.abs(ratio - 1) <= 0.10):.0%} of "
+          f"windows within 10 %  {'ok' if rate_ok else 'MISS'} (target: the median error 10 %)")
+    met &= rate_ok
+    print(f"\n{'every target met' if met else 'targets missed'} ({time.time() - started:.0f} s)")
+
+    if args.plot:
+        plot(args.plot, logs, dense, fitted)
+
+
+def plot(path, logs, dense, windows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
+    for pedal, colour in (("throttle", "tab:green"), ("brake", "tab:red")):
+        for source, data, style in (("CARLA", measure.logged_accelerations(logs, pedal), "o-"),
+                                    ("ours", measure.our_accelerations(dense, logs, pedal), "s--")):
+            bands = sorted(data)
+            axes[0].plot([b * 20 + 10 for b in bands], [np.median(data[b]) for b in bands], style, color=colour,
+                         label=f"{pedal}, {source}")
+    axes[0].set(xlabel="speed, km/h", ylabel="acceleration, m/s²", title="Floored pedal, straight-line ticks")
+    axes[0].legend()
+    e = measure.window_errors(windows)
+    for part, mask, colour in (("straights", e[:, 2] == 0, "tab:blue"), ("corners", e[:, 2] == 1, "tab:orange")):
+        axes[1].hist(np.minimum(e[mask, 0], 10), bins=40, range=(0, 10), alpha=0.6, color=colour, label=part)
+    axes[1].set(xlabel="position error after 2 s, m (10: 10 or more)", ylabel="windows", title="Open loop")
+    axes[1].legend()
+    rates = measure.yaw_rates(windows)
+    axes[2].scatter(rates[:, 0], rates[:, 1], s=8)
+    lim = np.abs(rates).max() * 1.05
+    axes[2].plot([-lim, lim], [-lim, lim], "k:")
+    axes[2].set(xlabel="CARLA's yaw rate, rad/s", ylabel="ours, rad/s", title="Corner windows, mean yaw rate")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    print(f"plot: {path}")
+
+
+if __name__ == "__main__":
+    main()

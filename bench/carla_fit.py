@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Fits a car model's physical parameters to CARLA's telemetry (the logs bench/carla_fidelity.py reads), in
+three stages, each on the open-loop replay bench/carla_fidelity.py measures (our car put in each logged
+state and driven with the logged controls), and prints the fitted values for config/vehicles/<model>.yaml
+and its URDF:
+
+1. longitudinal, on straight stretches: the pedal lags, the brakes' torque and the torque curve (scipy's
+   least squares on every tick's speed, robust to the odd stretch where the car slid);
+2. the standing start: the stand's length, the engine's inertia and the clutch (a grid on the first 3 s);
+3. lateral, on every window: tyre stiffnesses and friction, steering curve and response, weight
+   distribution, yaw inertia, drive split, anti-roll bars (scipy's differential evolution on the position
+   and speed errors at 0.5, 1, 1.5 and 2 s).
+
+It takes about an hour on two cores. Fit physical parameters only: the car must stay a car that any map and
+any controller drive.
+
+    /usr/bin/python3 bench/carla_fit.py [--telemetry DIR] [--model carla_model3] [--stage 1 2 3] [--generations 25]
+"""
+import argparse
+import copy
+import glob
+import itertools
+import os
+import re
+import sys
+import tempfile
+
+import numpy as np
+import yaml
+from scipy.optimize import differential_evolution, least_squares
+
+from roar_fidelity import measure, read_telemetry
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+STRAIGHT = np.radians(3.0)  # a stretch whose path turns less is straight
+KNOTS_KMH = np.array([0, 50, 100, 150, 200, 230, 245, 252, 258, 264])  # the torque curve's speeds
+
+
+class Car:
+    """A candidate: the model's YAML and URDF text, written to a folder of its own for roar_core.World."""
+
+    def __init__(self, config: dict, urdf: str, name: str):
+        self.config, self.urdf, self.name = config, urdf, name
+
+    def model(self, folder: str) -> measure.Model:
+        os.makedirs(folder, exist_ok=True)
+        with open(os.path.join(folder, self.name + ".yaml"), "w") as f:
+            yaml.safe_dump(self.config, f, sort_keys=False)
+        with open(os.path.join(folder, self.name + ".urdf"), "w") as f:
+            f.write(self.urdf)
+        return measure.Model(self.name, folder, folder)
+
+    def wheel(self) -> tuple:
+        radius = float(re.search(r'<cylinder radius="([0-9.]+)"', self.urdf).group(1))
+        return radius, self.config["gearbox"]["final_drive"] * self.config["gearbox"]["ratios"][0], \
+            self.config["gearbox"]["efficiency"]
+
+
+def replay(car: Car, logs, starts, estimate_heading: bool):
+    with tempfile.TemporaryDirectory() as folder:
+        player = measure.Replayer(car.model(folder), "monza", os.path.join(ROOT, "maps"), estimate_heading)
+        return [player.window(logs, k, i) for k, i in starts]
+
+
+def longitudinal(car: Car, logs) -> Car:
+    starts = [(k, i) for k, i in measure.windows_of(logs, 10)
+              if abs(logs[k].heading()[i + measure.WINDOW] - logs[k].heading()[i]) < STRAIGHT]
+    radius, ratio, efficiency = car.wheel()
+    rpm = KNOTS_KMH / 3.6 / radius * ratio * 60 / (2 * np.pi)
+
+    def with_values(p):
+        c = copy.deepcopy(car.config)
+        c["engine"]["response_time_s"], c["brakes"]["rise_time_s"], c["brakes"]["release_time_s"] = map(float, p[:3])
+        c["brakes"]["max_torque_front_nm"] = c["brakes"]["max_torque_rear_nm"] = float(p[3] / 4 * radius)
+        c["engine"]["torque_curve_rpm_nm"] = [[float(round(r)), float(f * radius / ratio / efficiency)]
+                                             for r, f in zip(rpm, p[4:])]
+        c["engine"]["redline_rpm"] = float(round(rpm[-1] + 300))
+        return Car(c, car.urdf, car.name)
+
+    def residuals(p):
+        return np.concatenate([w.ours[:, 2] - w.logged[:, 2] for w in replay(with_values(p), logs, starts, False)])
+
+    # Start: the drive force falling with speed to nothing past the logs' top speed, 37 kN of brakes.
+    p0 = np.r_[0.25, 0.25, 0.5, 37000.0, np.interp(KNOTS_KMH, [0, 250, 264], [8500, 4800, 0])]
+    lo = np.r_[0.02, 0.02, 0.02, 20000, np.zeros(len(KNOTS_KMH))]
+    hi = np.r_[0.8, 0.8, 1.0, 60000, np.full(len(KNOTS_KMH), 15000.0)]
+    fit = least_squares(residuals, p0, bounds=(lo, hi), x_scale=np.r_[0.05, 0.05, 0.05, 2000, np.full(len(KNOTS_KMH), 300)],
+                        diff_step=2e-2, loss="soft_l1", f_scale=0.3, max_nfev=300)
+    print(f"longitudinal: {len(starts)} straight windows, rms speed error {np.sqrt(np.mean(residuals(fit.x) ** 2)):.3f} m/s")
+    return with_values(fit.x)
+
+
+def standing_start(car: Car, logs) -> Car:
+    target = logs[0].speed[:60] * 3.6
+    best = None
+    for engage, inertia, clutch in itertools.product([1.5, 1.55], [0.1, 0.2, 0.3, 0.4, 0.6], [0.5, 1, 2, 4]):
+        c = copy.deepcopy(car.config)
+        c["gearbox"]["engage_time_s"], c["engine"]["inertia_kg_m2"] = engage, inertia
+        c["gearbox"]["clutch_strength_nm_s_per_rad"] = clutch
+        candidate = Car(c, car.urdf, car.name)
+        with tempfile.TemporaryDirectory() as folder:
+            import roar_core
+            world = roar_core.World(measure.drag_strip(os.path.join(folder, "strip")), folder)
+            model = candidate.model(folder)
+            world.spawn("ego", model.name, model.urdf_dir, model.config_dir, 0.0, 0.0)
+            speeds = []
+            for _ in range(60):
+                world.set_control("ego", throttle=1.0)
+                world.step()
+                speeds.append(world.state("ego")["speed"] * 3.6)
+        error = np.sqrt(np.mean((np.array(speeds[25:]) - target[25:60]) ** 2))
+        if best is None or error < best[0]:
+            best = (error, candidate)
+    print(f"standing start: rms {best[0]:.2f} km/h over the first 3 s")
+    return best[1]
+
+
+LATERAL = [  # name, low, high
+    ("grip", 2.0, 4.0), ("lat_stiff_value", 10, 100), ("lat_stiff_max_load", 1, 8), ("long_stiff_value", 2000, 60000),
+    ("share_60", 0.3, 1.0), ("share_120", 0.2, 1.0), ("steer_response", 0.0, 0.3), ("steer_rate", 1.0, 12.0),
+    ("com_x", -0.45, 0.3), ("izz", 1500, 6000), ("front_drive", 0.0, 1.0), ("roll_influence", 0.02, 1.0),
+    ("anti_roll_front", 0, 80000), ("anti_roll_rear", 0, 80000)]
+
+
+def with_lateral(car: Car, x) -> Car:
+    d = dict(zip([n for n, _, _ in LATERAL], map(float, x)))
+    c = copy.deepcopy(car.config)
+    t = c["tyre"]
+    for key in ("longitudinal", "lateral"):
+        t.pop(key, None)
+    t.update(curve="carsimed", grip=d["grip"], load_sensitivity=0.0,
+             carsimed={k: d[k] for k in ("lat_stiff_value", "lat_stiff_max_load", "long_stiff_value")})
+    c["steering"].update(speed_curve_kmh_share=[[0, 1.0], [20, 0.9], [60, d["share_60"]], [120, d["share_120"]]],
+                         response_time_s=d["steer_response"], max_rate_rad_per_s=d["steer_rate"])
+    c["drivetrain"]["front_drive_share"] = d["front_drive"]
+    c["suspension"].update(roll_influence=d["roll_influence"], anti_roll_front_n_per_m=d["anti_roll_front"],
+                           anti_roll_rear_n_per_m=d["anti_roll_rear"])
+    urdf = re.sub(r'(<inertial>\s*(?:<!--.*?-->\s*)?<origin xyz=")[-0-9.]+', rf'\g<1>{d["com_x"]:.3f}', car.urdf, flags=re.S)
+    urdf = re.sub(r'izz="[0-9.]+"', f'izz="{d["izz"]:.0f}"', urdf, count=1)
+    return Car(c, urdf, car.name)
+
+
+def window_cost(windows) -> float:
+    total = 0.0
+    for w in windows:
+        for k in (9, 19, 29, 39):
+            e = np.linalg.norm(w.ours[k, :2] - w.logged[k, :2])
+            s = abs(w.ours[k, 2] - w.logged[k, 2]) / max(w.logged[k, 2], 1.0) * 25
+            total += np.hypot(1, e) + np.hypot(1, s)
+    return total / len(windows)
+
+
+class LateralCost:
+    """The open-loop cost of a lateral candidate (picklable: differential evolution's workers call it)."""
+
+    def __init__(self, car: Car, logs):
+        self.car, self.logs, self.starts = car, logs, measure.windows_of(logs, 25)
+
+    def __call__(self, x) -> float:
+        try:
+            return window_cost(replay(with_lateral(self.car, x), self.logs, self.starts, True))
+        except ValueError:  # a candidate that cannot be spawned or driven
+            return 1e9
+
+
+def lateral(car: Car, logs, generations: int) -> Car:
+    cost = LateralCost(car, logs)
+    fit = differential_evolution(cost, [(lo, hi) for _, lo, hi in LATERAL], maxiter=generations, popsize=6,
+                                 workers=2, updating="deferred", seed=1, polish=False, disp=True)
+    print(f"lateral: cost {fit.fun:.3f} over {len(cost.starts)} windows")
+    return with_lateral(car, fit.x)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--telemetry", default=os.path.join(ROOT, "..", "shared", "fixtures", "carla_telemetry"))
+    parser.add_argument("--model", default="carla_model3")
+    parser.add_argument("--stage", type=int, nargs="+", default=[1, 2, 3], choices=[1, 2, 3])
+    parser.add_argument("--generations", type=int, default=25)
+    args = parser.parse_args()
+    files = sorted(glob.glob(os.path.join(args.telemetry, "*.json")))
+    if not files:
+        sys.exit(f"carla_fit: no telemetry (*.json) in {args.telemetry}")
+    logs = [read_telemetry(f) for f in files]
+    with open(os.path.join(ROOT, "config", "vehicles", args.model + ".yaml")) as f:
+        config = yaml.safe_load(f)
+    with open(os.path.join(ROOT, "urdf", args.model + ".urdf")) as f:
+        car = Car(config, f.read(), args.model)
+    if 1 in args.stage:
+        car = longitudinal(car, logs)
+    if 2 in args.stage:
+        car = standing_start(car, logs)
+    if 3 in args.stage:
+        car = lateral(car, logs, args.generations)
+    print(yaml.safe_dump(car.config, sort_keys=False))
+    inertial = re.search(r"<inertial>.*?</inertial>", car.urdf, flags=re.S).group(0)
+    print(f"URDF base_link:\n{inertial}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,209 @@
+"""Our car measured against CARLA's telemetry, on the same terms: the figures bench/carla_fidelity.py prints
+and bench/carla_fit.py fits the car to. CARLA's side comes from the logs; ours from roar_core.World, driven
+with the logs' own controls (open loop) or on a long straight (the start and the top speed)."""
+import os
+import tempfile
+import typing
+
+import numpy as np
+
+from .telemetry import TICK, Telemetry
+
+BAND = 20.0 / 3.6         # m/s: the speed bands the accelerations are grouped in
+STRAIGHT_STEER = 0.02     # |steer| of a straight-line tick
+FULL = 0.999              # a pedal this far down is floored
+WINDOW = 40               # ticks of an open-loop window: 2 s
+CORNER_TURN = np.radians(5.0)  # a window whose path turns more is a corner's
+# The car's heading is not logged: a window starts with the heading of the locations around its first tick
+# plus the body slip angle, among these, whose first HEADING_FIT ticks best follow the log (a car sliding
+# through a corner points away from where it goes).
+SLIP_ANGLES = np.radians(np.arange(-15.0, 15.1, 2.5))
+HEADING_FIT = 8
+
+
+class Model(typing.NamedTuple):
+    """A car model as roar_core.World loads it: a model name or CARLA blueprint and its folders."""
+    name: str
+    urdf_dir: str
+    config_dir: str
+
+
+def band_of(speed: float) -> int:
+    return int(speed // BAND)
+
+
+def band_label(band: int) -> str:
+    return f"{band * 20:.0f}-{band * 20 + 20:.0f}"
+
+
+def floored_straight(log: Telemetry, i: int, pedal: str) -> bool:
+    """Tick i is a straight-line tick with `pedal` ("throttle" or "brake") floored and the other released."""
+    other = log.brake if pedal == "throttle" else log.throttle
+    return getattr(log, pedal)[i] >= FULL and other[i] == 0 and abs(log.steer[i]) < STRAIGHT_STEER
+
+
+# ---- CARLA's figures from the logs ------------------------------------------------------------------------
+
+def logged_accelerations(logs: typing.Sequence[Telemetry], pedal: str) -> typing.Dict[int, np.ndarray]:
+    """Per speed band, the logged accelerations (m/s^2) of floored_straight ticks, within continuous driving."""
+    out: typing.Dict[int, list] = {}
+    for log in logs:
+        for seg in log.segments():
+            for i in seg[:-1]:
+                if floored_straight(log, i, pedal):
+                    out.setdefault(band_of(log.speed[i]), []).append((log.speed[i + 1] - log.speed[i]) / TICK)
+    return {b: np.array(v) for b, v in sorted(out.items())}
+
+
+def start_figures(speeds: np.ndarray, moved: np.ndarray) -> dict:
+    """From a standing start at full throttle, tick 0 the first: ticks before the car moves, speed (km/h)
+    after 1, 2, 5, 10 and 20 s, and the time to 100 km/h."""
+    first = int(np.argmax(moved)) if moved.any() else len(moved)
+    after = {s: speeds[int(round(s / TICK))] * 3.6 for s in (1, 2, 5, 10, 20) if int(round(s / TICK)) < len(speeds)}
+    reach = np.where(speeds >= 100 / 3.6)[0]
+    return {"still_ticks": first, "after_s": after, "zero_to_100": reach[0] * TICK if len(reach) else float("nan")}
+
+
+def logged_start(log: Telemetry) -> typing.Optional[dict]:
+    """The log's standing start: its first segment, if the car starts it at rest; None if it does not."""
+    seg = log.segments()[0]
+    if log.speed[seg[0]] > 0.5:
+        return None
+    moved = np.linalg.norm(log.loc[seg] - log.loc[seg[0]], axis=1) > 0.01
+    return start_figures(log.speed[seg], moved)
+
+
+# ---- our car ---------------------------------------------------------------------------------------------
+
+def drag_strip(folder: str, straight: float = 14000.0, radius: float = 600.0) -> str:
+    """A map folder with a flat oval of two long straights, for standing starts and top speed."""
+    points = []
+    for k in range(int(straight / 5)):
+        points.append((k * 5.0, 0.0))
+    for k in range(60):
+        a = -np.pi / 2 + np.pi * k / 60
+        points.append((straight + radius * np.cos(a), radius + radius * np.sin(a)))
+    for k in range(int(straight / 5)):
+        points.append((straight - k * 5.0, 2 * radius))
+    for k in range(60):
+        a = np.pi / 2 + np.pi * k / 60
+        points.append((radius * np.cos(a), radius + radius * np.sin(a)))
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "centerline.csv"), "w") as f:
+        f.write("# x_m,y_m,w_tr_right_m,w_tr_left_m\n")
+        for x, y in points:
+            f.write(f"{x:.3f},{y:.3f},6,6\n")
+    with open(os.path.join(folder, "track.yaml"), "w") as f:
+        f.write("name: drag strip\n")
+    return folder
+
+
+def our_standing_start(model: Model, seconds: float = 150.0) -> typing.Tuple[dict, float]:
+    """Our car floored from rest on a flat straight: its start figures and its speed (km/h) after `seconds`."""
+    import roar_core
+    with tempfile.TemporaryDirectory() as tmp:
+        world = roar_core.World(drag_strip(os.path.join(tmp, "strip")), tmp)
+        world.spawn("ego", model.name, model.urdf_dir, model.config_dir, 0.0, 0.0)
+        start = world.state("ego")["position"][:2]
+        speeds, moved = [], []
+        for _ in range(int(seconds / TICK)):
+            world.set_control("ego", throttle=1.0)
+            world.step()
+            s = world.state("ego")
+            speeds.append(s["speed"])
+            moved.append(np.linalg.norm(s["position"][:2] - start) > 0.01)
+        return start_figures(np.array(speeds), np.array(moved)), speeds[-1] * 3.6
+
+
+class Window(typing.NamedTuple):
+    log: int       # which log
+    start: int     # its first tick's index
+    turn: float    # rad the logged path turns over the window
+    ours: np.ndarray    # (WINDOW, 3): x, y, speed after each tick
+    logged: np.ndarray  # (WINDOW, 3): the same, logged
+
+
+def windows_of(logs: typing.Sequence[Telemetry], stride: int = 25) -> typing.List[typing.Tuple[int, int]]:
+    """Window starts every `stride` ticks within continuous driving, the car moving."""
+    out = []
+    for k, log in enumerate(logs):
+        for seg in log.segments():
+            for i in range(seg[0] + 3, seg[-1] - WINDOW - 2, stride):
+                if log.speed[i] > 1.0:
+                    out.append((k, i))
+    return out
+
+
+class Replayer:
+    """Our car put in each logged state and driven with the logged controls (open loop)."""
+
+    def __init__(self, model: Model, map_name: str, maps_dir: str, estimate_heading: bool = True):
+        import roar_core
+        self.world = roar_core.World(map_name, maps_dir)
+        self.model = model
+        self.estimate_heading = estimate_heading
+        self.spawned = False
+
+    def _drive(self, log: Telemetry, i: int, slip: float, ticks: int) -> np.ndarray:
+        w = self.world
+        path = log.heading()
+        direction = np.arctan2(log.loc[i + 1, 1] - log.loc[i - 1, 1], log.loc[i + 1, 0] - log.loc[i - 1, 0])
+        yaw_rate = (path[i + 1] - path[i - 2]) / (3 * TICK)
+        v = log.speed[i]
+        if not self.spawned:
+            w.spawn("ego", self.model.name, self.model.urdf_dir, self.model.config_dir, log.loc[i, 0], log.loc[i, 1],
+                    0.0, direction + slip)
+            self.spawned = True
+        w.reset("ego", log.loc[i, 0], log.loc[i, 1], 0.0, direction + slip)
+        # The pedals' lags settled at the control before the window (ROAR_PY's steer is positive right).
+        w.set_control("ego", log.throttle[i - 1], -log.steer[i - 1], log.brake[i - 1])
+        w.set_velocity("ego", (v * np.cos(direction), v * np.sin(direction), 0.0), (0.0, 0.0, yaw_rate))
+        out = np.zeros((ticks, 3))
+        for k in range(ticks):
+            w.set_control("ego", log.throttle[i + k], -log.steer[i + k], log.brake[i + k])
+            w.step()
+            s = w.state("ego")
+            out[k] = (s["position"][0], s["position"][1], s["speed"])
+        return out
+
+    def window(self, logs: typing.Sequence[Telemetry], k: int, i: int) -> Window:
+        log = logs[k]
+        logged = np.column_stack([log.loc[i + 1:i + WINDOW + 1], log.speed[i + 1:i + WINDOW + 1]])
+        slip = 0.0
+        if self.estimate_heading:
+            errors = [np.linalg.norm(self._drive(log, i, a, HEADING_FIT)[:, :2] - logged[:HEADING_FIT, :2], axis=1).sum()
+                      for a in SLIP_ANGLES]
+            slip = SLIP_ANGLES[int(np.argmin(errors))]
+        path = log.heading()
+        return Window(k, i, abs(path[i + WINDOW] - path[i]), self._drive(log, i, slip, WINDOW), logged)
+
+
+def window_errors(windows: typing.Sequence[Window]) -> np.ndarray:
+    """Per window: final position error (m), final speed error (share of the logged speed), corner (0/1)."""
+    return np.array([(np.linalg.norm(w.ours[-1, :2] - w.logged[-1, :2]),
+                      abs(w.ours[-1, 2] - w.logged[-1, 2]) / max(w.logged[-1, 2], 1.0),
+                      float(w.turn >= CORNER_TURN)) for w in windows])
+
+
+def our_accelerations(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry],
+                      pedal: str) -> typing.Dict[int, np.ndarray]:
+    """Per speed band (the logged speed's, so that both sides count the same ticks), our car's accelerations
+    on the ticks logged_accelerations counts, where an open-loop window drove them: each window's ticks after
+    its first quarter (the lags settled from its start)."""
+    out: typing.Dict[int, list] = {}
+    for w in windows:
+        log = logs[w.log]
+        for k in range(WINDOW // 4, WINDOW - 1):
+            i = w.start + k + 1
+            if floored_straight(log, i, pedal):
+                out.setdefault(band_of(log.speed[i]), []).append((w.ours[k + 1, 2] - w.ours[k, 2]) / TICK)
+    return {b: np.array(v) for b, v in sorted(out.items())}
+
+
+def yaw_rates(windows: typing.Sequence[Window]) -> np.ndarray:
+    """Per corner window: the path's mean yaw rate (rad/s) over it, logged and ours."""
+    def rate(xy):
+        d = np.diff(xy, axis=0)
+        h = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        return (h[-1] - h[0]) / ((len(h) - 1) * TICK)
+    return np.array([(rate(w.logged[:, :2]), rate(w.ours[:, :2])) for w in windows if w.turn >= CORNER_TURN])

@@ -1,0 +1,97 @@
+"""CARLA's telemetry read as ROAR entries write it, and vehicle.tesla.model3 driven against it: the reader's
+refusals, the open-loop bench, and the closed-loop check (issue 62): a controller following the logged lap's
+own path at its own speeds laps ROAR's Monza in our car without contact, near the log's lap time."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import roar_core
+from roar_fidelity import TelemetryError, read_telemetry
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+LAP = os.path.join(ROOT, "test", "data", "carla_telemetry", "monza_lap2_entry_a.json")
+
+
+def write(tmp_path, ticks, name="log.json"):
+    path = tmp_path / name
+    path.write_text(json.dumps(ticks))
+    return str(path)
+
+
+def tick(x, speed_kmh=36.0, **fields):
+    return {"loc": [x, 0.0], "throttle": 1.0, "brake": 0.0, "steer": 0.0, "speed": speed_kmh, "lap": 1, **fields}
+
+
+def test_the_logged_lap_reads_whole_in_si_units():
+    log = read_telemetry(LAP)
+    assert len(log.speed) == 2129 and np.all(np.diff(log.ticks) == 1)
+    assert log.speed.max() == pytest.approx(257.5 / 3.6, abs=0.5), "m/s"
+    assert len(log.segments()) == 1, "one continuous lap"
+    assert set(np.unique(log.lap)) == {2}
+    assert np.linalg.norm(log.loc[0] - log.loc[-1]) < 5.0, "a closed lap"
+
+
+def test_a_jump_splits_the_log_into_runs(tmp_path):
+    ticks = {str(i + 1): tick(i * 0.5) for i in range(10)}  # 36 km/h: 0.5 m a tick
+    ticks.update({str(i + 11): tick(500.0 + i * 0.5) for i in range(10)})  # a respawn 500 m on
+    log = read_telemetry(write(tmp_path, ticks))
+    assert [len(s) for s in log.segments()] == [10, 10]
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda t: t.pop("3"), "ticks are not consecutive after tick 2"),
+    (lambda t: t["2"].update(speed=float("nan")), "tick 2: speed is not a finite number"),
+    (lambda t: t["2"].update(throttle=1.5), "tick 2: throttle 1.5 is outside [0, 1]"),
+    (lambda t: t["2"].update(loc=[1.0]), "tick 2: loc must be [x, y]"),
+    (lambda t: t["2"].update(steer="left"), "tick 2: steer is not a finite number"),
+    (lambda t: t.update(x=tick(0)), "a key is not a tick number"),
+])
+def test_a_broken_log_is_refused_naming_the_file_tick_and_field(tmp_path, change, message):
+    ticks = {str(i + 1): tick(i * 0.5) for i in range(5)}
+    change(ticks)
+    path = write(tmp_path, ticks)
+    with pytest.raises(TelemetryError) as e:
+        read_telemetry(path)
+    assert path in str(e.value) and message in str(e.value)
+
+
+def test_what_is_not_a_log_is_refused(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    with pytest.raises(TelemetryError, match="not JSON"):
+        read_telemetry(str(bad))
+    with pytest.raises(TelemetryError, match="not a regular file"):
+        read_telemetry(str(tmp_path))
+
+
+def test_the_fidelity_bench_compares_our_car_with_the_log():
+    out = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "carla_fidelity.py"), "--telemetry",
+                          os.path.dirname(LAP), "--stride", "100"], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    for line in ("Full-throttle acceleration", "Full-brake acceleration", "Standing start", "Top speed",
+                 "Open loop", "Yaw rate in corners"):
+        assert line in out.stdout
+    # The lap's long straights, ours beside CARLA's: full-throttle acceleration within 5 % from 120 to 240 km/h.
+    rows = {l.split()[0]: l.split() for l in out.stdout.split("Full-brake")[0].splitlines()
+            if l.strip().endswith(("ok", "MISS"))}
+    for band in ("120-140", "140-160", "160-180", "180-200", "200-220", "220-240"):
+        assert rows[band][-1] == "ok", out.stdout
+    assert "(no log starts at rest" in out.stdout, "lap 2 starts at speed: no standing start to compare"
+
+
+def test_our_model3_laps_monza_on_the_logged_lap_without_contact():
+    """The closed-loop check: the time trial's tracker follows the logged lap's path at its speeds."""
+    log = read_telemetry(LAP)
+    result = roar_core.follow_recorded_lap("monza", os.path.join(ROOT, "maps"), "vehicle.tesla.model3",
+                                           os.path.join(ROOT, "urdf"), os.path.join(ROOT, "config", "vehicles"),
+                                           log.loc, log.speed, 1)
+    assert result["finished"] and result["barrier_contacts"] == 0
+    assert result["worst_offroad"] < 0.0, "never beyond the road's edge"
+    logged = len(log.speed) * 0.05
+    lap = result["lap_times"][0]
+    print(f"our lap {lap:.2f} s, the log's {logged:.2f} s ({lap / logged - 1:+.1%})")
+    assert abs(lap / logged - 1) < 0.05
