@@ -8,8 +8,8 @@ over 100 N s puts the car back where it started and restarts the count, as the r
 
     rosrun roar_ros roar_py_competition.py --entry competition --laps 3
 
-Entries: `competition`, a controller of the class ROAR's entries are (tuned for CARLA's car: corners at
-2.9 g, braking at 12 m/s^2 and pure pursuit on the waypoints); `example`, ROAR_PY's documented
+Entries: `competition`, a controller of the kind ROAR's entries are (tuned to CARLA's car: corners at
+2.2 g, braking at 12 m/s^2 and pure pursuit on the waypoints); `example`, ROAR_PY's documented
 waypoint follower at 20 m/s. Without a running roar_sim it starts its own (roar_py_ros). Prints a line per
 lap and a summary; --output writes the result as YAML."""
 import argparse
@@ -127,13 +127,16 @@ class ExampleEntry(Entry):
 
 
 class CompetitionEntry(Entry):
-    """A controller of the class ROAR's CARLA-tuned entries are: a speed profile from the waypoints'
-    curvature at 2.9 g, braking into it at 12 m/s^2, pure pursuit on the waypoints with CARLA's 70 degree
-    lock narrowing with speed. It sends target_gear as every entry does (ignored on the automatic car)."""
+    """A controller of the kind ROAR's entries are, tuned to CARLA's car: a speed profile from the waypoints'
+    curvature at 2.2 g, braked into at 12 m/s^2 and read 0.7 s ahead (CARLA's brakes take half a second to
+    bite), floored or braking hard as ROAR's entries drive (their telemetry's pedals are 0 or 1), pure
+    pursuit on the waypoints with CARLA's 70 degree lock narrowing with speed. It sends target_gear as every
+    entry does (ignored on the automatic car)."""
 
-    CORNER_G = 2.9
+    CORNER_G = 2.2
     BRAKING = 12.0       # m/s^2
     TOP_SPEED = 90.0     # m/s
+    PREVIEW = 0.7        # s
     WHEELBASE = 2.875    # m
     LOCK = math.radians(70.0)
     STEERING_CURVE = ((0.0, 1.0), (20 / 3.6, 0.9), (60 / 3.6, 0.8), (120 / 3.6, 0.7))  # CARLA's
@@ -178,21 +181,21 @@ class CompetitionEntry(Entry):
         speed = float(np.linalg.norm(velocity))
         waypoints = self.maneuverable_waypoints
         self.current_waypoint_idx = self.nearest_waypoint(location)
-        lookahead = float(np.clip(0.5 * speed, 10.0, 40.0))
+        lookahead = float(np.clip(0.65 * speed, 10.0, 40.0))
         ahead = (self.current_waypoint_idx + int(round(lookahead / 2.0))) % len(waypoints)
         to_target = waypoints[ahead].location[:2] - location[:2]
         alpha = roar_py_interface.normalize_rad(math.atan2(to_target[1], to_target[0]) - rotation[2])
         wheel_angle = math.atan2(2.0 * self.WHEELBASE * math.sin(alpha), max(np.linalg.norm(to_target), 1.0))
-        wanted = float(np.clip(-wheel_angle / self.lock_at(speed), -1.0, 1.0))  # ROAR_PY steers right positive
-        self.steer = getattr(self, "steer", 0.0) + 0.5 * (wanted - getattr(self, "steer", 0.0))
-        steer = self.steer
-        preview = (self.current_waypoint_idx + int(round(speed * 0.3 / 2.0)) + 1) % len(waypoints)
+        steer = float(np.clip(-wheel_angle / self.lock_at(speed), -1.0, 1.0))  # ROAR_PY steers right positive
+        # The profile read PREVIEW seconds ahead: CARLA's brakes take half a second to bite.
+        preview = (self.current_waypoint_idx + int(round(speed * self.PREVIEW / 2.0)) + 1) % len(waypoints)
         error = self.profile[preview] - speed
-        # What grip the corner leaves for driving (full throttle is about 1 g).
+        # What grip the corner leaves for driving (full throttle is about 0.4 g).
         lateral = speed * speed / self.radius[self.current_waypoint_idx]
         budget = math.sqrt(max(0.0, (1.1 * self.CORNER_G * 9.81) ** 2 - lateral ** 2)) / 9.81
+        # Floored or braking hard, as ROAR's entries drive CARLA's car (its telemetry: pedals 0 or 1).
         throttle, brake = (float(np.clip(0.3 + 0.5 * error, 0.0, min(1.0, budget))), 0.0) if error > -0.5 else \
-            (0.0, float(np.clip(-0.4 * error, 0.0, 1.0)))
+            (0.0, 1.0)
         await self.vehicle.apply_action({"throttle": throttle, "steer": steer, "brake": brake, "hand_brake": 0.0,
                                          "reverse": 0, "target_gear": 0})
 

@@ -161,39 +161,60 @@ TEST(Physics, EveryBlueprintMeetsItsClassFigures) {
   }
 }
 
-// CARLA's vehicle.tesla.model3 as ROAR's competition entries know it (config/vehicles/carla_model3.yaml):
-// CARLA's physics-control figures, and the cornering and braking ROAR's entries are tuned to.
-TEST(Physics, CarlaModel3ReproducesCarlasFigures) {
+// CARLA's vehicle.tesla.model3 drives as CARLA's telemetry of it shows (the logs ROAR entries wrote racing it
+// on Monza; ../shared/fixtures/carla_telemetry, its README's table): each figure below is the telemetry's.
+// bench/carla_fidelity.py compares the whole logs, tick by tick.
+TEST(Physics, CarlaModel3DrivesAsCarlasTelemetryShows) {
   const vehicle::VehicleParams p = test::vehicle("vehicle.tesla.model3");
   EXPECT_EQ(p.model, "carla_model3");
   EXPECT_NEAR(p.chassis.mass, 1847.0, 1e-9) << "CARLA's mass";
-  EXPECT_NEAR(p.steering.max_angle, 70 * M_PI / 180, 1e-3) << "CARLA's max_steer_angle";
-  EXPECT_NEAR(p.steering.maxAngleAt(120 / 3.6), 0.7 * p.steering.max_angle, 1e-9) << "CARLA's steering curve";
-  EXPECT_NEAR(p.steering.maxAngleAt(40 / 3.6), 0.85 * p.steering.max_angle, 1e-9);
   EXPECT_EQ(p.gearbox.ratios.size(), 1u) << "a single-speed electric drive";
   EXPECT_NEAR(p.chassis.box_size.x() / 2, 2.396, 0.01) << "CARLA's bounding box, half its length";
-  Drive d(1.0, "carla_model3");
-  int ticks = 0;
-  while (d.state().speed < 100 / 3.6 && ticks < 600) d.run(throttle(1.0)), ++ticks;
-  const double zero_to_100 = ticks * 0.05;
-  while (d.state().speed < 200 / 3.6) d.run(throttle(1.0));
+  Drive d(1.0, "carla_model3");  // spawned: it stands as CARLA's car does after it is spawned
+  // Full throttle from rest: still for 30 ticks (1.5 s), then 3.3, 6.9, 9.3, 11.1 km/h in its first four
+  // moving ticks, 100 km/h 6.4 s after it first moves.
+  std::vector<double> speeds;  // km/h after each tick
+  while (speeds.size() < 2400) {
+    d.run(throttle(1.0));
+    speeds.push_back(d.state().speed * 3.6);
+  }
+  const auto moving = std::find_if(speeds.begin(), speeds.end(), [](double v) { return v > 1.0; });
+  const long still = moving - speeds.begin();
+  EXPECT_NEAR(still, 30, 1) << "ticks at full throttle before the car moves";
+  ASSERT_LT(still + 4, static_cast<long>(speeds.size()));
+  EXPECT_NEAR(speeds[still], 3.3, 1.5) << "the first moving tick's surge";
+  EXPECT_NEAR(speeds[still + 3], 11.1, 1.5);
+  const auto hundred = std::find_if(speeds.begin(), speeds.end(), [](double v) { return v >= 100.0; });
+  EXPECT_NEAR((hundred - moving) * 0.05, 6.4, 0.3) << "s from moving to 100 km/h";
+  // Full-throttle acceleration where the telemetry's straights pass 30, 110, 190 and 230 km/h (the medians
+  // of its 20 km/h bands), within 5 %; top speed 258 km/h (its fastest tick, 257.6), within 1 %.
+  for (const auto& [kmh, telemetry] : {std::pair{30.0, 4.16}, {110.0, 3.33}, {190.0, 2.33}, {230.0, 1.94}}) {
+    const auto at = std::find_if(speeds.begin(), speeds.end(), [&](double v) { return v >= kmh; });
+    ASSERT_NE(at + 1, speeds.end()) << kmh;
+    EXPECT_NEAR((*(at + 1) - *at) / 3.6 / 0.05, telemetry, 0.05 * telemetry) << "at " << kmh << " km/h";
+  }
+  const double top = speeds.back();
+  EXPECT_NEAR(top, 257.6, 0.01 * 257.6) << "top speed";
+  // Full brake from 240 km/h: the telemetry's builds over half a second (the first tick below 4 m/s^2) to
+  // 18-19 m/s^2.
+  while (d.state().speed * 3.6 > 240.0) d.run(vehicle::VehicleControl());
   vehicle::VehicleControl brake;
   brake.brake = 1.0;
-  const double from = d.state().speed;
-  d.run(brake, 20);
-  const double braking = (from - d.state().speed) / 1.0;  // over the second from 200 km/h
-  d.run(throttle(1.0), 2400);
-  const double top = d.state().speed * 3.6;
-  const double skidpad = skidpadG("carla_model3");
+  double first = 0.0, strongest = 0.0;
+  for (int tick = 0; tick < 20; ++tick) {
+    const double before = d.state().speed;
+    d.run(brake);
+    const double decel = (before - d.state().speed) / 0.05;
+    if (tick == 0) first = decel;
+    strongest = std::max(strongest, decel);
+  }
+  EXPECT_LT(first, 4.0) << "the brakes build";
+  EXPECT_GT(strongest, 17.5);
+  EXPECT_LT(strongest, 20.0);
   std::printf(
-      "carla_model3: 0-100 km/h %.2f s, top speed %.1f km/h, braking %.2f m/s^2 (%.2f km/h a tick), skid pad %.2f g\n",
-      zero_to_100, top, braking, braking * 0.05 * 3.6, skidpad);
-  EXPECT_GT(skidpad, 2.7) << "CARLA's tyre friction: ROAR's entries corner at 2.75 to 3.4 g";
-  EXPECT_LT(skidpad, 3.5);
-  EXPECT_NEAR(braking * 0.05 * 3.6, 2.4, 0.3) << "ROAR's entries brake for 2.4 km/h a tick";
-  EXPECT_GT(top, 285.0) << "ROAR's entries plan up to 300 km/h";
-  EXPECT_LT(top, 310.0);
-  EXPECT_LT(zero_to_100, 5.0);
+      "carla_model3: still %ld ticks, %.1f/%.1f km/h, 100 km/h %.2f s after moving, top %.1f km/h, "
+      "braking %.1f m/s^2 at most\n",
+      still, speeds[still], speeds[still + 3], (hundred - moving) * 0.05, top, strongest);
 }
 
 // CARLA's vehicle.audi.a2: the A2's mass on CARLA's tyres and steering.
