@@ -55,6 +55,21 @@ class SerialisedDataError(ValueError):
     """Serialised data that does not fit its type; the message names the field (``Class.field[key]``)."""
 
 
+MAX_INFLATED_BYTES = 64 << 20  # a compressed reading, inflated: a 4K RGB frame is 25 MB
+
+
+def inflate(data: bytes, what: str, limit: int = MAX_INFLATED_BYTES) -> bytes:
+    """zlib data inflated, refused past `limit` bytes before they are made (a zlib bomb from a peer)."""
+    try:
+        inflater = zlib.decompressobj()
+        out = inflater.decompress(data, limit)
+    except (zlib.error, TypeError) as error:
+        raise SerialisedDataError(f"{what}: not zlib data ({error})") from None
+    if inflater.unconsumed_tail:
+        raise SerialisedDataError(f"{what}: inflates to more than {limit >> 20} MiB")
+    return out
+
+
 def from_plain(cls, data, where: typing.Optional[str] = None):
     """A value of type ``cls`` from its to_plain form, as pyserde's from_dict reads it: dataclasses from
     mappings of their fields (unknown keys ignored, missing ones refused), ``Optional``, ``List``, ``Dict``,
@@ -208,7 +223,7 @@ class RoarPyRemoteSupportedSensorData:
         if scheme == _Scheme.DICT:
             return from_plain(cls, data)
         if scheme.value & _Scheme.INTERNAL_COMPRESSED.value:
-            data = zlib.decompress(data)
+            data = inflate(data, f"{cls.__name__}: compressed reading")
         return from_plain(cls, _decode(data, scheme))
 
     def get_gym_observation_spec(self) -> spaces.Space:

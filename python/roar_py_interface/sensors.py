@@ -13,7 +13,7 @@ from PIL import Image
 
 from . import spaces, transforms
 from .base import (RoarPyRemoteSupportedSensorData, RoarPyRemoteSupportedSensorSerializationScheme, RoarPySensor,
-                   remote_support_sensor_data_register)
+                   SerialisedDataError, remote_support_sensor_data_register)
 from .occupancy_map import RoarPyOccupancyMapProducer
 
 _Scheme = RoarPyRemoteSupportedSensorSerializationScheme
@@ -29,8 +29,24 @@ def _jpeg(image: Image.Image) -> bytes:
     return out.getvalue()
 
 
+MAX_IMAGE_PIXELS = 1 << 25  # a camera frame from a peer: 32 megapixels (CARLA's largest cameras are 4K)
+
+
 def _from_jpeg(data: bytes) -> Image.Image:
-    return Image.open(io.BytesIO(data))
+    """A JPEG a peer sent, its size checked from its header before its pixels are decoded."""
+    try:
+        image = Image.open(io.BytesIO(data))
+        width, height = image.size
+        if width * height > MAX_IMAGE_PIXELS:
+            raise SerialisedDataError(f"a camera frame of {width}x{height} is more than {MAX_IMAGE_PIXELS} pixels")
+        image.load()
+    except SerialisedDataError:
+        raise
+    except Image.DecompressionBombError as error:  # PIL's own limit, met before the size is ours to check
+        raise SerialisedDataError(f"a camera frame of more than {MAX_IMAGE_PIXELS} pixels ({error})") from None
+    except (OSError, ValueError) as error:
+        raise SerialisedDataError(f"a camera frame that is no image ({type(error).__name__}: {error})") from None
+    return image
 
 
 # ---- cameras -----------------------------------------------------------------------------------------------
@@ -588,15 +604,29 @@ class RoarPyCustomLambdaSensorData(RoarPyRemoteSupportedSensorData):
 
     @staticmethod
     def from_data_custom(data: bytes, scheme: _Scheme) -> "RoarPyCustomLambdaSensorData":
+        """ROAR_PY's own encoding (a pickled space), unpickled only as a space and checked for size: a reading
+        from a peer runs no code (space_pickle)."""
         import msgpack
-        import pickle
-        import zlib
 
-        fields = msgpack.unpackb(data, raw=False, strict_map_key=False)
-        if not isinstance(fields, dict) or "flattened" not in fields or "space" not in fields:
-            raise ValueError("RoarPyCustomLambdaSensorData: serialised data needs 'flattened' and 'space'")
-        return RoarPyCustomLambdaSensorData(flattened=np.asarray(fields["flattened"]),
-                                            space=pickle.loads(zlib.decompress(fields["space"])))
+        from .space_pickle import SpacePickleError, loads_space
+
+        what = "RoarPyCustomLambdaSensorData"
+        try:
+            fields = msgpack.unpackb(data, raw=False, strict_map_key=False)
+        except (ValueError, msgpack.ExtraData, msgpack.FormatError, msgpack.StackError) as error:
+            raise SpacePickleError(f"{what}: not MessagePack ({error})") from None
+        if not isinstance(fields, dict) or not isinstance(fields.get("flattened"), (list, tuple)) or \
+                not isinstance(fields.get("space"), bytes):
+            raise SpacePickleError(f"{what}: serialised data needs 'flattened' (a list) and 'space' (bytes)")
+        space = loads_space(fields["space"], f"{what}.space", compressed=True)
+        size = spaces.flatdim(space)
+        if len(fields["flattened"]) != size:
+            raise SpacePickleError(f"{what}.flattened: {len(fields['flattened'])} values for a space of {size}")
+        try:
+            flattened = np.asarray(fields["flattened"], dtype=np.float64)
+        except (TypeError, ValueError):
+            raise SpacePickleError(f"{what}.flattened: not a list of numbers") from None
+        return RoarPyCustomLambdaSensorData(flattened=flattened, space=space)
 
 
 class RoarPyCustomLambdaSensor(RoarPySensor[RoarPyCustomLambdaSensorData]):

@@ -3,11 +3,11 @@ terms."""
 import atexit
 import os
 import re
+import select
 import shutil
 import socket
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 import typing
@@ -16,6 +16,8 @@ import rosgraph
 import rospy
 
 from roar_paths import package_root  # noqa: F401 - also roar_py_ros.connection.package_root
+
+from .watchdog import SHUTDOWN_WAIT
 
 SIM = "/roar_sim"
 WAYPOINT_SERVER = "/waypoint_server"
@@ -41,13 +43,12 @@ def free_port() -> int:
 
 
 class PrivateSim:
-    """roslaunch of launch/roar_py.launch (with its own master when `port` is given), stopped by stop()."""
+    """roslaunch of launch/roar_py.launch (with its own master when `port` is given), started and stopped by
+    watchdog.py, which also stops it when this program ends however it ends."""
 
     def __init__(self, map_name: str, port: typing.Optional[int]):
         roslaunch = shutil.which("roslaunch") or "/usr/bin/roslaunch"
-        self.log_dir = tempfile.mkdtemp(prefix="roar_py_ros_")
         env = dict(os.environ)
-        env["ROS_LOG_DIR"] = self.log_dir
         if env.get("ROS_IP") == "127.0.0.1":
             # roscpp binds its XML-RPC server to every interface whatever ROS_IP says: the loopback shim
             # (src/tools/loopback_bind.cpp) turns that into loopback, as scripts/ros_env.sh does.
@@ -59,25 +60,32 @@ class PrivateSim:
             env["ROS_PACKAGE_PATH"] = root + (":" + env["ROS_PACKAGE_PATH"] if env.get("ROS_PACKAGE_PATH") else "")
         cmd = [roslaunch] + (["-p", str(port)] if port is not None else ["--wait"])
         cmd += [str(package_root() / "launch" / "roar_py.launch"), f"map:={map_name}"]
-        self.output_path = os.path.join(self.log_dir, "roslaunch.out")
-        self._output = open(self.output_path, "w")
-        self.process = subprocess.Popen(cmd, env=env, stdout=self._output, stderr=subprocess.STDOUT,
-                                        stdin=subprocess.DEVNULL, start_new_session=True)
-        # Ends the stack (and removes its log folder) when this program ends, however it ends (watchdog.py).
         self._watchdog = subprocess.Popen(
             [sys.executable, os.path.join(os.path.dirname(os.path.abspath(__file__)), "watchdog.py"),
-             str(self.process.pid), self.log_dir],
-            stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+             str(os.getpid()), "--"] + cmd,
+            env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+            start_new_session=True, text=True)
         atexit.register(self.stop)
+        first = self._watchdog.stdout.readline().split()
+        if len(first) != 2 or not first[0].isdigit():
+            self.stop()
+            raise RoarSimError(f"could not start roslaunch ({' '.join(cmd)})")
+        self.roslaunch_pid, self.log_dir = int(first[0]), first[1]
+        self.output_path = os.path.join(self.log_dir, "roslaunch.out")
+        self._exited = False
 
     def alive(self) -> bool:
-        return self.process.poll() is None
+        """Whether roslaunch still runs: the watchdog writes a line when it ends (or ends itself)."""
+        if not self._exited and (self._watchdog.stdout.closed
+                                 or select.select([self._watchdog.stdout], [], [], 0)[0]):
+            self._exited = True
+        return not self._exited
 
     def output_tail(self, lines: int = 30) -> str:
         try:
             with open(self.output_path) as f:
                 return "".join(f.readlines()[-lines:])
-        except OSError:
+        except (OSError, AttributeError):
             return ""
 
     def failure(self) -> str:
@@ -94,16 +102,24 @@ class PrivateSim:
         return "\n".join(errors[:5] if errors else tail[-5:])
 
     def stop(self):
-        if self.process.poll() is None:
-            self.process.send_signal(2)  # SIGINT: roslaunch stops its nodes and its master
+        """The watchdog stops roslaunch (SIGINT, then SIGKILL to what is left), removes the log folder and
+        ends; a line rather than a closed pipe, as a forked child of this program may hold the pipe too."""
+        if self._watchdog.poll() is None:
             try:
-                self.process.wait(timeout=15)
+                self._watchdog.stdin.write("stop\n")
+                self._watchdog.stdin.flush()
+            except (BrokenPipeError, ValueError):
+                pass
+            try:
+                self._watchdog.wait(timeout=SHUTDOWN_WAIT + 10)
             except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait()
-        self._output.close()
-        if self._watchdog.stdin and not self._watchdog.stdin.closed:
-            self._watchdog.stdin.close()  # the stack is down: the watchdog removes the log folder and ends
+                self._watchdog.kill()
+                self._watchdog.wait()
+        for stream in (self._watchdog.stdin, self._watchdog.stdout):
+            try:
+                stream.close()
+            except (BrokenPipeError, OSError):
+                pass
 
 
 def ensure_node():

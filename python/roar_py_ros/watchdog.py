@@ -1,21 +1,30 @@
-"""Ends a private ROS stack (roslaunch with its master and nodes) when the program that started it ends,
-however it ends: normal exit, exception, SIGINT, SIGTERM or SIGKILL.
+"""Starts a private ROS stack (roslaunch with its master and nodes) for the program that runs this, and ends
+it when that program ends, however it ends: normal exit, exception, SIGINT, SIGTERM or SIGKILL, with or
+without children of its own.
 
-    python3 watchdog.py <roslaunch pid> [<folder to remove afterwards>]
+    python3 watchdog.py <program pid> -- <roslaunch command ...>
 
-The program holds the write end of this process's standard input and never writes to it: when the
-program is gone, by any death, the kernel closes it and the read here returns. Then roslaunch gets SIGINT
-(it stops its nodes and master), and whatever of its process tree is left after SHUTDOWN_WAIT seconds is
-killed. Standard library only: it runs with no ROS environment. test_roar_py_ros.py
-test_a_killed_program_leaves_nothing_running pins it for each way a program ends.
+This process is the program's child. It makes the stack's log folder (ROS_LOG_DIR, roslaunch's output in
+it), starts roslaunch, and writes "<roslaunch pid> <log folder>" as its first line of output; when
+roslaunch ends it writes "exited <code>". It stops the stack when a line comes on its standard input or it
+closes (the program's stop) or when the program itself ends: that is watched through a pidfd of the program, which a forked
+child of the program cannot hold open as it could a pipe. It starts nothing when the program is already
+gone, so no moment of start-up leaves a stack behind. Then roslaunch gets SIGINT (it stops its nodes and
+master), whatever of its process tree is left after SHUTDOWN_WAIT seconds is killed, and the log folder is
+removed. Standard library only: it runs with no ROS environment. test_roar_py_lifecycle.py pins it for each
+way a program ends, a program with a forked child and a program killed during start-up.
 """
 import os
+import select
 import shutil
 import signal
+import subprocess
 import sys
+import tempfile
 import time
 
 SHUTDOWN_WAIT = 15.0  # s roslaunch gets to stop its nodes
+LOG_PREFIX = "roar_py_ros_"
 
 
 def _parents() -> dict:
@@ -59,14 +68,14 @@ def alive(pid: int) -> bool:
         return False
 
 
-def stop_tree(pid: int, wait: float = SHUTDOWN_WAIT) -> None:
-    tree = [pid] + descendants(pid)
-    try:
-        os.kill(pid, signal.SIGINT)
-    except ProcessLookupError:
-        pass
+def stop_tree(process: subprocess.Popen, wait: float = SHUTDOWN_WAIT) -> None:
+    """SIGINT to roslaunch, then SIGKILL to whatever of its tree (its session too) outlives `wait`."""
+    tree = descendants(process.pid)
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
     deadline = time.time() + wait
-    while time.time() < deadline and any(alive(p) for p in tree):
+    while time.time() < deadline and (process.poll() is None or any(alive(p) for p in tree)):
+        tree = sorted(set(tree) | set(descendants(process.pid)))
         time.sleep(0.1)
     for p in tree:
         if alive(p):
@@ -74,20 +83,69 @@ def stop_tree(pid: int, wait: float = SHUTDOWN_WAIT) -> None:
                 os.kill(p, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+    if process.poll() is None:
+        process.kill()
+    process.wait()
+
+
+def watch_program(program_pid: int):
+    """A pidfd of the program, or None when the program is already gone (this process then has another
+    parent). The parent is checked after the pidfd is opened, so the pidfd is the program's and not a
+    process that took its pid."""
+    try:
+        pidfd = os.pidfd_open(program_pid)
+    except ProcessLookupError:
+        return None
+    if os.getppid() != program_pid:
+        os.close(pidfd)
+        return None
+    return pidfd
+
+
+def start_roslaunch(command: list, log_dir: str) -> subprocess.Popen:
+    env = dict(os.environ)
+    env["ROS_LOG_DIR"] = log_dir
+    with open(os.path.join(log_dir, "roslaunch.out"), "w") as output:
+        return subprocess.Popen(command, env=env, stdout=output, stderr=subprocess.STDOUT,
+                                stdin=subprocess.DEVNULL, start_new_session=True)
+
+
+def wait_for_the_end(pidfd: int, roslaunch: subprocess.Popen) -> None:
+    """Returns when the program ends or closes this process's standard input; says when roslaunch ends."""
+    launch_fd = os.pidfd_open(roslaunch.pid)
+    watched = [pidfd, sys.stdin.fileno(), launch_fd]
+    while True:
+        ready, _, _ = select.select(watched, [], [])
+        if pidfd in ready:
+            return
+        if sys.stdin.fileno() in ready:
+            return  # a line or the end of input: a forked child may still hold the pipe open, so both stop
+        if launch_fd in ready:
+            print("exited", roslaunch.wait(), flush=True)
+            watched.remove(launch_fd)
+            os.close(launch_fd)
 
 
 def main(argv) -> int:
-    if len(argv) not in (2, 3) or not argv[1].isdigit():
-        print("usage: watchdog.py <roslaunch pid> [<folder to remove afterwards>]", file=sys.stderr)
+    if len(argv) < 4 or not argv[1].isdigit() or argv[2] != "--":
+        print("usage: watchdog.py <program pid> -- <roslaunch command ...>", file=sys.stderr)
         return 2
-    pid = int(argv[1])
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # a terminal's Ctrl-C is for the program, not for this
-    while sys.stdin.buffer.read(4096):
-        pass
-    if alive(pid):
-        stop_tree(pid)
-    if len(argv) == 3 and os.path.basename(argv[2]).startswith("roar_py_ros_"):
-        shutil.rmtree(argv[2], ignore_errors=True)
+    pidfd = watch_program(int(argv[1]))
+    if pidfd is None:
+        return 0
+    log_dir = tempfile.mkdtemp(prefix=LOG_PREFIX)
+    try:
+        roslaunch = start_roslaunch(argv[3:], log_dir)
+        try:
+            print(roslaunch.pid, log_dir, flush=True)
+            wait_for_the_end(pidfd, roslaunch)
+        except BrokenPipeError:
+            pass  # the program is gone before reading the first line: stop all the same
+        finally:
+            stop_tree(roslaunch)
+    finally:
+        shutil.rmtree(log_dir, ignore_errors=True)
     return 0
 
 

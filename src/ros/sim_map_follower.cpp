@@ -11,7 +11,20 @@ SimMapFollower::SimMapFollower(ros::NodeHandle& nh, std::string folder, std::str
   sub_ = nh.subscribe("/roar_sim/map", 1, &SimMapFollower::onMap, this);
 }
 
-void SimMapFollower::onMap(const roar_ros::MapInfo& info) {
+namespace {
+constexpr char kSimNode[] = "/roar_sim";
+}  // namespace
+
+void SimMapFollower::onMap(const ros::MessageEvent<const roar_ros::MapInfo>& event) {
+  if (event.getPublisherName() != kSimNode) {
+    if (!warned_of_other_publisher_) {
+      ROS_WARN("%s: ignoring /roar_sim/map from %s: only roar_sim's map is followed", node_.c_str(),
+               event.getPublisherName().c_str());
+      warned_of_other_publisher_ = true;
+    }
+    return;
+  }
+  const roar_ros::MapInfo& info = *event.getMessage();
   if (info.folder == folder_ && info.generation <= generation_) return;
   std::unique_ptr<track::Track> track;
   try {

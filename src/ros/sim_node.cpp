@@ -10,6 +10,7 @@
 #include <map>
 #include <regex>
 #include <set>
+#include <type_traits>
 
 #include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
@@ -43,6 +44,12 @@ void checkVehicleName(const std::string& name) {
         "name '" + name + "' must start with a letter and hold only letters, digits and underscores (at most 64)");
   }
 }
+
+// Whether a service's reply can say why it was refused (success, message).
+template <class Response, class = void>
+struct HasSuccess : std::false_type {};
+template <class Response>
+struct HasSuccess<Response, std::void_t<decltype(std::declval<Response&>().success)>> : std::true_type {};
 }  // namespace
 
 SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOptions& options)
@@ -73,9 +80,6 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   serveBetweenSteps("set_stepping", &SimNode::onSetStepping);
   serveBetweenSteps("render_sensor", &SimNode::onRenderSensor);
   // These only read the world (or draw over it): answered between the ticks of a long step too.
-  auto serveAnyTime = [this](const char* name, auto handler) {
-    services_.push_back(service_nh_.advertiseService(name, handler, this));
-  };
   serveAnyTime("list_maps", &SimNode::onListMaps);
   serveAnyTime("get_world_info", &SimNode::onGetWorldInfo);
   serveAnyTime("get_geolocation", &SimNode::onGetGeolocation);
@@ -88,7 +92,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
 
 template <class Request, class Response>
 void SimNode::serveBetweenSteps(const std::string& name, bool (SimNode::*handler)(Request&, Response&)) {
-  const boost::function<bool(Request&, Response&)> call = [this, name, handler](Request& req, Response& res) {
+  serve<Request, Response>(name, [this, name, handler](Request& req, Response& res) {
     if (long_step_) {
       return refuse(res, name,
                     "a step of " + std::to_string(long_step_->ticks) + " ticks is running (" +
@@ -96,8 +100,29 @@ void SimNode::serveBetweenSteps(const std::string& name, bool (SimNode::*handler
                         " done): wait for its reply, or end it early with /roar_sim/cancel_step");
     }
     return (this->*handler)(req, res);
-  };
-  services_.push_back(service_nh_.advertiseService(name, call));
+  });
+}
+
+template <class Request, class Response>
+void SimNode::serveAnyTime(const std::string& name, bool (SimNode::*handler)(Request&, Response&)) {
+  serve<Request, Response>(name, [this, handler](Request& req, Response& res) { return (this->*handler)(req, res); });
+}
+
+template <class Request, class Response>
+void SimNode::serve(const std::string& name, const boost::function<bool(Request&, Response&)>& call) {
+  ros::AdvertiseServiceOptions options;
+  options.template init<Request, Response>(name, [this, name, call](Request& req, Response& res) {
+    if (!unread_answers_.overBudget()) return call(req, res);
+    const std::string why = unread_answers_.describe() + ": read them first";
+    if constexpr (HasSuccess<Response>::value) {
+      return refuse(res, name, why);
+    } else {
+      ROAR_WARN_WALL_THROTTLE(1.0, "roar_sim: %s refused: %s", name.c_str(), why.c_str());
+      return false;  // no field to say it in: the call fails
+    }
+  });
+  options.helper = unread_answers_.counting(options.helper);
+  services_.push_back(service_nh_.advertiseService(options));
 }
 
 void SimNode::spinFor(ros::WallDuration timeout) {

@@ -19,6 +19,7 @@
 
 #include "agent_interface.h"
 #include "debug_drawing.h"
+#include "roar/ros/unread_answers.h"
 #include "roar/sensors/ray_scene.h"
 #include "roar/sim/recorder_pacing.h"
 #include "roar/sim/world.h"
@@ -144,6 +145,12 @@ class SimNode {
   // A service that changes the world: refused while a long step runs, saying so.
   template <class Request, class Response>
   void serveBetweenSteps(const std::string& name, bool (SimNode::*handler)(Request&, Response&));
+  // A service that only reads the world (or draws over it): answered between the ticks of a long step too.
+  template <class Request, class Response>
+  void serveAnyTime(const std::string& name, bool (SimNode::*handler)(Request&, Response&));
+  // Every service: refused while unread answers hold more than their budget, its answers counted.
+  template <class Request, class Response>
+  void serve(const std::string& name, const boost::function<bool(Request&, Response&)>& call);
   bool onCancelStep(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
 
   bool onSpawn(roar_ros::SpawnVehicle::Request& req, roar_ros::SpawnVehicle::Response& res);
@@ -187,6 +194,10 @@ class SimNode {
   ros::CallbackQueue service_queue_;
   ros::NodeHandle service_nh_;
   std::vector<ros::ServiceServer> services_;
+  // Camera frames answered to callers that never read them stay in this process: bounded
+  // (test_unread_camera_frames_hold_a_bounded_memory_in_roar_sim).
+  static constexpr std::size_t kUnreadAnswersBudget = std::size_t{128} << 20;
+  UnreadAnswers unread_answers_{kUnreadAnswersBudget};
   struct LongStep {
     std::uint32_t ticks = 0, done = 0;
     bool cancelled = false;

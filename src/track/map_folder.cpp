@@ -66,7 +66,7 @@ CentreLinePoint parseCentreLineRow(const std::vector<std::string>& fields, const
   double v[6] = {0, 0, 0, 0, 0, 0};
   for (std::size_t k = 0; k < fields.size(); ++k) {
     if (!config::parseNumber(fields[k], &v[k]))
-      throw MapError(where + ": column " + kCentreLineColumns[k] + " is not a number: '" + fields[k] + "'");
+      throw MapError(where + ": column " + kCentreLineColumns[k] + " is not a number");
     if (!std::isfinite(v[k])) throw MapError(where + ": column " + kCentreLineColumns[k] + " is not finite");
   }
   for (int k = 2; k < 4; ++k) {
@@ -233,9 +233,16 @@ TrackInfo readTrackYaml(const std::string& path, std::string* centreline, std::s
   std::string file = "centerline.csv";
   top.read("centerline", &file);
   if (file.empty()) top.fail("centerline", "must name the centre-line file");
+  // A map reads its own files only, whoever asks roar_sim to load it (map_folder_test FilesOutsideTheFolder).
+  auto ownFile = [&](const char* field, const std::string& name) {
+    if (name.find('/') != std::string::npos || name == "." || name == "..")
+      top.fail(field, "must be a file name in the map folder, without '/'");
+  };
+  ownFile("centerline", file);
   if (centreline) *centreline = file;
   std::string waypoint_file;
   top.read("waypoints", &waypoint_file);
+  if (!waypoint_file.empty()) ownFile("waypoints", waypoint_file);
   if (waypoints) *waypoints = waypoint_file;
   auto origin = top.child("origin");
   origin.read("latitude", &info.origin.latitude);

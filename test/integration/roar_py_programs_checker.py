@@ -4,7 +4,7 @@ lines changed) as separate processes against the roar_sim of this launch, their 
 display whose keys xdotool holds as a user would, ended by SIGINT (Ctrl-C) as a user ends them. Each test
 checks what the program is for: the car goes where its keys or controller send it, the viewer shows the
 car (CARLA's chase camera sees the car's own body), the waypoint collector's file, the waypoint plots,
-and a remote client driving a car over ROAR_PY's websocket protocol. Screenshots go to
+and a remote client driving a car over ROAR_PY's websocket protocol (then clients back to back). Screenshots go to
 $ROS_HOME/roar_py_programs/."""
 import os
 import shutil
@@ -30,6 +30,29 @@ PACKAGE = rospkg.RosPack().get_path("roar_ros")
 PROGRAMS = os.path.join(PACKAGE, "test", "roar_py_programs")
 VIEWER = "RoarPy Manual Control Viewer"
 SHOTS = os.path.join(os.environ.get("ROS_HOME", "/tmp"), "roar_py_programs")
+
+
+# Clients one after another, each saying goodbye while the next connects (a program that ends as the next
+# starts): each finds run_server's spawn point free of the last one's car.
+BACK_TO_BACK = """
+import asyncio, sys
+from roar_py_remote.services.websocket_service import RoarPyWebsocketClientService
+
+async def main(uri, count):
+    set_up, goodbyes = 0, []
+    for _ in range(count):
+        try:
+            world = await RoarPyWebsocketClientService.connect_to_server(uri)
+            await world.step()
+            set_up += 1
+            goodbyes.append(asyncio.ensure_future(world.close()))
+        except ConnectionError as error:
+            print("refused:", error)
+    await asyncio.gather(*goodbyes)
+    print(f"set up {set_up} of {count}")
+
+asyncio.run(main(sys.argv[1], int(sys.argv[2])))
+"""
 
 
 class Display:
@@ -291,6 +314,9 @@ class RoarPyPrograms(unittest.TestCase):
             while "roar_py_remote_vehicle" in cars():
                 self.assertLess(time.time(), deadline, "the car of a client that left stays")
                 time.sleep(0.2)
+            back_to_back = subprocess.run([sys.executable, "-c", BACK_TO_BACK, f"ws://127.0.0.1:{port}", "8"],
+                                          capture_output=True, text=True, timeout=240)
+            self.assertIn("set up 8 of 8", back_to_back.stdout, back_to_back.stdout + back_to_back.stderr[-2000:])
         finally:
             server_output = server.interrupt()
         for failure in ("ConnectionError", "WireFormatError", "PermissionError"):

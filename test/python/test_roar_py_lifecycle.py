@@ -17,7 +17,12 @@ PROGRAM = """
 import sys, time
 import roar_py_ros
 instance = roar_py_ros.RoarPyRosInstance(map_name="roar_sprint")
-print(instance._private.process.pid, instance._private.log_dir, flush=True)
+if sys.argv[1] == "forked child":
+    import multiprocessing
+    child = multiprocessing.get_context("fork").Process(target=time.sleep, args=(120,), daemon=False)
+    child.start()
+    print(child.pid, end=" ")
+print(instance._private.roslaunch_pid, instance._private.log_dir, flush=True)
 sys.stdin.readline()
 if sys.argv[1] == "exception":
     raise RuntimeError("the program failed")
@@ -32,8 +37,9 @@ def start_program(how: str):
     program = subprocess.Popen([sys.executable, "-c", PROGRAM, how], env=env, stdin=subprocess.PIPE,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     line = program.stdout.readline().split()
-    assert len(line) == 2, f"the program did not start its stack: {program.stderr.read() if program.poll() else ''}"
-    return program, int(line[0]), line[1]
+    assert len(line) == (3 if how == "forked child" else 2), \
+        f"the program did not start its stack: {program.stderr.read() if program.poll() else ''}"
+    return program, int(line[-2]), line[-1], (int(line[0]) if len(line) == 3 else None)
 
 
 def stack_of(roslaunch_pid: int) -> list:
@@ -48,9 +54,11 @@ def stack_of(roslaunch_pid: int) -> list:
     return tree
 
 
-@pytest.mark.parametrize("how", ["exit", "exception", "SIGINT", "SIGTERM", "SIGKILL"])
+@pytest.mark.parametrize("how", ["exit", "exception", "SIGINT", "SIGTERM", "SIGKILL", "forked child"])
 def test_a_program_leaves_nothing_running_however_it_ends(how):
-    program, roslaunch_pid, log_dir = start_program(how)
+    """"forked child": the program has a multiprocessing child (which inherits its pipes) and is SIGKILLed;
+    the stack ends while the child still runs."""
+    program, roslaunch_pid, log_dir, child = start_program(how)
     tree = stack_of(roslaunch_pid)
     names = sorted(open(f"/proc/{p}/comm").read().strip() for p in tree if watchdog.alive(p))
     assert any("roar_sim" in n for n in names) and any("rosmaster" in n or "python" in n for n in names), names
@@ -58,14 +66,72 @@ def test_a_program_leaves_nothing_running_however_it_ends(how):
         program.stdin.write("go\n")
         program.stdin.flush()
     else:
-        program.send_signal(getattr(signal, how))
+        program.send_signal(signal.SIGKILL if how == "forked child" else getattr(signal, how))
     program.wait(timeout=60)
+    try:
+        deadline = time.time() + 30
+        while time.time() < deadline and (any(watchdog.alive(p) for p in tree) or os.path.exists(log_dir)):
+            time.sleep(0.2)
+        left = [p for p in tree if watchdog.alive(p)]
+        assert left == [], f"after {how}: still running {left}"
+        assert not os.path.exists(log_dir), f"after {how}: {log_dir} is left"
+        if child is not None:
+            assert watchdog.alive(child), "the forked child ended early: the test proves nothing"
+    finally:
+        if child is not None and watchdog.alive(child):
+            os.kill(child, signal.SIGKILL)
+
+
+def marked_processes(mark: str) -> list:
+    """The processes whose environment holds ROAR_TEST_MARK=mark: whatever a program started inherits it."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/environ", "rb") as f:
+                    if f"ROAR_TEST_MARK={mark}".encode() in f.read().split(b"\0") and watchdog.alive(int(entry)):
+                        found.append(int(entry))
+            except OSError:
+                continue
+    return found
+
+
+def started_by(pid: int, name: str) -> bool:
+    """Whether a process named `name` (in its command line) runs below pid."""
+    for p in watchdog.descendants(pid):
+        try:
+            with open(f"/proc/{p}/cmdline") as f:
+                if name in f.read():
+                    return True
+        except OSError:
+            continue
+    return False
+
+
+@pytest.mark.parametrize("moment", ["watchdog started", "roslaunch started", "0.05 s", "0.3 s", "1 s"])
+def test_a_program_killed_during_start_up_leaves_nothing_running(moment, tmp_path):
+    """SIGKILL at each moment of start-up, the first two as soon as the process appears: nothing the
+    program started runs 30 s later and no log folder is left."""
+    mark = f"{os.getpid()}-{moment}"
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    env.update(ROAR_TEST_MARK=mark, TMPDIR=str(tmp_path))
+    program = subprocess.Popen([sys.executable, "-c", PROGRAM, "exit"], env=env, stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 60
+    if moment.endswith(" s"):
+        time.sleep(float(moment.split()[0]))
+    else:
+        wanted = "watchdog.py" if moment == "watchdog started" else "roslaunch"
+        while time.time() < deadline and not started_by(program.pid, wanted):
+            pass
+        assert time.time() < deadline, f"{wanted} never started"
+    program.kill()
+    program.wait(timeout=10)
     deadline = time.time() + 30
-    while time.time() < deadline and (any(watchdog.alive(p) for p in tree) or os.path.exists(log_dir)):
+    while time.time() < deadline and (marked_processes(mark) or os.listdir(tmp_path)):
         time.sleep(0.2)
-    left = [p for p in tree if watchdog.alive(p)]
-    assert left == [], f"after {how}: still running {left}"
-    assert not os.path.exists(log_dir), f"after {how}: {log_dir} is left"
+    assert marked_processes(mark) == [], f"killed at {moment}: still running"
+    assert os.listdir(tmp_path) == [], f"killed at {moment}: left {os.listdir(tmp_path)}"
 
 
 STEPPING_PROGRAM = """

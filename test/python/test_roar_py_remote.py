@@ -18,6 +18,7 @@ import pytest
 from PIL import Image
 
 import roar_py_interface as rpi
+from roar_py_interface import space_pickle
 import roar_py_remote
 from roar_py_interface import spaces
 from roar_py_remote import wire
@@ -98,8 +99,12 @@ def test_a_message_that_does_not_fit_names_the_field():
     with pytest.raises(wire.WireFormatError, match="no field 'step'"):
         wire.from_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest,
                           msgpack.packb({"need_init_info": False}, use_bin_type=True))
-    with pytest.raises(wire.WireFormatError, match="not MessagePack"):
+    with pytest.raises(wire.WireFormatError, match=r"not MessagePack \(a byte that starts no MessagePack value\)"):
         wire.from_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest, b"\xc1")
+    with pytest.raises(wire.WireFormatError, match=r"not MessagePack \(nested deeper than the decoder allows\)"):
+        wire.from_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest, b"\x91" * 5000 + b"\xc0")
+    with pytest.raises(wire.WireFormatError, match=r"not MessagePack \(Unpack failed: incomplete input\)"):
+        wire.from_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest, b"\x92\x01")
 
 
 class RunsCode:
@@ -113,8 +118,8 @@ def test_a_pickle_that_is_no_space_is_refused():
     assert not os.path.exists("/tmp/roar_py_remote_was_here")
     with pytest.raises(wire.WireFormatError, match="holds a dict, not a space"):
         wire.unpack_space(packed({"a": 1}))
-    bomb = base64.b64encode(zlib.compress(b"\0" * (wire.MAX_SPACE_BYTES + 1))).decode("ascii")
-    with pytest.raises(wire.WireFormatError, match="more than 16 MiB"):
+    bomb = base64.b64encode(zlib.compress(b"\0" * (space_pickle.MAX_PICKLE_BYTES + 1))).decode("ascii")
+    with pytest.raises(wire.WireFormatError, match=f"more than {space_pickle.MAX_PICKLE_BYTES >> 20} MiB"):
         wire.unpack_space(bomb)
 
 
@@ -123,6 +128,9 @@ def test_spaces_cross_as_gymnasiums_pickles():
                   spaces.Tuple([spaces.Discrete(4, start=2), spaces.MultiBinary(2)])):
         space.sample()  # a sampled space pickles its generator too
         assert wire.unpack_space(wire.pack_space(space)) == space
+    for width, height in ((800, 600), (1920, 1080), (3840, 2160)):  # ROAR_PY's default camera to CARLA's 4K
+        camera = spaces.Box(0, 255, (height, width, 3), dtype=np.uint8)
+        assert wire.unpack_space(wire.pack_space(camera)) == camera
 
 
 def test_readings_cross_as_roar_py_sends_them():
@@ -386,3 +394,185 @@ def test_the_server_listens_on_loopback_unless_told():
 
     assert bound("{}") == "['127.0.0.1']"
     assert bound("{'bind_addr': ''}") == "['0.0.0.0']", "every interface when asked, as ROAR_PY's default"
+
+
+# ---- a hostile server ----------------------------------------------------------------------------------------
+
+HOSTILE_SERVER = r'''
+import asyncio, sys, websockets
+first, later = open(sys.argv[2], "rb").read(), open(sys.argv[3], "rb").read()
+
+async def serve(websocket):
+    await websocket.send(first)
+    async for _ in websocket:
+        await websocket.send(later)
+
+async def main():
+    async with websockets.serve(serve, "127.0.0.1", int(sys.argv[1]), max_size=None):
+        await asyncio.Future()
+
+asyncio.run(main())
+'''
+
+
+class ZeroSizeHugeArray:
+    """Pickles as NumPy's array of 100 million zero-byte values: nothing to send, gigabytes once used."""
+
+    def __reduce__(self):
+        return (np.core.multiarray._reconstruct, (np.ndarray, (0,), b"b"),
+                (1, (100_000_000,), np.dtype("V0"), False, b""))
+
+
+def sensor_message(reading_type, reading, obs_spec=None, stepped=True):
+    """A world message with one sensor on one car, its reading (base64) and observation space as given."""
+    sensor = {"name": "hostile", "control_timestep": 0.0, "last_data": reading, "last_data_type": reading_type,
+              "obs_spec": obs_spec, "is_closed": False}
+    actor = {"name": "car", "control_timestep": 0.05, "sensors_map": {0: sensor}, "is_closed": False,
+             "action_spec": packed(rpi.vehicle_action_spec())}
+    return msgpack.packb({"init_info": {"maneuverable_waypoints": None, "comprehensive_waypoints": None,
+                                        "is_asynchronous": False} if not stepped else None,
+                          "stepped": stepped, "stepped_dt": 0.05, "actor_info_map": {0: actor}, "sensor_info_map": {},
+                          "last_step_t": 1.0}, use_bin_type=True)
+
+
+def jpeg_of_size(width, height) -> bytes:
+    """A JPEG whose header says width x height: a small real one with its frame header patched."""
+    buffer = io.BytesIO()
+    Image.new("RGB", (16, 16)).save(buffer, format="JPEG")
+    data = bytearray(buffer.getvalue())
+    sof = data.index(b"\xff\xc0")
+    data[sof + 5:sof + 9] = height.to_bytes(2, "big") + width.to_bytes(2, "big")
+    return bytes(data)
+
+
+def hostile_attacks():
+    """Each attack: the server's first message, what it sends after each request, what the refusal names."""
+    b64 = lambda data: base64.b64encode(data).decode("ascii")  # noqa: E731
+    runs = msgpack.packb({"flattened": [0.0], "space": zlib.compress(pickle.dumps(RunsCode()))}, use_bin_type=True)
+    huge_box = spaces.Box(0.0, 1.0, (2,))
+    huge_box.__dict__["_shape"] = (100_000_000,)
+    bomb = zlib.compress(b"\0" * (200 << 20), 9)  # 200 MiB from 200 kB
+    quiet = sensor_message("RoarPyLocationInWorldSensorData", None, stepped=False)
+
+    def reading(kind, data):
+        return quiet, sensor_message(kind, b64(data))
+
+    def space(packed_space):
+        first = sensor_message("RoarPyLocationInWorldSensorData", None, packed_space, stepped=False)
+        return first, first
+    return {
+        "a custom lambda reading that runs code": (*reading("RoarPyCustomLambdaSensorData", runs),
+                                                   "RoarPyCustomLambdaSensorData.space"),
+        "an observation space of 100 million values": (*space(packed(huge_box)), "obs_spec: the space"),
+        "an array of 100 million zero-byte values": (*space(packed(ZeroSizeHugeArray())), "dtype of item size 0"),
+        "a zlib bomb as a reading": (*reading("RoarPyLocationInWorldSensorData", bomb), "inflates to more than"),
+        "a JPEG of 12000 x 7400": (*reading("RoarPyCameraSensorDataRGB", jpeg_of_size(12000, 7400)),
+                                   "12000x7400 is more than"),
+        "a JPEG of 196 megapixels": (*reading("RoarPyCameraSensorDataRGB", jpeg_of_size(14000, 14000)),
+                                     f"more than {rpi.sensors.MAX_IMAGE_PIXELS} pixels"),
+    }
+
+
+@pytest.mark.parametrize("attack", list(hostile_attacks()))
+def test_a_hostile_server_cannot_run_code_or_exhaust_a_client(tmp_path, attack):
+    """A server process sends what a hostile server would: the client refuses it with one ConnectionError naming
+    what was sent, runs no code and allocates nothing by it (its peak memory grows by less than 200 MB)."""
+    import resource
+    import time
+
+    first, later, named = hostile_attacks()[attack]
+    (tmp_path / "first").write_bytes(first)
+    (tmp_path / "later").write_bytes(later)
+    (tmp_path / "server.py").write_text(HOSTILE_SERVER)
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    server = subprocess.Popen([sys.executable, str(tmp_path / "server.py"), str(port), str(tmp_path / "first"),
+                               str(tmp_path / "later")])
+    if os.path.exists("/tmp/roar_py_remote_was_here"):
+        os.remove("/tmp/roar_py_remote_was_here")
+    try:
+        deadline = time.time() + 60
+        while True:  # the server starting (slowly on a loaded machine)
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                assert time.time() < deadline and server.poll() is None, "the hostile server did not start"
+                time.sleep(0.05)
+        peak_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+
+        async def connect_and_step():
+            world = await roar_py_remote.RoarPyWebsocketClientService.connect_to_server(f"ws://127.0.0.1:{port}")
+            await world.step()
+            await world.get_actors()[0].get_sensors()[0].receive_observation()
+
+        with pytest.raises(ConnectionError) as refused:
+            asyncio.run(connect_and_step())
+    finally:
+        server.kill()
+        server.wait()
+    assert named in str(refused.value), refused.value
+    assert not os.path.exists("/tmp/roar_py_remote_was_here"), "the server ran code in the client"
+    grown_mb = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - peak_before) / 1024
+    assert grown_mb < 200, f"the client's peak memory grew by {grown_mb:.0f} MB"
+
+
+def test_a_huge_finite_action_is_clamped_not_the_end_of_the_session():
+    """A throttle of 1e39 is finite as sent but not in float32: it reaches the car clamped to the action space's
+    range, as CARLA clamps a control, and the client's session goes on."""
+    world = ToyWorld()
+    car = world.spawn_vehicle("car")
+    wrapper = roar_py_remote.RoarPyRemoteServerActorWrapper(car)
+    spec = car.get_action_spec()
+    flat = np.full(spaces.flatdim(spec), 1e39)
+    request = roar_py_remote.RoarPyRemoteActorObsInfoRequest(close=False, sensors_request={},
+                                                             need_action_space_spec=False, action=flat)
+    assert wrapper._depack_info(request)
+    asyncio.run(wrapper.receive_observation())
+    action = car.actions[-1]
+    assert all(np.all(np.isfinite(np.asarray(v, dtype=np.float64))) for v in action.values()), action
+    assert spec.contains(action), action
+    assert not car.is_closed()
+
+
+def test_a_client_that_never_reads_or_floods_is_dropped_and_the_others_go_on():
+    """A client that sends its requests and never reads its answers, and one that floods requests, hold up no
+    one: each is dropped (its car closed), and a steady client steps on."""
+    import websockets
+
+    world = ToyWorld()
+    request = wire.to_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest(
+        need_init_info=True, step=True, actor_request_map={}, sensor_request_map={}))
+
+    async def bad_and_good(uri):
+        never_reads = await websockets.connect(uri, max_size=None, max_queue=1)
+        floods = await websockets.connect(uri, max_size=None)
+
+        async def send_and_never_read():
+            try:
+                while True:
+                    await never_reads.send(request)
+                    await asyncio.sleep(0.02)
+            except websockets.exceptions.ConnectionClosed:
+                pass
+
+        rude = asyncio.ensure_future(send_and_never_read())
+        await asyncio.gather(*(floods.send(request) for _ in range(1000)), return_exceptions=True)
+        steady = await roar_py_remote.RoarPyWebsocketClientService.connect_to_server(uri)
+        dts = []
+        # Until the server has dropped the one that never reads (its answers unread, then its pings): a
+        # keepalive's 15 s; given up after 40 s.
+        give_up = asyncio.get_running_loop().time() + 40.0
+        while not world.cars[0].is_closed() and asyncio.get_running_loop().time() < give_up:
+            dts.append(await asyncio.wait_for(steady.step(), 60))
+            await asyncio.sleep(0.01)
+        rude.cancel()
+        closed = [c.is_closed() for c in world.cars]
+        await steady.close()
+        return dts, closed
+
+    dts, closed = asyncio.run(with_server(world, bad_and_good, sync_wait_time_max=0.5))
+    assert len(dts) >= 20 and all(dt > 0 for dt in dts), "the steady client stepped on meanwhile"
+    assert closed[:2] == [True, True], "the client that never reads and the flooding one were dropped"
+    assert closed[2] is False

@@ -410,6 +410,95 @@ def test_debug_drawing(world):
     world.clear_debug()
 
 
+def unread_render_request(vehicle: str, sensor: str):
+    """A connection to /roar_sim/render_sensor that asks for a frame and never reads the answer (a caller
+    that is stuck, or hostile)."""
+    import io
+    import socket
+    import struct
+
+    import rosgraph
+    from roar_ros.srv import RenderSensor
+
+    host, port = rosgraph.Master("/unread").lookupService("/roar_sim/render_sensor")[len("rosrpc://"):].split(":")
+    fields = {"callerid": "/unread_caller", "service": "/roar_sim/render_sensor", "md5sum": RenderSensor._md5sum}
+    header = b"".join(struct.pack("<I", len(f"{k}={v}")) + f"{k}={v}".encode() for k, v in fields.items())
+    body = io.BytesIO()
+    RenderSensor._request_class(vehicle=vehicle, sensor=sensor).serialize(body)
+    connection = socket.create_connection((host, int(port)))
+    connection.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    connection.sendall(struct.pack("<I", len(header)) + header + struct.pack("<I", len(body.getvalue())) + body.getvalue())
+    return connection
+
+
+def roar_sim_rss_mb() -> float:
+    import xmlrpc.client
+
+    import rosgraph
+
+    pid = xmlrpc.client.ServerProxy(rosgraph.Master("/rss").lookupNode("/roar_sim")).getPid("/rss")[2]
+    with open(f"/proc/{pid}/status") as f:
+        return next(int(line.split()[1]) for line in f if line.startswith("VmRSS:")) / 1024
+
+
+def test_unread_camera_frames_hold_a_bounded_memory_in_roar_sim(world):
+    from roar_ros.srv import RenderSensor
+
+    car = spawn(world)
+    camera = car.attach_camera_sensor(RGB, np.array([-4.8, 0.0, 1.8]), np.zeros(3), image_width=1600,
+                                      image_height=1200, name="big")
+    run(world.step())
+    call = dict(vehicle=car.ros_name, sensor=camera.sim_name)
+    assert world._services.call("/roar_sim/render_sensor", RenderSensor, check=False, **call).success
+    before = roar_sim_rss_mb()
+    frame_mb = 1600 * 1200 * 3 / 1e6
+    unread = [unread_render_request(**call) for _ in range(48)]  # 276 MB of frames if all were kept
+    try:
+        deadline = time.time() + 60
+        refusal = None
+        while time.time() < deadline and refusal is None:
+            answer = world._services.call("/roar_sim/render_sensor", RenderSensor, check=False, **call)
+            refusal = None if answer.success else answer.message
+            time.sleep(0.2)
+        assert refusal is not None and "unread by their callers" in refusal, refusal
+        grown = roar_sim_rss_mb() - before
+        assert grown < 128 * 1.05 + 4 * frame_mb, f"roar_sim grew by {grown:.0f} MB (at most 134 MB unread)"
+    finally:
+        for connection in unread:
+            connection.close()
+    deadline = time.time() + 30
+    while time.time() < deadline:
+        if world._services.call("/roar_sim/render_sensor", RenderSensor, check=False, **call).success:
+            break
+        time.sleep(0.2)
+    else:
+        pytest.fail("rendering stays refused after the unread callers are gone")
+
+
+def test_a_map_published_by_another_node_is_not_followed(world):
+    import rospy
+    from roar_ros.msg import MapInfo
+    from roar_ros.srv import GetWaypoints
+
+    def served():
+        answer = world._services.call("/waypoint_server/get_waypoints", GetWaypoints, from_s=0.0, length=0.0)
+        return [(w.location.x, w.location.y) for w in answer.waypoints]
+
+    before = served()
+    monza = os.path.join(str(connection.package_root()), "maps", "monza")
+    fake = rospy.Publisher("/roar_sim/map", MapInfo, queue_size=1, latch=True)
+    try:
+        deadline = time.time() + 10
+        while fake.get_num_connections() < 1 and time.time() < deadline:  # waypoint_server
+            time.sleep(0.05)
+        assert fake.get_num_connections() >= 1, "waypoint_server never subscribed: the test proves nothing"
+        fake.publish(MapInfo(name="Monza", folder=monza, generation=999))
+        time.sleep(2.0)  # waypoint_server reads Monza in well under this when it follows
+        assert served() == before, "waypoint_server followed a map roar_sim never loaded"
+    finally:
+        fake.unregister()
+
+
 def test_roar_sim_gone_away_is_an_exception_naming_it(instance, world):
     car = spawn(world)
     if instance._private is None:

@@ -264,6 +264,25 @@ TEST(MapFolder, TrackYamlErrorsNameTheField) {
   EXPECT_NE(msg.find("unknown map 'no_such_map'"), std::string::npos) << msg;
 }
 
+TEST(MapFolder, FilesOutsideTheFolderAreNotReadAndContentIsNotQuoted) {
+  TempDir dir;
+  const auto secret = dir.write("secret.txt", "root:x:0:0:root:/root:/bin/bash\n");
+  fs::create_directory(fs::path(dir.str()) / "map");
+  const std::string map = (fs::path(dir.str()) / "map").string();
+  for (const std::string& named : {std::string("../secret.txt"), secret, std::string(".."), std::string("sub/c.csv")}) {
+    std::ofstream(map + "/track.yaml") << "centerline: '" << named << "'\n";
+    const auto msg = errorOf([&] { track::loadMapFolder(map); });
+    EXPECT_NE(msg.find("track.yaml: centerline: must be a file name in the map folder"), std::string::npos) << msg;
+  }
+  std::ofstream(map + "/track.yaml") << "waypoints: /etc/passwd\n";
+  EXPECT_NE(errorOf([&] { track::loadMapFolder(map); }).find("waypoints: must be a file name in the map folder"),
+            std::string::npos);
+  // A file that is no centre line is named with its line and column, never with what it holds.
+  const auto text = dir.write("t.csv", "root:x:0:0,secret,5,5\n100,0,5,5\n100,100,5,5\n");
+  const auto msg = errorOf([&] { track::readCentreLineCsv(text); });
+  EXPECT_EQ(msg, text + ":1: column x_m is not a number");
+}
+
 TEST(MapFolder, CsvRoundTrip) {
   TempDir dir;
   const auto track = test::circleTrack(40.0);

@@ -191,7 +191,13 @@ class RoarPyRemoteServerActorWrapper(rpi.RoarPyActorWrapper, RoarPyObjectWithRem
                 _log.warning("actor '%s': dropped an action of %d value(s) (finite: %s); its space flattens to %d",
                              self.name, flat.size, bool(np.all(np.isfinite(flat))), spaces.flatdim(spec))
             return None
-        return spaces.unflatten(spec, flat)
+        # Clamped to the space's range, as CARLA clamps a control, so that no finite value overflows its dtype
+        # (test_roar_py_remote test_a_huge_finite_action_is_clamped_not_the_end_of_the_session).
+        bounds = spaces.flatten_space(spec)
+        limit = float(np.finfo(np.float32).max)
+        low = np.maximum(np.asarray(bounds.low, dtype=np.float64), -limit)
+        high = np.minimum(np.asarray(bounds.high, dtype=np.float64), limit)
+        return spaces.unflatten(spec, np.clip(flat, low, high))
 
     def _depack_info(self, data: RoarPyRemoteActorObsInfoRequest) -> bool:
         self._next_action = None if data.action is None else self._unflattened(data.action)

@@ -5,6 +5,7 @@ world (``initialize_streamed_world`` may spawn its car and sensors there) and an
 tick. It listens on loopback unless given an address (``bind_addr=""`` is every interface, ROAR_PY's
 default). ``RoarPyWebsocketClientService.connect_to_server`` returns the client's world.
 """
+import asyncio
 import logging
 import typing
 
@@ -22,7 +23,9 @@ from .common import RoarPyRemoteClientWorldWithStreamClient
 _log = logging.getLogger("roar_py_remote")
 LOOPBACK = "127.0.0.1"
 MAX_REQUEST_BYTES = 1 << 20   # a client's request: actions and flags, a few hundred bytes
-MAX_MESSAGE_BYTES = 1 << 28   # the server's answer: camera frames, and the waypoints once
+MAX_MESSAGE_BYTES = 32 << 20  # the server's answer: camera frames, and the waypoints once (about 1 MB on Monza)
+KEEPALIVE_S = 5.0
+SETTLE_S = 1.0  # at most, a new client's set-up waits for a tick
 
 
 class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingService):
@@ -30,12 +33,14 @@ class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingSer
         super().__init__()
         self.server_world_manager = server_world_manager
         self._client_to_world_map: typing.Dict[typing.Any, RoarPyRemoteServerWorldWrapper] = {}
+        self._ticked: typing.Optional[asyncio.Event] = None  # set after each tick of run_server
 
     async def initialize_streamed_world(self, client, world: rpi.RoarPyWorld) -> bool:
         """Override: prepare a new client's world (spawn its car, attach its sensors); False turns it away."""
         return True
 
     async def generate_streamable_object(self, client) -> typing.Optional[RoarPyObjectWithRemoteMessage]:
+        await self._let_the_departed_leave()
         masked_world = self.server_world_manager.get_world()
         try:
             accepted = await self.initialize_streamed_world(client, masked_world)
@@ -52,6 +57,21 @@ class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingSer
     async def client_disconnected(self, client):
         await super().client_disconnected(client)
         self._client_to_world_map.pop(client, None)
+
+    async def _let_the_departed_leave(self):
+        """A client that has just said goodbye still has its car until its handler runs: a new client's
+        set-up waits for the next tick (where goodbyes arrive) and closes the cars of clients whose
+        connections are closing, so that a program spawning where the last one did finds the place free
+        (test_roar_py_remote test_back_to_back_clients_find_the_spawn_point_free)."""
+        if self._ticked is not None:
+            self._ticked.clear()
+            try:
+                await asyncio.wait_for(self._ticked.wait(), SETTLE_S)
+            except asyncio.TimeoutError:
+                pass
+        for other in list(self._client_to_world_map):
+            if not getattr(other, "open", True):
+                await self.client_disconnected(other)
 
     async def _websocket_handler(self, websocket):
         try:
@@ -71,11 +91,15 @@ class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingSer
     async def run_server(self, bind_addr: typing.Optional[str] = None, bind_port: int = 80):
         """Serves until cancelled (or the world fails): steps the shared world and answers the clients."""
         host = LOOPBACK if bind_addr is None else bind_addr
-        async with websockets.serve(self._websocket_handler, host, bind_port, max_size=MAX_REQUEST_BYTES):
+        # Pings every 5 s, answered within 10 s: a client gone silent is closed within seconds.
+        async with websockets.serve(self._websocket_handler, host, bind_port, max_size=MAX_REQUEST_BYTES,
+                                    ping_interval=KEEPALIVE_S, ping_timeout=2 * KEEPALIVE_S):
             _log.info("serving ROAR_PY's remote protocol on ws://%s:%d", host or "0.0.0.0", bind_port)
+            self._ticked = asyncio.Event()
             while True:
                 await self.server_world_manager._step()
                 await self.tick()
+                self._ticked.set()
 
 
 class RoarPyWebsocketClientWorldWithStreamClient(RoarPyRemoteClientWorldWithStreamClient):

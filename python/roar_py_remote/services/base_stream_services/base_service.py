@@ -13,10 +13,17 @@ _log = logging.getLogger("roar_py_remote")
 _CommT = typing.TypeVar("_CommT")
 
 
+# Requests a client may send before it has read the answers to the ones before: ROAR_PY's client sends one a
+# step and waits for its answer; one that floods is dropped (test_roar_py_remote
+# test_a_client_that_never_reads_or_floods_is_dropped_and_the_others_go_on).
+MAX_UNANSWERED_REQUESTS = 8
+
+
 class RoarPyStreamingService(typing.Generic[_CommT]):
     def __init__(self):
         self.client_to_stream_object: typing.Dict[_CommT, RoarPyObjectWithRemoteMessage] = {}
         self.next_update_client: typing.List[_CommT] = []
+        self._unanswered: typing.Dict[_CommT, int] = {}
 
     async def send_message_to_client(self, client: _CommT, message: bytes):
         pass
@@ -36,6 +43,7 @@ class RoarPyStreamingService(typing.Generic[_CommT]):
         self.next_update_client.append(client)
 
     async def client_disconnected(self, client: _CommT):
+        self._unanswered.pop(client, None)
         stream_object = self.client_to_stream_object.pop(client, None)
         if client in self.next_update_client:
             self.next_update_client.remove(client)
@@ -51,6 +59,11 @@ class RoarPyStreamingService(typing.Generic[_CommT]):
         stream_object = self.client_to_stream_object.get(client)
         if stream_object is None:
             return
+        unanswered = self._unanswered.get(client, 0) + 1
+        if unanswered > MAX_UNANSWERED_REQUESTS:
+            await self._drop_client(client, f"it sent {unanswered} requests without reading their answers")
+            return
+        self._unanswered[client] = unanswered
         try:
             stream_object._depack_info(wire.from_msgpack(stream_object._in_msg_type, message))
         except Exception as error:  # noqa: BLE001 - one client's bad message must not stop the server
@@ -63,6 +76,8 @@ class RoarPyStreamingService(typing.Generic[_CommT]):
         due = [(c, o) for c, o in list(self.client_to_stream_object.items()) if c in self.next_update_client]
         # Requests that arrive while this tick runs are answered on the next.
         self.next_update_client = [c for c in self.next_update_client if all(c is not d for d, _ in due)]
+        for client, _ in due:
+            self._unanswered[client] = 0  # answered now; what it sends next is its next request
         results = await asyncio.gather(*(o._tick_remote() for _, o in due), return_exceptions=True)
         messages = []
         for (client, stream_object), result in zip(due, results):
