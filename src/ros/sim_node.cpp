@@ -126,10 +126,10 @@ void SimNode::serve(const std::string& name, const boost::function<bool(Request&
 }
 
 void SimNode::spinFor(ros::WallDuration timeout) {
-  // The topics' queue is waited on a few milliseconds at most: a service request waits no longer.
-  constexpr double kServiceLatency = 0.005;  // s
+  // A service request's arrival ends the wait on the topics' queue (WakingCallbackQueue).
   service_queue_.callAvailable(ros::WallDuration(0));
-  ros::getGlobalCallbackQueue()->callAvailable(std::min(timeout, ros::WallDuration(kServiceLatency)));
+  ros::getGlobalCallbackQueue()->callAvailable(timeout);
+  service_queue_.callAvailable(ros::WallDuration(0));
 }
 
 std::string SimNode::modeName() const {

@@ -20,6 +20,7 @@
 #include "agent_interface.h"
 #include "debug_drawing.h"
 #include "roar/ros/unread_answers.h"
+#include "roar/ros/waking_queue.h"
 #include "roar/sensors/ray_scene.h"
 #include "roar/sim/recorder_pacing.h"
 #include "roar/sim/world.h"
@@ -190,8 +191,9 @@ class SimNode {
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   // The services have a queue of their own, so that between the ticks of a long step they are answered
-  // while the topics (drivers' controls) wait for the step's end (service_inputs rostest).
-  ros::CallbackQueue service_queue_;
+  // while the topics (drivers' controls) wait for the step's end (service_inputs rostest); a request's
+  // arrival wakes the wait on the topics' queue, so that it is answered at once.
+  WakingCallbackQueue service_queue_{ros::getGlobalCallbackQueue()};
   ros::NodeHandle service_nh_;
   std::vector<ros::ServiceServer> services_;
   // Camera frames answered to callers that never read them stay in this process: bounded

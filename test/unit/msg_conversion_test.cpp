@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <boost/make_shared.hpp>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <thread>
 
 #include <roar_ros/ControllerConfig.h>
 
@@ -11,6 +14,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/track_msg_conversion.h"
+#include "roar/ros/waking_queue.h"
 #include "roar/track/bridges.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
@@ -338,4 +342,32 @@ TEST(MsgConversion, ManoeuvreMarkersShowTheDecisionAndEachPrediction) {
     }
   }
   EXPECT_NE(m.markers[2].id, m.markers[4].id) << "one marker per predicted car";
+}
+
+// roar_sim waits on its topics' queue; a service request arriving in its own queue ends that wait at once
+// rather than at the wait's end.
+TEST(WakingCallbackQueue, ServiceRequestsWakeTheTopicsWait) {
+  ros::CallbackQueue topics;
+  roar::ros_bridge::WakingCallbackQueue services(&topics);
+  struct Counted : ros::CallbackInterface {
+    int* calls;
+    explicit Counted(int* c) : calls(c) {}
+    CallResult call() override {
+      ++*calls;
+      return Success;
+    }
+  };
+  int calls = 0;
+  std::thread request([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    services.addCallback(boost::make_shared<Counted>(&calls));
+  });
+  const ros::WallTime start = ros::WallTime::now();
+  topics.callAvailable(ros::WallDuration(60.0));  // returns once something arrives
+  const double waited = (ros::WallTime::now() - start).toSec();
+  request.join();
+  EXPECT_LT(waited, 30.0) << "the topics' wait ran its full length";
+  EXPECT_EQ(calls, 0) << "the request is answered from its own queue, not the topics'";
+  services.callAvailable(ros::WallDuration(0));
+  EXPECT_EQ(calls, 1);
 }
