@@ -510,3 +510,14 @@ def test_the_visualizer_pastes_cameras_left_and_maps_right():
     assert picture.shape == (60, 80, 3)
     assert picture[0, 79, 0] == 255 and picture[30, 30, 0] == 10
     assert rpi.RoarPyVisualizer(FakeVehicle()).render() is None
+
+
+def test_what_roar_programs_import_beside_roar_py_is_installed():
+    """scripts/setup installs what ROAR's entries and ROAR_PY_RL import next to ROAR_PY (Debian's builds)."""
+    import importlib
+    for module in ("cv2", "transforms3d", "scipy.spatial.transform", "matplotlib.pyplot", "nest_asyncio",
+                   "shapely.geometry", "pygame", "websockets", "msgpack"):
+        assert importlib.import_module(module) is not None, module
+    import cv2
+    image = cv2.cvtColor(np.zeros((4, 6, 3), np.uint8), cv2.COLOR_RGB2GRAY)
+    assert image.shape == (4, 6)

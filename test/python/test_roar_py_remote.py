@@ -396,6 +396,52 @@ def test_the_server_listens_on_loopback_unless_told():
     assert bound("{'bind_addr': ''}") == "['0.0.0.0']", "every interface when asked, as ROAR_PY's default"
 
 
+ACROSS_THE_NETWORK = """
+import asyncio, os, subprocess, sys
+sys.path.insert(0, sys.argv[1])
+import websockets
+import roar_py_remote, test_roar_py_remote as t
+from roar_py_remote import wire
+ADDRESS = "10.200.0.1"  # of a veth interface in this network namespace: not loopback
+for command in ("ip link set lo up", "ip link add roar0 type veth peer name roar1",
+                f"ip addr add {ADDRESS}/24 dev roar0", "ip link set roar0 up", "ip link set roar1 up"):
+    subprocess.run(command.split(), check=True)
+async def reached(**where):
+    port = t.free_port()
+    manager = roar_py_remote.RoarPyRemoteServerWorldManager(t.ToyWorld(), False)
+    server = asyncio.ensure_future(t.ToyServer(manager).run_server(bind_port=port, **where))
+    await asyncio.sleep(0.3)
+    try:
+        async with websockets.connect(f"ws://{ADDRESS}:{port}", open_timeout=10) as client:
+            await client.send(wire.to_msgpack(roar_py_remote.RoarPyRemoteWorldObsInfoRequest(
+                need_init_info=True, step=True, actor_request_map={}, sensor_request_map={})))
+            return len(await asyncio.wait_for(client.recv(), 10)) > 0
+    except OSError:
+        return False
+    finally:
+        server.cancel()
+        await asyncio.gather(server, return_exceptions=True)
+os.environ.pop("ROAR_PY_REMOTE_BIND", None)
+print("unasked", asyncio.run(reached()))
+print("asked", asyncio.run(reached(bind_addr="")))
+os.environ["ROAR_PY_REMOTE_BIND"] = "0.0.0.0"
+print("by the environment", asyncio.run(reached()))
+"""
+
+
+def test_other_machines_reach_the_server_only_when_asked():
+    """In a network namespace of its own, a client at a non-loopback address of the server's machine reaches a
+    server whose program passed no address only when ROAR_PY_REMOTE_BIND says so, or when the program asks
+    for every interface (ROAR_PY's run_server(bind_addr=""))."""
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}  # the tests' loopback shim
+    out = subprocess.run(["unshare", "--net", sys.executable, "-c", ACROSS_THE_NETWORK, os.path.dirname(__file__)],
+                         env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert out.stdout.split("\n")[:3] == ["unasked False", "asked True", "by the environment True"], out.stdout
+    assert "clients on other machines cannot connect (ROAR_PY_REMOTE_BIND=0.0.0.0" in out.stderr, out.stderr
+    assert "anyone who reaches it can drive a car here" in out.stderr, out.stderr
+
+
 # ---- a hostile server ----------------------------------------------------------------------------------------
 
 HOSTILE_SERVER = r'''

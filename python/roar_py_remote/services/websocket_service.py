@@ -2,11 +2,12 @@
 
 The server (``RoarPyWebsocketServerService``) gives each client that connects a view of the shared
 world (``initialize_streamed_world`` may spawn its car and sensors there) and answers its requests each
-tick. It listens on loopback unless given an address (``bind_addr=""`` is every interface, ROAR_PY's
-default). ``RoarPyWebsocketClientService.connect_to_server`` returns the client's world.
+tick. It listens where the program says (``bind_addr=""`` is every interface, ROAR_PY's default), else where
+``ROAR_PY_REMOTE_BIND`` says, else on loopback only. ``RoarPyWebsocketClientService.connect_to_server`` returns the client's world.
 """
 import asyncio
 import logging
+import os
 import typing
 
 import websockets
@@ -22,6 +23,7 @@ from .common import RoarPyRemoteClientWorldWithStreamClient
 
 _log = logging.getLogger("roar_py_remote")
 LOOPBACK = "127.0.0.1"
+BIND_VARIABLE = "ROAR_PY_REMOTE_BIND"  # where a server listens when its program gives no address
 MAX_REQUEST_BYTES = 1 << 20   # a client's request: actions and flags, a few hundred bytes
 MAX_MESSAGE_BYTES = 32 << 20  # the server's answer: camera frames, and the waypoints once (about 1 MB on Monza)
 KEEPALIVE_S = 5.0
@@ -90,7 +92,7 @@ class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingSer
 
     async def run_server(self, bind_addr: typing.Optional[str] = None, bind_port: int = 80):
         """Serves until cancelled (or the world fails): steps the shared world and answers the clients."""
-        host = LOOPBACK if bind_addr is None else bind_addr
+        host = serving_address(bind_addr, bind_port)
         # Pings every 5 s, answered within 10 s: a client gone silent is closed within seconds.
         async with websockets.serve(self._websocket_handler, host, bind_port, max_size=MAX_REQUEST_BYTES,
                                     ping_interval=KEEPALIVE_S, ping_timeout=2 * KEEPALIVE_S):
@@ -100,6 +102,23 @@ class RoarPyWebsocketServerService(websocket_service.RoarPyWebsocketStreamingSer
                 await self.server_world_manager._step()
                 await self.tick()
                 self._ticked.set()
+
+
+def serving_address(bind_addr: typing.Optional[str], bind_port: int) -> str:
+    """Where the server listens: the program's address, else ROAR_PY_REMOTE_BIND's, else loopback only. Said
+    in the log either way, so that nobody serves the network unknowingly or wonders why no client reaches
+    them (test_roar_py_remote test_other_machines_reach_the_server_only_when_asked)."""
+    if bind_addr is None:
+        bind_addr = os.environ.get(BIND_VARIABLE)
+    if bind_addr is None:
+        _log.warning("serving on %s:%d only: clients on other machines cannot connect (%s=0.0.0.0 or "
+                     "run_server(bind_addr=\"\") serves every interface, as ROAR_PY does)", LOOPBACK, bind_port,
+                     BIND_VARIABLE)
+        return LOOPBACK
+    if bind_addr in ("", "0.0.0.0", "::"):
+        _log.warning("serving on every interface, port %d: anyone who reaches it can drive a car here",
+                     bind_port)
+    return bind_addr
 
 
 class RoarPyWebsocketClientWorldWithStreamClient(RoarPyRemoteClientWorldWithStreamClient):
