@@ -11,7 +11,8 @@ shapely_names.install()
 
 from . import transforms  # noqa: E402,F401
 from .actors import (RoarPyActor, RoarPyBaseVehicle, RoarPyResettableActor, RoarPyVehicleAutoGearActor,  # noqa: E402,F401
-                     RoarPyVehicleManualGearActor, observation_keys, vehicle_action_spec)
+                     RoarPyVehicleManualGearActor, observation_keys, propose_name_and_modify_dict,
+                     propose_name_and_modify_list, vehicle_action_spec)
 from .base import (RoarPyRemoteSupportedSensorData, RoarPyRemoteSupportedSensorSerializationScheme,  # noqa: E402,F401
                    RoarPySensor, remote_support_sensor_data_register)
 from .occupancy_map import RoarPyOccupancyMapProducer  # noqa: E402,F401

@@ -27,6 +27,36 @@ def observation_keys(sensors: typing.Sequence[RoarPySensor]) -> typing.List[str]
     return keys
 
 
+def _free_numbered_name(taken, new_name: str, counter: int) -> str:
+    while f"{new_name}_{counter}" in taken:
+        counter += 1
+    return f"{new_name}_{counter}"
+
+
+def propose_name_and_modify_dict(diction: dict, new_name: str, counter: int = 0) -> str:
+    """ROAR_PY's key for another sensor named new_name in diction: new_name if free; else the one there
+    becomes new_name_1 (moved in diction) and this one new_name_2, _3, ..."""
+    if counter >= 1:
+        return _free_numbered_name(diction, new_name, counter)
+    if f"{new_name}_1" not in diction:
+        if new_name not in diction:
+            return new_name
+        diction[f"{new_name}_1"] = diction.pop(new_name)
+    return _free_numbered_name(diction, new_name, 2)
+
+
+def propose_name_and_modify_list(list_of_names: list, new_name: str, counter: int = 0) -> str:
+    """propose_name_and_modify_dict for a list of keys: a name moved to new_name_1 goes to the list's end."""
+    if counter >= 1:
+        return _free_numbered_name(list_of_names, new_name, counter)
+    if f"{new_name}_1" not in list_of_names:
+        if new_name not in list_of_names:
+            return new_name
+        list_of_names.remove(new_name)
+        list_of_names.append(f"{new_name}_1")
+    return _free_numbered_name(list_of_names, new_name, 2)
+
+
 class RoarPyObservation(dict):
     """An actor's observation: a dict of each sensor's reading by its key. A sensor left with the default
     name of ROAR_PY's CARLA backend (carla_camera, carla_lidar_sensor, ...) can also be read by its kind
@@ -106,8 +136,9 @@ class RoarPyActor:
 
     def get_gym_observation_spec(self) -> spaces.Space:
         sensors = list(self.get_sensors())
-        return spaces.Dict(collections.OrderedDict(
-            (key, s.get_gym_observation_spec()) for key, s in zip(observation_keys(sensors), sensors)))
+        # A plain dict, which gymnasium's Dict sorts by key as over ROAR_PY: flattened observations are laid
+        # out as over CARLA (test_roar_py_interface test_an_observation_space_is_sorted_by_key_as_roar_pys).
+        return spaces.Dict({key: s.get_gym_observation_spec() for key, s in zip(observation_keys(sensors), sensors)})
 
     async def receive_observation(self) -> typing.Dict[str, typing.Any]:
         sensors = list(self.get_sensors())

@@ -521,3 +521,26 @@ def test_what_roar_programs_import_beside_roar_py_is_installed():
     import cv2
     image = cv2.cvtColor(np.zeros((4, 6, 3), np.uint8), cv2.COLOR_RGB2GRAY)
     assert image.shape == (4, 6)
+
+
+def test_an_observation_space_is_sorted_by_key_as_roar_pys():
+    """ROAR_PY builds a plain dict, which gymnasium's Dict sorts: a flattened observation is laid out by key,
+    whatever order the sensors came in."""
+    vehicle = FakeVehicle()
+    vehicle.sensors = [FakeSensor("velocity", (7.0, 8.0, 9.0)), FakeSensor("location", (1.0, 2.0, 3.0))]
+    spec = vehicle.get_gym_observation_spec()
+    assert list(spec.keys()) == ["location", "velocity"]
+    asyncio.run(vehicle.receive_observation())
+    flat = rpi.spaces.flatten(spec, vehicle.get_last_gym_observation())
+    assert np.allclose(flat, [1, 2, 3, 7, 8, 9])
+
+
+def test_propose_name_moves_the_first_of_a_repeated_name_as_roar_pys():
+    keys = {"cam": "first"}
+    assert rpi.propose_name_and_modify_dict(keys, "cam") == "cam_2" and keys == {"cam_1": "first"}
+    keys["cam_2"] = "second"
+    assert rpi.propose_name_and_modify_dict(keys, "cam") == "cam_3" and list(keys) == ["cam_1", "cam_2"]
+    assert rpi.propose_name_and_modify_dict(keys, "gps") == "gps"
+    names = ["cam", "gps"]
+    assert rpi.propose_name_and_modify_list(names, "cam") == "cam_2" and names == ["gps", "cam_1"]
+    assert rpi.propose_name_and_modify_list(names, "lidar") == "lidar" and names == ["gps", "cam_1"]
