@@ -145,10 +145,20 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     def control_timestep(self) -> float:
         return self._control_dt
 
+    @control_timestep.setter
+    def control_timestep(self, control_timestep: float):
+        """As ROAR_PY's: the same number of substeps in the new control step."""
+        substeps = max(1, round(self._control_dt / self._physics_dt))
+        self.set_control_steps(control_timestep, control_timestep / substeps)
+
     @property
     def contorl_subtimestep(self) -> float:
         """ROAR_PY's spelling."""
         return self._physics_dt
+
+    @contorl_subtimestep.setter
+    def contorl_subtimestep(self, contorl_subtimestep: float):
+        self.set_control_steps(self._control_dt, contorl_subtimestep)
 
     control_subtimestep = contorl_subtimestep
 
@@ -270,9 +280,10 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     @rpi.roar_py_thread_sync
     def spawn_vehicle(self, blueprint_id: str, location: np.ndarray, roll_pitch_yaw: np.ndarray,
                       auto_gear: bool = True, name: str = "carla_vehicle", rgba: typing.Optional[np.ndarray] = None
-                      ) -> RoarPyRosVehicle:
+                      ) -> typing.Optional[RoarPyRosVehicle]:
         """A car of a blueprint (see get_blueprints) at location and roll_pitch_yaw as given, as CARLA spawns
-        it: above the road it falls onto it (never below it). rgba: 0..255."""
+        it: above the road it falls onto it (never below it). rgba: 0..255. None where another car stands
+        or there is no ground, as CARLA's try_spawn_actor (with a warning)."""
         self._check_open()
         from geometry_msgs.msg import Pose
         from roar_ros.srv import GetWorldInfo, SpawnVehicle
@@ -304,6 +315,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         response = self._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=ros_name,
                                        model=str(blueprint_id), spawn_point=-1, pose=pose, as_given=True,
                                        colour=colour)
+        if not response.success and "cannot place" in response.message:
+            # CARLA's try_spawn_actor gives None where the place is taken, and programs check for it.
+            warnings.warn(f"spawn_vehicle('{blueprint_id}'): {response.message}: None, as CARLA returns",
+                          conversions.RoarPyCompatibilityWarning, stacklevel=4)
+            return None
         if not response.success:
             raise ValueError(f"spawn_vehicle('{blueprint_id}'): {response.message}")
         info = next(v for v in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles

@@ -89,6 +89,10 @@ def test_blueprints_spawn_and_unknown_ones_are_listed(world):
     world.remove_actor(second)
     world.remove_actor(red)
     assert red.is_closed() and len(world.get_actors()) == 4
+    # Where a car already stands CARLA's try_spawn_actor gives None, which programs check for.
+    with pytest.warns(roar_py_ros.RoarPyCompatibilityWarning, match="would overlap vehicle.*None, as CARLA returns"):
+        assert spawn(world, "vehicle.audi.a2", 0) is None
+    assert len(world.get_actors()) == 4
 
 
 def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
@@ -329,6 +333,11 @@ def test_stepping_settings_change_at_run_time(world):
     world.set_control_steps(0.1, 0.0025)
     assert world.control_timestep == pytest.approx(0.1) and world.contorl_subtimestep == pytest.approx(0.0025)
     assert run(world.step()) == pytest.approx(0.1)
+    world.control_timestep = 0.05  # ROAR_PY's setters: the substeps' count kept, then the substep set
+    assert world.contorl_subtimestep == pytest.approx(0.00125)
+    world.contorl_subtimestep = 0.005
+    assert world.control_timestep == pytest.approx(0.05) and world.contorl_subtimestep == pytest.approx(0.005)
+    assert run(world.step()) == pytest.approx(0.05)
     world.set_control_steps(control_timestep=0.05, control_substimestep=0.005)
     world.set_asynchronous(True)
     assert world.is_asynchronous
