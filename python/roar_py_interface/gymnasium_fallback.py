@@ -1,7 +1,8 @@
 """``import gymnasium`` for ROAR programs on a machine without gymnasium (Debian packages none).
 
 ROAR_PY, its competition starter kit and ROAR_PY_RL all ``import gymnasium as gym`` and use ``gym.Space``,
-``gym.spaces.*``, ``gym.spaces.flatten``/``unflatten`` and ``gym.Env``. When gymnasium is not importable,
+``gym.spaces.*``, ``gym.spaces.flatten``/``unflatten``, ``gym.Env`` and gymnasium's wrappers
+(``gym.Wrapper``, ``ActionWrapper``, ``ObservationWrapper``, ``RewardWrapper``, ``gym.wrappers.*``). When gymnasium is not importable,
 importing roar_py_interface registers this module as ``gymnasium`` (with ``gymnasium.spaces`` and its
 submodules) so that those programs run unchanged; when gymnasium is installed nothing is registered and
 the real one is used. A program that imports gymnasium before roar_py_interface needs the real one.
@@ -68,10 +69,14 @@ class Env:
 
 
 class Wrapper(Env):
-    """gymnasium.Wrapper: forwards to the wrapped environment."""
+    """gymnasium.Wrapper: forwards to the wrapped environment; its spaces can be set, as gymnasium's wrappers
+    set them (then they are this wrapper's own)."""
 
     def __init__(self, env: Env):
         self.env = env
+        self._action_space: typing.Optional[_spaces.Space] = None
+        self._observation_space: typing.Optional[_spaces.Space] = None
+        self._metadata: typing.Optional[dict] = None
 
     def __getattr__(self, name):
         if name.startswith("_"):
@@ -80,11 +85,47 @@ class Wrapper(Env):
 
     @property
     def action_space(self):
-        return self.env.action_space
+        return self.env.action_space if self._action_space is None else self._action_space
+
+    @action_space.setter
+    def action_space(self, space: _spaces.Space):
+        self._action_space = space
 
     @property
     def observation_space(self):
-        return self.env.observation_space
+        return self.env.observation_space if self._observation_space is None else self._observation_space
+
+    @observation_space.setter
+    def observation_space(self, space: _spaces.Space):
+        self._observation_space = space
+
+    @property
+    def metadata(self) -> dict:
+        return self.env.metadata if self._metadata is None else self._metadata
+
+    @metadata.setter
+    def metadata(self, value: dict):
+        self._metadata = value
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        return self.env.np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator):
+        self.env.np_random = value
+
+    @property
+    def render_mode(self):
+        return self.env.render_mode
+
+    @property
+    def spec(self):
+        return self.env.spec
+
+    @classmethod
+    def class_name(cls) -> str:
+        return cls.__name__
 
     def step(self, action):
         return self.env.step(action)
@@ -101,6 +142,48 @@ class Wrapper(Env):
     @property
     def unwrapped(self) -> Env:
         return self.env.unwrapped
+
+    def __str__(self):
+        return f"<{type(self).__name__}{self.env}>"
+
+
+class ObservationWrapper(Wrapper):
+    """gymnasium.ObservationWrapper: every observation reset and step give passes through observation()."""
+
+    def reset(self, **kwargs):
+        obs, info = self.env.reset(**kwargs)
+        return self.observation(obs), info
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        return self.observation(obs), reward, terminated, truncated, info
+
+    def observation(self, observation):
+        raise NotImplementedError
+
+
+class RewardWrapper(Wrapper):
+    """gymnasium.RewardWrapper: every reward step gives passes through reward()."""
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        return obs, self.reward(reward), terminated, truncated, info
+
+    def reward(self, reward):
+        raise NotImplementedError
+
+
+class ActionWrapper(Wrapper):
+    """gymnasium.ActionWrapper: every action passes through action() before the wrapped step."""
+
+    def step(self, action):
+        return self.env.step(self.action(action))
+
+    def action(self, action):
+        raise NotImplementedError
+
+    def reverse_action(self, action):
+        raise NotImplementedError
 
 
 Space = _spaces.Space
@@ -121,7 +204,10 @@ def install() -> bool:
     spaces_module.utils = utils_module
     this = sys.modules[__name__]
     this.spaces = spaces_module
+    from . import gymnasium_fallback_wrappers as wrappers_module
+    this.wrappers = wrappers_module
     sys.modules["gymnasium"] = this
+    sys.modules["gymnasium.wrappers"] = wrappers_module
     sys.modules["gymnasium.spaces"] = spaces_module
     sys.modules["gymnasium.spaces.utils"] = utils_module
     sys.modules["gymnasium.core"] = this

@@ -79,9 +79,9 @@ class RoarPyRosInstance:
 
         return "roar_sim " + self._services.call("/roar_sim/get_world_info", GetWorldInfo).version
 
-    def clean_actors_not_registered(self, keep: typing.Iterable[str] = ()):
+    def clean_actors_not_registered(self, typeid_wildcard: typing.Sequence[str] = ("vehicle.*", "sensor.*")):
         self._check_open()
-        self.world.clean_actors_not_registered(keep)
+        self.world.clean_actors_not_registered(typeid_wildcard)
 
     def close(self):
         """Removes this program's cars from roar_sim, and stops roar_sim if this instance started it."""

@@ -1,5 +1,6 @@
 """roar_sim's world as ROAR_PY's: its map's waypoints and spawn points, its clock and stepping, its cars."""
 import asyncio
+import fnmatch
 import math
 import threading
 import time
@@ -423,13 +424,16 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
                             linear=Vector3(*linear), angular=Vector3(*angular))
         self._observe([vehicle])
 
-    def clean_actors_not_registered(self, keep: typing.Iterable[str] = ()):
-        """Destroys the cars in roar_sim this world did not spawn (but those named in keep)."""
+    def clean_actors_not_registered(self, typeid_wildcard: typing.Sequence[str] = ("vehicle.*", "sensor.*")):
+        """As ROAR_PY's: destroys the actors in roar_sim this world did not spawn whose type id (a car's
+        blueprint id) matches one of the wildcards; a car's sensors go with it."""
         from roar_ros.srv import DestroyVehicle, GetWorldInfo
 
-        mine = {v.ros_name for v in self._vehicles.values()} | set(keep)
+        if isinstance(typeid_wildcard, str):
+            typeid_wildcard = [typeid_wildcard]
+        mine = {v.ros_name for v in self._vehicles.values()}
         for info in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles:
-            if info.name not in mine:
+            if info.name not in mine and any(fnmatch.fnmatchcase(info.blueprint, w) for w in typeid_wildcard):
                 self._services.call("/roar_sim/destroy_vehicle", DestroyVehicle, name=info.name)
 
     # ---- debug drawing (CARLA's world.debug, drawn in rviz on /roar_sim/debug_markers) ---------------------

@@ -544,3 +544,68 @@ def test_propose_name_moves_the_first_of_a_repeated_name_as_roar_pys():
     names = ["cam", "gps"]
     assert rpi.propose_name_and_modify_list(names, "cam") == "cam_2" and names == ["gps", "cam_1"]
     assert rpi.propose_name_and_modify_list(names, "lidar") == "lidar" and names == ["gps", "cam_1"]
+
+
+def test_gymnasiums_wrappers_behave_as_gymnasiums():
+    import gymnasium as gym
+
+    class Counter(gym.Env):
+        """Observes {"n": step count, "twice": 2n}; reward 1 a step; ends at 5 steps."""
+
+        def __init__(self):
+            self.observation_space = gym.spaces.Dict({"twice": gym.spaces.Box(0, 100, (1,)),
+                                                      "n": gym.spaces.Box(0, 100, (1,))})
+            self.action_space = gym.spaces.Box(-1, 1, (1,))
+            self.n, self.actions = 0, []
+
+        def _obs(self):
+            return {"n": np.array([self.n], np.float32), "twice": np.array([2 * self.n], np.float32)}
+
+        def reset(self, *, seed=None, options=None):
+            super().reset(seed=seed)
+            self.n = 0
+            return self._obs(), {}
+
+        def step(self, action):
+            self.actions.append(action)
+            self.n += 1
+            return self._obs(), 1.0, self.n >= 5, False, {}
+
+    class Doubled(gym.ActionWrapper):
+        def action(self, action):
+            return 2 * action
+
+    class Halved(gym.RewardWrapper):
+        def reward(self, reward):
+            return reward / 2
+
+    base = Counter()
+    env = Halved(Doubled(base))
+    env.reset()
+    _, reward, *_ = env.step(np.array([0.25]))
+    assert reward == 0.5 and base.actions[-1][0] == 0.5
+    env.observation_space = gym.spaces.Box(0, 1, (2,))  # a wrapper's own space, as gymnasium's wrappers set
+    assert env.observation_space.shape == (2,) and isinstance(base.observation_space, gym.spaces.Dict)
+
+    filtered = gym.wrappers.FilterObservation(Counter(), ["twice"])
+    assert list(filtered.observation_space.spaces) == ["twice"] and list(filtered.reset()[0]) == ["twice"]
+    with pytest.raises(ValueError, match=r"\['nope'\] are not keys"):
+        gym.wrappers.FilterObservation(Counter(), ["nope"])
+    flat = gym.wrappers.FlattenObservation(Counter())
+    flat.reset()
+    assert np.allclose(flat.step(0)[0], [1, 2]), "gymnasium's layout: the Dict's sorted keys, n then twice"
+
+    limited = gym.wrappers.RecordEpisodeStatistics(gym.wrappers.TimeLimit(Counter(), max_episode_steps=3))
+    limited.reset()
+    ends = [limited.step(0) for _ in range(3)]
+    assert [e[3] for e in ends] == [False, False, True] and not ends[-1][2], "truncated at 3, not terminated"
+    assert ends[-1][4]["episode"]["r"] == 3.0 and ends[-1][4]["episode"]["l"] == 3 and list(limited.return_queue) == [3.0]
+    with pytest.raises(ValueError, match="max_episode_steps"):
+        gym.wrappers.TimeLimit(Counter(), max_episode_steps=0)
+
+    normalised = gym.wrappers.NormalizeObservation(gym.wrappers.FlattenObservation(Counter()))
+    normalised.reset()
+    seen = [normalised.step(0)[0] for _ in range(4)]
+    values = np.array([[0, 0]] + [[n, 2 * n] for n in range(1, 5)], np.float64)
+    assert np.allclose(normalised.obs_rms.mean, values.mean(axis=0), atol=1e-3)
+    assert np.allclose(seen[-1], (values[-1] - values.mean(axis=0)) / np.sqrt(values.var(axis=0) + 1e-8), atol=1e-3)

@@ -34,6 +34,10 @@ class WaypointRewardEnv(gym.Env):
         self.collision_threshold = collision_threshold
         self.distances = waypoint_information_distances
         self.action_space = actor.get_action_spec()
+        self.observation_space = gym.spaces.Dict({
+            **actor.get_gym_observation_spec().spaces,
+            "waypoints_information": gym.spaces.Dict({f"waypoint_{d}": gym.spaces.Box(-np.inf, np.inf, (4,))
+                                                      for d in waypoint_information_distances})})
         self.tracker = rpi.RoarPyWaypointsTracker(waypoints)
         self.projection = rpi.RoarPyWaypointsProjection(0, 0.0)
         self.travelled = 0.0
@@ -152,3 +156,44 @@ def test_sampled_actions_step_through_episodes_and_a_crash_ends_one(env):
             assert reward < 0, "the collision's penalty"
             break
     assert ended, "sliding sideways into the barrier ends the episode"
+
+
+class SimplifiedActions(gym.ActionWrapper):
+    """ROAR_PY_RL's SimplifyCarlaActionFilter, in outline: throttle and brake on one axis, steer on another; it
+    sets its space through gymnasium's private attribute, as ROAR_PY_RL does."""
+
+    def __init__(self, env):
+        super().__init__(env)
+        self._action_space = gym.spaces.Dict({"throttle": gym.spaces.Box(-1.0, 1.0, (1,), np.float32),
+                                              "steer": gym.spaces.Box(-1.0, 1.0, (1,), np.float32)})
+
+    def action(self, action):
+        return {"throttle": np.clip(action["throttle"], 0.0, 1.0), "brake": np.clip(-action["throttle"], 0.0, 1.0),
+                "steer": action["steer"], "hand_brake": 0.0, "reverse": 0.0}
+
+
+def test_roar_py_rls_training_wrappers_step_through_episodes(env):
+    """ROAR_PY_RL's training set-up: its action filter, gymnasium's FilterObservation keeping three keys, a time
+    limit and episode statistics, stepped synchronously under nest_asyncio as its train_online.py does."""
+    import nest_asyncio
+    nest_asyncio.apply()
+    kept = ["gyroscope", "waypoints_information", "local_velocimeter"]
+    wrapped = gym.wrappers.RecordEpisodeStatistics(gym.wrappers.TimeLimit(
+        gym.wrappers.FilterObservation(SimplifiedActions(env), kept), max_episode_steps=30))
+    assert list(wrapped.observation_space.spaces) == sorted(kept), "the wrapped space's (sorted) order"
+    assert list(wrapped.action_space.spaces) == ["steer", "throttle"] and wrapped.unwrapped is env
+    wrapped.action_space.seed(5)
+    lengths = []
+    for episode in range(2):
+        observation, _ = wrapped.reset(seed=episode)
+        assert set(observation) == set(kept) and observation["gyroscope"].shape == (3,)
+        for _ in range(40):
+            observation, reward, terminated, truncated, info = wrapped.step(wrapped.action_space.sample())
+            assert set(observation) == set(kept) and np.isfinite(reward)
+            if terminated or truncated:
+                lengths.append(int(info["episode"]["l"]))
+                break
+    assert lengths and all(n <= 30 for n in lengths) and len(wrapped.length_queue) == len(lengths)
+    flat = gym.wrappers.FlattenObservation(gym.wrappers.FilterObservation(env, ["gyroscope", "local_velocimeter"]))
+    observation, _ = flat.reset()
+    assert observation.shape == (6,) and flat.observation_space.shape == (6,)

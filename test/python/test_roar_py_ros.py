@@ -520,3 +520,20 @@ def test_roar_sim_gone_away_is_an_exception_naming_it(instance, world):
     instance.close()
     with pytest.raises(RuntimeError, match="closed"):
         instance.get_available_maps()
+
+
+def test_clean_actors_not_registered_removes_others_cars_by_type_as_roar_pys(instance, world):
+    from roar_ros.srv import GetWorldInfo, SpawnVehicle
+
+    mine = spawn(world, "vehicle.tesla.model3", 0)
+    for name, model, slot in (("stranger_a2", "vehicle.audi.a2", 3), ("stranger_model3", "vehicle.tesla.model3", 5)):
+        assert world._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=name, model=model,
+                                    spawn_point=slot).success
+
+    def in_sim():
+        return {v.name for v in world._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles}
+
+    instance.clean_actors_not_registered(typeid_wildcard=["vehicle.audi.*"])
+    assert in_sim() == {mine.ros_name, "stranger_model3"}
+    instance.clean_actors_not_registered(["vehicle.*", "sensor.*"])
+    assert in_sim() == {mine.ros_name}
