@@ -15,7 +15,6 @@ from .actors import (RoarPyActor, RoarPyBaseVehicle, RoarPyResettableActor, Roar
                      propose_name_and_modify_list, vehicle_action_spec)
 from .base import (RoarPyRemoteSupportedSensorData, RoarPyRemoteSupportedSensorSerializationScheme,  # noqa: E402,F401
                    RoarPySensor, remote_support_sensor_data_register)
-from .occupancy_map import RoarPyOccupancyMapProducer  # noqa: E402,F401
 from .sensors import (CARLA_SEMANTIC_LABEL_COLOR_MAP, RoarPyAccelerometerSensor,  # noqa: E402,F401
                       RoarPyAccelerometerSensorData, RoarPyCameraSensor, RoarPyCameraSensorData,
                       RoarPyCameraSensorDataDepth, RoarPyCameraSensorDataGreyscale, RoarPyCameraSensorDataRGB,
@@ -28,9 +27,9 @@ from .sensors import (CARLA_SEMANTIC_LABEL_COLOR_MAP, RoarPyAccelerometerSensor,
                       RoarPyRadarSensor, RoarPyRadarSensorData, RoarPyRollPitchYawSensor, RoarPyRollPitchYawSensorData,
                       RoarPyRollPitchYawSensorFromFrameQuat, RoarPyVelocimeterSensor, RoarPyVelocimeterSensorData)
 from .transforms import euler2mat, normalize_rad  # noqa: E402,F401
-from .visualizer import RoarPyVisualizer  # noqa: E402,F401
-from .waypoint import RoarPyWaypoint, RoarPyWaypointsProjection, RoarPyWaypointsTracker  # noqa: E402,F401
-from .world import RoarPyWorld, RoarPyWorldResettable  # noqa: E402,F401
+from .visualizations import RoarPyVisualizer  # noqa: E402,F401
+from .worlds import (RoarPyOccupancyMapProducer, RoarPyWaypoint, RoarPyWaypointsProjection,  # noqa: E402,F401
+                     RoarPyWaypointsTracker, RoarPyWorld, RoarPyWorldResettable)
 from .wrappers import (RoarPyActorSensorFilterWrapper, RoarPyActorWrapper, RoarPyAddItemWrapper,  # noqa: E402,F401
                        RoarPySensorWrapper, RoarPyThreadSafeWrapper, RoarPyWorldWrapper, RoarPyWrapper,
                        roar_py_append_item, roar_py_remove_item, roar_py_thread_sync)

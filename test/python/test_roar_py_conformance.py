@@ -3,6 +3,7 @@ its worlds, actors, sensors, base, wrappers and visualizations packages) exists 
 ROAR's programs call take ROAR_PY's arguments in ROAR_PY's order (extra trailing keyword arguments
 allowed). The backend's names are roar_py_carla's (RoarPyCarlaWorld, RoarPyCarlaActor, RoarPyCarlaVehicle,
 RoarPyCarlaInstance). A failure names what is missing or different."""
+import importlib
 import inspect
 
 import pytest
@@ -31,6 +32,44 @@ ROAR_PY_NAMES = {
                  "RoarPyThreadSafeWrapper", "roar_py_thread_sync", "RoarPyAddItemWrapper", "roar_py_append_item",
                  "roar_py_remove_item", "RoarPyActorSensorFilterWrapper"],
     "visualizations": ["RoarPyVisualizer"],
+}
+
+# ROAR_PY's modules, each with names ROAR's programs import from it (ROAR_PY's files at its head).
+ROAR_PY_MODULES = {
+    "roar_py_interface.worlds.world": ["RoarPyWorld", "RoarPyWorldResettable"],
+    "roar_py_interface.worlds.waypoint": ["RoarPyWaypoint", "RoarPyWaypointsProjection", "RoarPyWaypointsTracker"],
+    "roar_py_interface.worlds.occupancy_map": ["RoarPyOccupancyMapProducer"],
+    "roar_py_interface.actors.actor": ["RoarPyActor", "RoarPyResettableActor", "propose_name_and_modify_dict",
+                                       "propose_name_and_modify_list"],
+    "roar_py_interface.actors.vehicle": ["RoarPyVehicleAutoGearActor", "RoarPyVehicleManualGearActor"],
+    "roar_py_interface.base.sensor": ["RoarPySensor", "RoarPyRemoteSupportedSensorData",
+                                      "RoarPyRemoteSupportedSensorSerializationScheme",
+                                      "remote_support_sensor_data_register"],
+    "roar_py_interface.sensors.accelerometer_sensor": ["RoarPyAccelerometerSensor", "RoarPyAccelerometerSensorData"],
+    "roar_py_interface.sensors.camera_sensor": ["RoarPyCameraSensor", "RoarPyCameraSensorData",
+                                                "RoarPyCameraSensorDataGreyscale", "RoarPyCameraSensorDataRGB",
+                                                "RoarPyCameraSensorDataDepth",
+                                                "RoarPyCameraSensorDataSemanticSegmentation"],
+    "roar_py_interface.sensors.collision_sensor": ["RoarPyCollisionSensor", "RoarPyCollisionSensorData"],
+    "roar_py_interface.sensors.custom_lambda_sensor": ["RoarPyCustomLambdaSensor", "RoarPyCustomLambdaSensorData"],
+    "roar_py_interface.sensors.gnss_sensor": ["RoarPyGNSSSensor", "RoarPyGNSSSensorData"],
+    "roar_py_interface.sensors.gyroscope_sensor": ["RoarPyGyroscopeSensor", "RoarPyGyroscopeSensorData"],
+    "roar_py_interface.sensors.lidar_sensor": ["RoarPyLiDARSensor", "RoarPyLiDARSensorData"],
+    "roar_py_interface.sensors.location_in_world_sensor": ["RoarPyLocationInWorldSensor",
+                                                           "RoarPyLocationInWorldSensorData"],
+    "roar_py_interface.sensors.occupancy_map_sensor": ["RoarPyOccupancyMapSensor", "RoarPyOccupancyMapSensorData",
+                                                       "RoarPyOccupancyMapSensorImpl"],
+    "roar_py_interface.sensors.radar_sensor": ["RoarPyRadarSensor", "RoarPyRadarSensorData"],
+    "roar_py_interface.sensors.rotation_sensor": ["RoarPyFrameQuatSensor", "RoarPyFrameQuatSensorData",
+                                                  "RoarPyRollPitchYawSensor", "RoarPyRollPitchYawSensorData",
+                                                  "RoarPyFrameQuatSensorFromRollPitchYaw",
+                                                  "RoarPyRollPitchYawSensorFromFrameQuat"],
+    "roar_py_interface.sensors.velocimeter_sensor": ["RoarPyVelocimeterSensor", "RoarPyVelocimeterSensorData"],
+    "roar_py_interface.wrappers.wrapper_base": ["RoarPyWrapper", "RoarPyActorWrapper", "RoarPySensorWrapper",
+                                                "RoarPyWorldWrapper", "RoarPyThreadSafeWrapper", "roar_py_thread_sync",
+                                                "RoarPyAddItemWrapper", "roar_py_append_item", "roar_py_remove_item"],
+    "roar_py_interface.wrappers.actor_sensor_filter": ["RoarPyActorSensorFilterWrapper"],
+    "roar_py_interface.visualizations.visualizer": ["RoarPyVisualizer"],
 }
 
 # (object, method, ROAR_PY's parameters after self in order, with defaults where it has them).
@@ -138,6 +177,14 @@ BACKEND_MEMBERS = {
 def test_every_public_name_of_roar_py_is_here(package):
     missing = [name for name in ROAR_PY_NAMES[package] if not hasattr(rpi, name)]
     assert missing == [], f"roar_py_interface ({package}) lacks {missing}"
+
+
+@pytest.mark.parametrize("module", sorted(ROAR_PY_MODULES))
+def test_roar_pys_module_paths_import_with_their_names(module):
+    """`from roar_py_interface.worlds.waypoint import RoarPyWaypoint` and the like, as ROAR's programs write."""
+    imported = importlib.import_module(module)
+    missing = [name for name in ROAR_PY_MODULES[module] if getattr(imported, name, None) is not getattr(rpi, name)]
+    assert missing == [], f"{module} lacks {missing} (or holds other objects than roar_py_interface's)"
 
 
 def test_the_count_of_roar_py_names():

@@ -44,6 +44,23 @@ def spawn(world, blueprint="vehicle.tesla.model3", slot=0, **kwargs):
     return world.spawn_vehicle(blueprint, location, rpy, **kwargs)
 
 
+def test_clean_actors_not_registered_removes_others_cars_by_type_as_roar_pys(instance, world):
+    from roar_ros.srv import GetWorldInfo, SpawnVehicle
+
+    mine = spawn(world, "vehicle.tesla.model3", 0)
+    for name, model, slot in (("stranger_a2", "vehicle.audi.a2", 3), ("stranger_model3", "vehicle.tesla.model3", 5)):
+        assert world._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=name, model=model,
+                                    spawn_point=slot).success
+
+    def in_sim():
+        return {v.name for v in world._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles}
+
+    instance.clean_actors_not_registered(typeid_wildcard=["vehicle.audi.*"])
+    assert in_sim() == {mine.ros_name, "stranger_model3"}
+    instance.clean_actors_not_registered(["vehicle.*", "sensor.*"])
+    assert in_sim() == {mine.ros_name}
+
+
 def test_world_describes_its_map(instance, world):
     assert instance.get_server_version().startswith("roar_sim ")
     assert instance.get_client_version().startswith("roar_py_ros ")
@@ -115,7 +132,9 @@ def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
     assert world.last_tick_elapsed_seconds == pytest.approx(t0 + 2.0)
     obs = run(car.receive_observation())
     gym = car.convert_obs_to_gym_obs(obs)
-    assert list(gym) == list(car.get_gym_observation_spec().keys())
+    spec = car.get_gym_observation_spec()
+    # As ROAR_PY's: readings in the sensors' order, the space sorted by key (gymnasium's Dict of a plain dict).
+    assert list(gym) == rpi.observation_keys(list(car.get_sensors())) and list(spec.keys()) == sorted(gym)
     speed = np.linalg.norm(car.get_linear_3d_velocity())
     assert 2.0 < speed < 8.0, "two seconds of full throttle, the first 1.55 s standing as CARLA's spawned Model 3 does"
     assert np.allclose(obs["speed"].velocity, car.get_linear_3d_velocity(), atol=1e-6)
@@ -521,19 +540,3 @@ def test_roar_sim_gone_away_is_an_exception_naming_it(instance, world):
     with pytest.raises(RuntimeError, match="closed"):
         instance.get_available_maps()
 
-
-def test_clean_actors_not_registered_removes_others_cars_by_type_as_roar_pys(instance, world):
-    from roar_ros.srv import GetWorldInfo, SpawnVehicle
-
-    mine = spawn(world, "vehicle.tesla.model3", 0)
-    for name, model, slot in (("stranger_a2", "vehicle.audi.a2", 3), ("stranger_model3", "vehicle.tesla.model3", 5)):
-        assert world._services.call("/roar_sim/spawn_vehicle", SpawnVehicle, check=False, name=name, model=model,
-                                    spawn_point=slot).success
-
-    def in_sim():
-        return {v.name for v in world._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles}
-
-    instance.clean_actors_not_registered(typeid_wildcard=["vehicle.audi.*"])
-    assert in_sim() == {mine.ros_name, "stranger_model3"}
-    instance.clean_actors_not_registered(["vehicle.*", "sensor.*"])
-    assert in_sim() == {mine.ros_name}

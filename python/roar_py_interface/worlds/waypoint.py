@@ -8,7 +8,7 @@ import typing
 
 import numpy as np
 
-from .transforms import euler2mat, normalize_rad
+from ..transforms import euler2mat, normalize_rad
 
 __all__ = ["RoarPyWaypoint", "RoarPyWaypointsProjection", "RoarPyWaypointsTracker", "normalize_rad", "euler2mat"]
 

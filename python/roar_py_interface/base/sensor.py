@@ -15,7 +15,7 @@ import zlib
 
 import numpy as np
 
-from . import spaces
+from .. import spaces
 
 _ObsT = typing.TypeVar("_ObsT")
 

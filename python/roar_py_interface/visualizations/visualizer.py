@@ -3,8 +3,8 @@ import typing
 
 from PIL import Image
 
-from .actors import RoarPyActor
-from .sensors import RoarPyCameraSensorData, RoarPyOccupancyMapSensorData
+from ..actors import RoarPyActor
+from ..sensors import RoarPyCameraSensorData, RoarPyOccupancyMapSensorData
 
 
 class RoarPyVisualizer:

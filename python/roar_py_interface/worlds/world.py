@@ -1,8 +1,8 @@
 """ROAR_PY's world: the actors and sensors in it, its waypoints and its clock."""
 import typing
 
-from .actors import RoarPyActor
-from .base import RoarPySensor
+from ..actors import RoarPyActor
+from ..base import RoarPySensor
 from .waypoint import RoarPyWaypoint
 
 

@@ -1,0 +1,2 @@
+"""ROAR_PY's visualizations."""
+from .visualizer import RoarPyVisualizer  # noqa: F401
