@@ -34,7 +34,8 @@ ROAR_PY_NAMES = {
     "visualizations": ["RoarPyVisualizer"],
 }
 
-# ROAR_PY's modules, each with names ROAR's programs import from it (ROAR_PY's files at its head).
+# ROAR_PY's modules, each with names ROAR's programs import from it (ROAR_PY's files at its head): of
+# roar_py_interface and of roar_py_remote.
 ROAR_PY_MODULES = {
     "roar_py_interface.worlds.world": ["RoarPyWorld", "RoarPyWorldResettable"],
     "roar_py_interface.worlds.waypoint": ["RoarPyWaypoint", "RoarPyWaypointsProjection", "RoarPyWaypointsTracker"],
@@ -70,6 +71,16 @@ ROAR_PY_MODULES = {
                                                 "RoarPyAddItemWrapper", "roar_py_append_item", "roar_py_remove_item"],
     "roar_py_interface.wrappers.actor_sensor_filter": ["RoarPyActorSensorFilterWrapper"],
     "roar_py_interface.visualizations.visualizer": ["RoarPyVisualizer"],
+    "roar_py_remote.actors.remote_actors": ["RoarPyRemoteSharedActor", "RoarPyRemoteClientActor",
+                                            "RoarPyRemoteActorObsInfo", "RoarPyRemoteActorObsInfoRequest"],
+    "roar_py_remote.actors.remote_actor_wrappers": ["RoarPyRemoteSharedActorWrapper"],
+    "roar_py_remote.sensors.remote_sensors": ["RoarPyRemoteSharedSensor"],
+    "roar_py_remote.sensors.remote_sensor_wrappers": ["RoarPyRemoteSharedSensorWrapper"],
+    "roar_py_remote.worlds.server_worlds": ["RoarPyRemoteMaskedWorld", "RoarPyRemoteServerWorldManager"],
+    "roar_py_remote.base.remote_object": ["RoarPyObjectWithRemoteMessage"],
+    "roar_py_remote.services.base_service": ["RoarPyStreamingService", "RoarPyStreamingClient"],
+    "roar_py_remote.services.common": ["RoarPyRemoteClientWorldWithStreamClient"],
+    "roar_py_remote.services.websocket_service": ["RoarPyWebsocketServerService", "RoarPyWebsocketClientService"],
 }
 
 # (object, method, ROAR_PY's parameters after self in order, with defaults where it has them).
@@ -182,9 +193,9 @@ def test_every_public_name_of_roar_py_is_here(package):
 @pytest.mark.parametrize("module", sorted(ROAR_PY_MODULES))
 def test_roar_pys_module_paths_import_with_their_names(module):
     """`from roar_py_interface.worlds.waypoint import RoarPyWaypoint` and the like, as ROAR's programs write."""
-    imported = importlib.import_module(module)
-    missing = [name for name in ROAR_PY_MODULES[module] if getattr(imported, name, None) is not getattr(rpi, name)]
-    assert missing == [], f"{module} lacks {missing} (or holds other objects than roar_py_interface's)"
+    imported, package = importlib.import_module(module), importlib.import_module(module.split(".")[0])
+    missing = [name for name in ROAR_PY_MODULES[module] if getattr(imported, name, None) is not getattr(package, name)]
+    assert missing == [], f"{module} lacks {missing} (or holds other objects than {package.__name__}'s)"
 
 
 def test_the_count_of_roar_py_names():

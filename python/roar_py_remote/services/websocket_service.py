@@ -18,7 +18,7 @@ from ..base import RoarPyObjectWithRemoteMessage
 from ..worlds import RoarPyRemoteClientWorld, RoarPyRemoteServerWorldManager, RoarPyRemoteServerWorldWrapper
 from .base_stream_services import RoarPyStreamingClient
 from .base_stream_services import websocket_service
-from .base_stream_services.base_service import _describe
+from .base_service import _describe
 from .common import RoarPyRemoteClientWorldWithStreamClient
 
 _log = logging.getLogger("roar_py_remote")

@@ -7,7 +7,7 @@ import typing
 
 import websockets
 
-from .base_service import RoarPyStreamingClient, RoarPyStreamingService
+from ..base_service import RoarPyStreamingClient, RoarPyStreamingService
 
 SEND_QUEUE = 4  # answers a client may leave unread before it is dropped
 

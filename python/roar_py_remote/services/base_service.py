@@ -6,8 +6,8 @@ import asyncio
 import logging
 import typing
 
-from ... import wire
-from ...base import RoarPyObjectWithRemoteMessage
+from .. import wire
+from ..base import RoarPyObjectWithRemoteMessage
 
 _log = logging.getLogger("roar_py_remote")
 _CommT = typing.TypeVar("_CommT")
