@@ -63,7 +63,7 @@ CARLA_DEPTH_FAR_M = 1000.0
 
 
 def camera_data(msg, target: typing.Type[data.RoarPyCameraSensorData]):
-    """A camera image as ROAR_PY's CARLA backend gives it: RGB H x W x 3, greyscale H x W, depth H x W x 1
+    """A camera image as ROAR_PY's CARLA backend gives it: RGB H x W x 3, greyscale H x W, depth H x W float64
     metres (1000 m where nothing is seen), semantic H x W x 1 CARLA tags."""
     image = image_array(msg)
     if target is data.RoarPyCameraSensorDataRGB:
@@ -71,7 +71,7 @@ def camera_data(msg, target: typing.Type[data.RoarPyCameraSensorData]):
     if target is data.RoarPyCameraSensorDataGreyscale:
         return data.RoarPyCameraSensorDataGreyscale(image[:, :, 0])
     if target is data.RoarPyCameraSensorDataDepth:
-        depth = image.astype(np.float32)
+        depth = image[:, :, 0].astype(np.float64)
         depth[~np.isfinite(depth) | (depth > CARLA_DEPTH_FAR_M)] = CARLA_DEPTH_FAR_M
         return data.RoarPyCameraSensorDataDepth(depth, False)
     return data.RoarPyCameraSensorDataSemanticSegmentation(CARLA_TAG_OF_SEMANTIC_CLASS[image])

@@ -471,8 +471,9 @@ def test_camera_data_is_roar_pys():
     grey = rpi.RoarPyCameraSensorDataGreyscale.from_image(rgb.get_image())
     assert grey.to_gym().shape == (6, 8), "CARLA's backend gives greyscale as H x W"
     assert grey.get_gym_observation_spec().shape == (6, 8, 1)
-    depth = rpi.RoarPyCameraSensorDataDepth(np.linspace(0, 1000, 48, dtype=np.float32).reshape(6, 8, 1), False)
-    assert np.asarray(depth.get_image()).max() == 255 and depth.get_image().mode == "L"
+    depth = rpi.RoarPyCameraSensorDataDepth(np.linspace(0, 1000, 48).reshape(6, 8), False)
+    assert np.asarray(depth.get_image()).max() == 255 and depth.get_image().mode == "L" and depth.get_size() == (8, 6)
+    assert depth.to_gym().shape == (6, 8), "CARLA's backend gives depth as H x W float64"
     ss = rpi.RoarPyCameraSensorDataSemanticSegmentation(np.full((6, 8, 1), 7, np.uint64))
     assert tuple(np.asarray(ss.get_image())[0, 0]) == (128, 64, 128), "CARLA's tag 7 is the road"
     lidar = rpi.RoarPyLiDARSensorData(32, 0.5, np.ones((3, 4), np.float32))

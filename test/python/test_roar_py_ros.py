@@ -540,3 +540,15 @@ def test_roar_sim_gone_away_is_an_exception_naming_it(instance, world):
     with pytest.raises(RuntimeError, match="closed"):
         instance.get_available_maps()
 
+
+
+def test_camera_frames_are_shaped_as_roar_pys_carla_backend_gives_them():
+    from sensor_msgs.msg import Image as ImageMsg
+
+    depth = np.array([[2.5, np.inf], [np.nan, 12.0]], np.float32)
+    msg = ImageMsg(height=2, width=2, encoding="32FC1", is_bigendian=0, step=8, data=depth.tobytes())
+    frame = roar_py_ros.conversions.camera_data(msg, rpi.RoarPyCameraSensorDataDepth)
+    assert frame.image_depth.shape == (2, 2) and frame.image_depth.dtype == np.float64
+    assert np.array_equal(frame.image_depth, [[2.5, 1000.0], [1000.0, 12.0]]), "CARLA's far plane where nothing is hit"
+    grey = ImageMsg(height=2, width=3, encoding="mono8", is_bigendian=0, step=3, data=bytes(range(6)))
+    assert roar_py_ros.conversions.camera_data(grey, rpi.RoarPyCameraSensorDataGreyscale).image_greyscale.shape == (2, 3)

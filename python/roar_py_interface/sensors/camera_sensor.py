@@ -95,7 +95,7 @@ class RoarPyCameraSensorDataGreyscale(RoarPyCameraSensorData):
 @remote_support_sensor_data_register
 @dataclasses.dataclass
 class RoarPyCameraSensorDataDepth(RoarPyCameraSensorData):
-    image_depth: np.ndarray  # H x W x 1 float32, metres; CARLA's far plane (1000 m) where nothing is hit
+    image_depth: np.ndarray  # H x W float64 metres, as CARLA's backend gives it (1000 m where nothing is hit)
     is_log_scale: bool = False
 
     def get_image(self) -> Image.Image:
