@@ -62,6 +62,15 @@ CARLA_TAG_OF_SEMANTIC_CLASS = np.array([13, 7, 6, 8, 17, 22, 10] + [0] * 249, dt
 CARLA_DEPTH_FAR_M = 1000.0
 
 
+def latest_collision(events):
+    """The event CARLA's collision sensor would have left last: of the latest tick's (one per body hit), the
+    hardest; None without any."""
+    if not events:
+        return None
+    latest = max(e.header.stamp for e in events)
+    return max((e for e in events if e.header.stamp == latest), key=lambda e: vec3(e.impulse) @ vec3(e.impulse))
+
+
 def camera_data(msg, target: typing.Type[data.RoarPyCameraSensorData]):
     """A camera image as ROAR_PY's CARLA backend gives it: RGB H x W x 3, greyscale H x W, depth H x W float64
     metres (1000 m where nothing is seen), semantic H x W x 1 CARLA tags."""

@@ -361,9 +361,10 @@ class RoarPyRosOccupancyMapSensor(_VehicleSensor, rpi.RoarPyOccupancyMapSensor):
 
 
 class RoarPyRosCollisionSensor(_VehicleSensor, rpi.RoarPyCollisionSensor):
-    """The car's contacts since the last observation (CARLA's sensor keeps its latest event until read):
-    impulses summed (N s, world frame), other_actor the car of this world hit hardest (None for barriers,
-    the ground and cars not of this world, as CARLA's backend gives None for actors it does not know)."""
+    """The car's latest collision event since the last observation, then zero, as ROAR_PY's CARLA backend
+    keeps the last event its sensor heard (conversions.latest_collision): impulse N s (world frame),
+    other_actor the car of this world it hit (None for barriers and cars not of this world, as CARLA's
+    backend gives None for actors it does not know)."""
 
     def __init__(self, vehicle, name):
         rpi.RoarPyCollisionSensor.__init__(self, name, 0.0)
@@ -371,13 +372,8 @@ class RoarPyRosCollisionSensor(_VehicleSensor, rpi.RoarPyCollisionSensor):
 
     async def receive_observation(self):
         self._check_open()
-        events = self._vehicle._take_collisions(self)
-        impulse = np.zeros(3)
-        other, hardest = None, -1.0
-        for event in events:
-            push = conversions.vec3(event.impulse)
-            impulse += push
-            if np.linalg.norm(push) > hardest:
-                hardest, other = float(np.linalg.norm(push)), event.other
-        self._last_obs = data.RoarPyCollisionSensorData(self._vehicle, self._vehicle._world._actor_named(other), impulse)
+        event = conversions.latest_collision(self._vehicle._take_collisions(self))
+        impulse = np.zeros(3) if event is None else conversions.vec3(event.impulse)
+        other = None if event is None else self._vehicle._world._actor_named(event.other)
+        self._last_obs = data.RoarPyCollisionSensorData(self._vehicle, other, impulse)
         return self._last_obs

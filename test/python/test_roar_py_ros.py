@@ -552,3 +552,19 @@ def test_camera_frames_are_shaped_as_roar_pys_carla_backend_gives_them():
     assert np.array_equal(frame.image_depth, [[2.5, 1000.0], [1000.0, 12.0]]), "CARLA's far plane where nothing is hit"
     grey = ImageMsg(height=2, width=3, encoding="mono8", is_bigendian=0, step=3, data=bytes(range(6)))
     assert roar_py_ros.conversions.camera_data(grey, rpi.RoarPyCameraSensorDataGreyscale).image_greyscale.shape == (2, 3)
+
+
+def test_a_collision_reading_is_the_latest_event_as_carlas_backend_keeps_it():
+    import rospy
+    from geometry_msgs.msg import Vector3
+    from roar_ros.msg import CollisionEvent
+
+    def event(t, other, push):
+        e = CollisionEvent(other=other, impulse=Vector3(*push))
+        e.header.stamp = rospy.Time.from_sec(t)
+        return e
+
+    events = [event(1.0, "barrier", (900, 0, 0)), event(1.05, "barrier", (40, 0, 0)), event(1.05, "rival", (0, 60, 0))]
+    latest = roar_py_ros.conversions.latest_collision(events)
+    assert latest.other == "rival" and latest.impulse.y == 60, "the last tick's hardest event, not a sum"
+    assert roar_py_ros.conversions.latest_collision([]) is None
