@@ -228,13 +228,7 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
         rpi.RoarPyLiDARSensor.__init__(self, name, 1.0 / rate)
         from sensor_msgs.msg import PointCloud2
 
-        self.num_lasers = spec["num_lasers"]
-        self.min_distance = 0.0
-        self.max_distance = spec["max_distance"]
-        self.points_per_second = spec["points_per_second"]
-        self.rotation_frequency = spec["rotation_frequency"]
-        self.upper_fov, self.lower_fov = spec["upper_fov"], spec["lower_fov"]
-        self.horizontal_fov = spec["horizontal_fov"]
+        self._lidar = dict(spec)
 
         def convert(msg):
             points = conversions.lidar_points(msg)
@@ -242,6 +236,38 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
             return data.RoarPyLiDARSensorData(self.num_lasers, angle, points)
 
         self._setup(vehicle, sim_name, f"/{vehicle.ros_name}/lidar/{sim_name}/points", PointCloud2, convert)
+
+    @property
+    def num_lasers(self) -> int:
+        return self._lidar["num_lasers"]
+
+    @property
+    def max_distance(self) -> float:
+        return self._lidar["max_distance"]
+
+    @property
+    def min_distance(self) -> float:
+        return 0.0
+
+    @property
+    def points_per_second(self) -> float:
+        return self._lidar["points_per_second"]
+
+    @property
+    def rotation_frequency(self) -> float:
+        return self._lidar["rotation_frequency"]
+
+    @property
+    def upper_fov(self) -> float:
+        return self._lidar["upper_fov"]
+
+    @property
+    def lower_fov(self) -> float:
+        return self._lidar["lower_fov"]
+
+    @property
+    def horizontal_fov(self) -> float:
+        return self._lidar["horizontal_fov"]
 
 
 class RoarPyRosGNSSSensor(RosSensorMixin, rpi.RoarPyGNSSSensor):

@@ -223,3 +223,14 @@ def test_the_backend_has_roar_py_carlas_members(owner):
     missing = [name for name in BACKEND_MEMBERS[owner] if not hasattr(owner, name) and
                name not in getattr(owner, "__annotations__", {}) and name not in ("bounding_box", "auto_gear", "world")]
     assert missing == [], f"{owner.__name__} lacks {missing}"
+
+
+def test_the_lidar_interface_has_roar_pys_properties():
+    for name in ("num_lasers", "max_distance", "min_distance", "points_per_second", "rotation_frequency", "upper_fov",
+                 "lower_fov", "horizontal_fov"):
+        assert isinstance(getattr(rpi.RoarPyLiDARSensor, name, None), property), name
+
+
+def test_roar_pys_hooks_and_setters_are_where_roar_py_has_them():
+    assert hasattr(rpi.RoarPyResettableActor, "_RoarPyResettableActor__reset"), "ROAR_PY's name-mangled reset hook"
+    assert rpi.RoarPyWorldWrapper.is_asynchronous.fset is not None, "RoarPyWorldWrapper.is_asynchronous is settable"

@@ -610,3 +610,18 @@ def test_gymnasiums_wrappers_behave_as_gymnasiums():
     values = np.array([[0, 0]] + [[n, 2 * n] for n in range(1, 5)], np.float64)
     assert np.allclose(normalised.obs_rms.mean, values.mean(axis=0), atol=1e-3)
     assert np.allclose(seen[-1], (values[-1] - values.mean(axis=0)) / np.sqrt(values.var(axis=0) + 1e-8), atol=1e-3)
+
+
+def test_a_resettable_actor_resets_through_roar_pys_hook_or_ours():
+    class RoarPyStyle(rpi.RoarPyResettableActor):
+        async def _RoarPyResettableActor__reset(self):  # what a subclass overriding ROAR_PY's mangled hook writes
+            self.done = "roar_py"
+
+    class OursStyle(rpi.RoarPyResettableActor):
+        async def _reset(self):
+            self.done = "ours"
+
+    for cls, expected in ((RoarPyStyle, "roar_py"), (OursStyle, "ours")):
+        actor = cls()
+        asyncio.run(actor.reset())
+        assert actor.done == expected

@@ -124,6 +124,8 @@ def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
     lidar = world.attach_lidar_sensor(np.array([0, 0, 2.5]), np.zeros(3), max_distance=50.0, name="lidar", bind_to=car)
     radar = car.attach_radar_sensor(np.array([2.4, 0.0, 0.6]), np.array([0.0, -0.1, 0.0]))
     assert radar.name == "carla_radar_sensor" and radar.horizontal_fov == 30.0 and radar.max_distance == 100.0
+    assert (lidar.num_lasers, lidar.max_distance, lidar.min_distance) == (32, 50.0, 0.0), "ROAR_PY's LiDAR properties"
+    assert lidar.upper_fov > lidar.lower_fov and lidar.points_per_second > 0 and lidar.rotation_frequency > 0
     assert len(list(car.get_sensors())) == 13 and camera.image_size_width == 84 and sensors[0].name == "collision"
     t0 = world.last_tick_elapsed_seconds
     for _ in range(40):

@@ -159,6 +159,10 @@ class RoarPyActor:
 
 
 class RoarPyResettableActor:
+    async def __reset(self) -> None:
+        # ROAR_PY's hook, name-mangled as ROAR_PY's (_RoarPyResettableActor__reset); roar_ros's actors give _reset.
+        await self._reset()
+
     async def _reset(self) -> None:
         raise NotImplementedError()
 
@@ -166,4 +170,4 @@ class RoarPyResettableActor:
         """Puts the actor back to its initial state."""
         if isinstance(self, RoarPyActor):
             await _wait_for_control_timestep(self)
-        await self._reset()
+        await self.__reset()

@@ -26,6 +26,38 @@ class RoarPyLiDARSensorData(RoarPyRemoteSupportedSensorData):
 class RoarPyLiDARSensor(RoarPySensor[RoarPyLiDARSensorData]):
     sensordata_type = RoarPyLiDARSensorData
 
+    @property
+    def num_lasers(self) -> int:
+        raise NotImplementedError()
+
+    @property
+    def max_distance(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def min_distance(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def points_per_second(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def rotation_frequency(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def upper_fov(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def lower_fov(self) -> float:
+        raise NotImplementedError()
+
+    @property
+    def horizontal_fov(self) -> float:
+        raise NotImplementedError()
+
     def get_gym_observation_spec(self) -> spaces.Space:
         # ROAR_PY's: a fixed 10,000 rows whatever the sweep holds.
         return spaces.Box(low=-np.inf, high=np.inf, shape=(10000, 4), dtype=np.float32)

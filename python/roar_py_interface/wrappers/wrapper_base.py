@@ -164,6 +164,10 @@ class RoarPyWorldWrapper(RoarPyWrapper[RoarPyWorld], RoarPyWorld):
     def is_asynchronous(self) -> bool:
         return self._wrapped_object.is_asynchronous
 
+    @is_asynchronous.setter
+    def is_asynchronous(self, value: bool):
+        self._wrapped_object.is_asynchronous = value
+
     def get_actors(self) -> typing.Iterable[RoarPyActor]:
         return self._wrapped_object.get_actors()
 
