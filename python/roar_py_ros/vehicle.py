@@ -1,9 +1,11 @@
 """A car in roar_sim as ROAR_PY's vehicle: its state, its actions and its sensors, with ROAR_PY's CARLA
 backend's methods, arguments and default names."""
 import dataclasses
+import itertools
 import re
 import threading
 import typing
+import warnings
 
 import numpy as np
 import rospy
@@ -35,6 +37,11 @@ def _finite_vector(value, what: str, length: int = 3) -> np.ndarray:
 
 
 # roar_sim's sensor keys as the ROAR_PY arguments they come from.
+# Actor ids, as CARLA numbers every actor it spawns (a car's carla_id).
+_ACTOR_IDS = itertools.count(1)
+# CARLA 0.9.12-0.9.14's semantic tag of vehicles (sensors.camera_sensor.CARLA_SEMANTIC_LABEL_COLOR_MAP: "Car").
+CARLA_VEHICLE_TAG = 10
+
 _ARGUMENT_OF_KEY = {"x": "location[0]", "y": "location[1]", "z": "location[2]", "roll": "roll_pitch_yaw[0]",
                     "pitch": "roll_pitch_yaw[1]", "yaw": "roll_pitch_yaw[2]", "rate": "control_timestep"}
 
@@ -74,6 +81,8 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         self._expected: typing.Dict[str, float] = {}
         self._pending_collisions: typing.Dict[int, list] = {}
         self.control = None  # roar_sim's VehicleControl of the last action
+        self.carla_id = next(_ACTOR_IDS)
+        self._not_modelled_warned: typing.Set[str] = set()
         from nav_msgs.msg import Odometry
         from roar_ros.msg import CollisionEvent, QueueDepths, VehicleControl
 
@@ -142,15 +151,16 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
             self._world._observe([self])
         return self._odom
 
+    # Locations, velocities and accelerations are float32, as ROAR_PY's CARLA backend converts CARLA's.
     def get_3d_location(self) -> np.ndarray:
         p = self._odometry().pose.pose.position
-        return np.array([p.x, p.y, p.z])
+        return np.array([p.x, p.y, p.z], dtype=np.float32)
 
     def get_roll_pitch_yaw(self) -> np.ndarray:
         return conversions.quaternion_to_rpy(self._odometry().pose.pose.orientation)
 
     def get_linear_3d_velocity(self) -> np.ndarray:
-        return self._world_velocity(self._odometry())
+        return self._world_velocity(self._odometry()).astype(np.float32)
 
     def get_angular_velocity(self) -> np.ndarray:
         odom = self._odometry()
@@ -160,7 +170,7 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         """m/s^2 in the world frame, without gravity: the velocity's change over the last tick."""
         self._odometry()
         with self._lock:
-            return self._acceleration.copy()
+            return self._acceleration.astype(np.float32)
 
     def set_transform(self, new_location: np.ndarray, new_rotation: np.ndarray) -> None:
         """Teleports the car to the location and rotation as given (above the road it falls onto it), its
@@ -192,6 +202,38 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
     @property
     def carla_blueprint_type_id(self) -> str:
         return self.blueprint_id
+
+    # ---- CARLA's actor members (roar_py_carla's RoarPyCarlaBase) ------------------------------------------
+    @property
+    def parent(self):
+        """None: a car rides on nothing."""
+        return None
+
+    @property
+    def carla_attributes(self) -> typing.Dict[str, str]:
+        return {"role_name": self.name, "number_of_wheels": "4"}
+
+    @property
+    def carla_is_alive(self) -> bool:
+        return not self._closed
+
+    @property
+    def semantic_labels(self) -> typing.List[int]:
+        return [CARLA_VEHICLE_TAG]
+
+    def set_enable_gravity(self, enable: bool = True) -> None:
+        self._not_modelled("set_enable_gravity", enable)
+
+    def set_simulate_physics(self, enable: bool = True) -> None:
+        self._not_modelled("set_simulate_physics", enable)
+
+    def _not_modelled(self, what: str, enable: bool) -> None:
+        # CARLA takes both; roar_sim always simulates the car, so turning either off is said once and ignored.
+        self._check_open()
+        if not enable and what not in self._not_modelled_warned:
+            self._not_modelled_warned.add(what)
+            warnings.warn(f"vehicle '{self.name}': {what}(False) is not modelled: roar_sim always simulates the car "
+                          "with gravity (said once)", conversions.RoarPyCompatibilityWarning, stacklevel=3)
 
     # ---- actions --------------------------------------------------------------------------------------------
     def get_action_spec(self):

@@ -3,6 +3,7 @@ blueprints, sensors, stepping, maps, and every kind of bad input as a Python exc
 import asyncio
 import os
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -59,6 +60,22 @@ def test_clean_actors_not_registered_removes_others_cars_by_type_as_roar_pys(ins
     assert in_sim() == {mine.ros_name, "stranger_model3"}
     instance.clean_actors_not_registered(["vehicle.*", "sensor.*"])
     assert in_sim() == {mine.ros_name}
+
+
+def test_a_car_has_carlas_actor_members(world):
+    first, second = spawn(world, slot=1), spawn(world, "vehicle.audi.a2", slot=2)
+    assert first.carla_id != second.carla_id and first.parent is None and first.semantic_labels == [10]
+    assert first.carla_attributes["role_name"] == "carla_vehicle" and first.carla_is_alive
+    assert first.get_3d_location().dtype == np.float32 and first.get_linear_3d_velocity().dtype == np.float32, \
+        "float32, as ROAR_PY's CARLA backend converts CARLA's vectors"
+    first.set_enable_gravity(True)
+    with pytest.warns(roar_py_ros.RoarPyCompatibilityWarning, match="set_simulate_physics\\(False\\) is not modelled"):
+        first.set_simulate_physics(False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        first.set_simulate_physics(False)  # said once
+    second.close()
+    assert not second.carla_is_alive
 
 
 def test_world_describes_its_map(instance, world):
