@@ -303,6 +303,7 @@ def test_a_client_drives_its_car_and_sees_its_camera_in_lockstep():
             dts.append(await client_world.step())
             brightness.append(int((await camera.receive_observation()).image_rgb.mean()))
             await vehicle.apply_action(GO)
+        assert camera.sensordata_type is rpi.RoarPyCameraSensorDataRGB, "the readings' class, as ROAR_PY's"
         steps_seen = world.steps
         await client_world.close()
         return client_world, brightness, dts, steps_seen

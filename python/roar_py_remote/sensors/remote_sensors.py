@@ -69,10 +69,14 @@ class RoarPyRemoteSensorObsInfo:
             return None
         return wire.unpack_space(self.obs_spec, f"sensor '{self.name}' obs_spec")
 
+    def get_last_obs_type(self) -> typing.Optional[typing.Type[rpi.RoarPyRemoteSupportedSensorData]]:
+        """The class of the readings, as ROAR_PY's: None when the server sent no reading's type it knows."""
+        return rpi.RoarPyRemoteSupportedSensorData._supported_data_types.get(self.last_data_type)
+
     def get_last_obs(self) -> typing.Optional[rpi.RoarPyRemoteSupportedSensorData]:
         if self.last_data is None:
             return None
-        data_type = rpi.RoarPyRemoteSupportedSensorData._supported_data_types.get(self.last_data_type)
+        data_type = self.get_last_obs_type()
         if data_type is None:
             raise wire.WireFormatError(f"sensor '{self.name}': unknown data type '{self.last_data_type}'")
         try:
@@ -119,6 +123,8 @@ class RoarPyRemoteClientSensor(rpi.RoarPySensor, RoarPyObjectWithRemoteMessage[R
 
     def _depack_info(self, data: RoarPyRemoteSensorObsInfo) -> bool:
         self._control_timestep = data.control_timestep
+        if data.get_last_obs_type() is not None:
+            self.sensordata_type = data.get_last_obs_type()
         new_data = data.get_last_obs()
         if new_data is not None:
             self._new_data = new_data
