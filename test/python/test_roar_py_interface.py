@@ -625,3 +625,18 @@ def test_a_resettable_actor_resets_through_roar_pys_hook_or_ours():
         actor = cls()
         asyncio.run(actor.reset())
         assert actor.done == expected
+
+
+def test_an_actor_wrapper_observes_its_own_sensors_as_roar_pys():
+    """ROAR_PY's RoarPyActorWrapper inherits RoarPyActor's observations: a wrapper that shows other sensors
+    observes those, with its own last observation."""
+
+    class SpeedOnly(rpi.RoarPyActorWrapper):
+        def get_sensors(self):
+            return [s for s in self._wrapped_object.get_sensors() if s.name == "speed"]
+
+    vehicle = FakeVehicle()
+    wrapper = SpeedOnly(vehicle)
+    assert list(asyncio.run(wrapper.receive_observation())) == ["speed"]
+    assert list(wrapper.get_gym_observation_spec().keys()) == ["speed"]
+    assert list(wrapper.get_last_gym_observation()) == ["speed"] and vehicle.get_last_observation() is None

@@ -86,20 +86,8 @@ class RoarPyActorWrapper(RoarPyWrapper[RoarPyActor], RoarPyActor):
     async def apply_action(self, action: typing.Any) -> bool:
         return await self._wrapped_object.apply_action(action)
 
-    def get_gym_observation_spec(self) -> spaces.Space:
-        return self._wrapped_object.get_gym_observation_spec()
-
-    async def receive_observation(self) -> typing.Dict[str, typing.Any]:
-        return await self._wrapped_object.receive_observation()
-
-    def get_last_observation(self) -> typing.Optional[typing.Dict[str, typing.Any]]:
-        return self._wrapped_object.get_last_observation()
-
-    def get_last_gym_observation(self) -> typing.Optional[typing.Dict[str, typing.Any]]:
-        return self._wrapped_object.get_last_gym_observation()
-
-    def convert_obs_to_gym_obs(self, observation: typing.Dict[str, typing.Any]) -> typing.Dict[str, typing.Any]:
-        return self._wrapped_object.convert_obs_to_gym_obs(observation)
+    # Observations and their spaces are RoarPyActor's, built from this wrapper's get_sensors(), as ROAR_PY's
+    # wrapper inherits them: a wrapper that shows other sensors observes those (RoarPyActorSensorFilterWrapper).
 
 
 _SensorObsT = typing.TypeVar("_SensorObsT")
