@@ -623,3 +623,26 @@ def test_a_client_that_never_reads_or_floods_is_dropped_and_the_others_go_on():
     assert len(dts) >= 20 and all(dt > 0 for dt in dts), "the steady client stepped on meanwhile"
     assert closed[:2] == [True, True], "the client that never reads and the flooding one were dropped"
     assert closed[2] is False
+
+
+def test_a_shared_sensor_wrapper_is_a_read_only_sensor_wrapper():
+    class Collisions(rpi.RoarPyCollisionSensor):
+        def __init__(self):
+            super().__init__("collision", 0.05)
+            self.reading = rpi.RoarPyCollisionSensorData(actor="mine", other_actor="theirs",
+                                                        impulse_normal=np.array([1.0, 2.0, 3.0]))
+
+        def get_last_observation(self):
+            return self.reading
+
+        def is_closed(self):
+            return False
+
+    shared = roar_py_remote.RoarPyRemoteSharedSensorWrapper(Collisions())
+    assert isinstance(shared, rpi.RoarPySensorWrapper) and shared.name == "collision"
+    seen = shared.get_last_observation()
+    assert seen.actor is None and seen.other_actor is None and list(seen.impulse_normal) == [1.0, 2.0, 3.0]
+    with pytest.raises(PermissionError):
+        asyncio.run(shared.receive_observation())
+    with pytest.raises(PermissionError):
+        shared.name = "renamed"

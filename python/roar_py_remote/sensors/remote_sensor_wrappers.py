@@ -7,7 +7,7 @@ from .remote_sensors import (_masked, RoarPyRemoteSensorObsInfo, RoarPyRemoteSen
                              RoarPyRemoteSharedSensor)
 
 
-class RoarPyRemoteSharedSensorWrapper(RoarPyRemoteSharedSensor, rpi.RoarPyWrapper):
+class RoarPyRemoteSharedSensorWrapper(RoarPyRemoteSharedSensor, rpi.RoarPySensorWrapper):
     """A sensor of this process shown read-only to another: readings without the actors they name."""
 
     def __init__(self, wrapped_object: rpi.RoarPySensor):
