@@ -32,6 +32,8 @@ test: build
 
 bench: build
 	@$(DEVEL)/lib/roar_ros/roar_bench
+	@# ROAR_PY's loop beside the C++ figures: the official runner's set-up against the bare step, one core.
+	@bash -c 'source scripts/ros_env.sh > /dev/null && /usr/bin/python3 bench/roar_py_bench.py'
 
 clean:
 	rm -rf $(BUILD) $(DEVEL)
