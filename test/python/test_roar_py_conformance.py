@@ -83,7 +83,9 @@ ROAR_PY_MODULES = {
     "roar_py_remote.services.websocket_service": ["RoarPyWebsocketServerService", "RoarPyWebsocketClientService"],
 }
 
-# (object, method, ROAR_PY's parameters after self in order, with defaults where it has them).
+# (object, method, ROAR_PY's parameters after self in order, with defaults where it has them: REQUIRED where
+# ROAR_PY has none and neither may we, None where that is not checked).
+REQUIRED = inspect.Parameter.empty
 SIGNATURES = [
     (rpi.RoarPyActor, "__init__", [("name", None), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
     (rpi.RoarPyVehicleAutoGearActor, "__init__",
@@ -91,9 +93,10 @@ SIGNATURES = [
     (rpi.RoarPyVehicleManualGearActor, "__init__",
      [("name", "vehicle_manualgear"), ("control_timestep", 0.05), ("force_real_control_timestep", False),
       ("num_gears", 6)]),
-    (rpi.RoarPySensor, "__init__", [("name", None), ("control_timestep", None)]),
-    (rpi.RoarPyCameraSensor, "__init__", [("name", None), ("control_timestep", None), ("target_data_type", None)]),
-    (rpi.RoarPyFrameQuatSensor, "__init__", [("control_timestep", None), ("name", "framequat_sensor")]),
+    (rpi.RoarPySensor, "__init__", [("name", REQUIRED), ("control_timestep", REQUIRED)]),
+    (rpi.RoarPyCameraSensor, "__init__",
+     [("name", REQUIRED), ("control_timestep", REQUIRED), ("target_data_type", REQUIRED)]),
+    (rpi.RoarPyFrameQuatSensor, "__init__", [("control_timestep", REQUIRED), ("name", "framequat_sensor")]),
     (rpi.RoarPyRollPitchYawSensorFromFrameQuat, "__init__", [("framequat_sensor", None), ("name", None)]),
     (rpi.RoarPyFrameQuatSensorFromRollPitchYaw, "__init__", [("rpy_sensor", None), ("name", None)]),
     (rpi.RoarPyOccupancyMapSensor, "__init__", [("name", "occupancy_map_sensor")]),
@@ -212,7 +215,9 @@ def test_methods_take_roar_pys_arguments_in_order(owner, method, expected):
     names = [p.name for p in parameters]
     assert names[:len(expected)] == [name for name, _ in expected], f"{owner.__name__}.{method}{tuple(names)}"
     for parameter, (name, default) in zip(parameters, expected):
-        if default is not None:
+        if default is REQUIRED:
+            assert parameter.default is REQUIRED, f"{owner.__name__}.{method}: {name} has a default ROAR_PY's has not"
+        elif default is not None:
             assert parameter.default == default, f"{owner.__name__}.{method}: {name} defaults to {parameter.default!r}"
     for extra in parameters[len(expected):]:
         assert extra.default is not inspect.Parameter.empty, f"{owner.__name__}.{method}: extra '{extra.name}' required"

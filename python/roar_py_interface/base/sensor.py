@@ -243,7 +243,7 @@ class RoarPySensor(typing.Generic[_ObsT]):
 
     sensordata_type: typing.Type = object
 
-    def __init__(self, name: str, control_timestep: float = 0.0):
+    def __init__(self, name: str, control_timestep: float):
         self.name = name
         self._control_timestep = control_timestep
 

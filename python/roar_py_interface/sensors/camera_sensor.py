@@ -154,8 +154,7 @@ class RoarPyCameraSensorDataSemanticSegmentation(RoarPyCameraSensorData):
 class RoarPyCameraSensor(RoarPySensor[RoarPyCameraSensorData]):
     sensordata_type = RoarPyCameraSensorData
 
-    def __init__(self, name: str, control_timestep: float = 0.0,
-                 target_data_type: typing.Type[RoarPyCameraSensorData] = RoarPyCameraSensorDataRGB):
+    def __init__(self, name: str, control_timestep: float, target_data_type: typing.Type[RoarPyCameraSensorData]):
         super().__init__(name, control_timestep)
         self.sensordata_type = target_data_type
 

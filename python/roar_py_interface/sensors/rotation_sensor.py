@@ -24,7 +24,7 @@ class RoarPyFrameQuatSensorData(RoarPyRemoteSupportedSensorData):
 class RoarPyFrameQuatSensor(RoarPySensor[RoarPyFrameQuatSensorData]):
     sensordata_type = RoarPyFrameQuatSensorData
 
-    def __init__(self, control_timestep: float = 0.0, name: str = "framequat_sensor"):
+    def __init__(self, control_timestep: float, name: str = "framequat_sensor"):
         super().__init__(name, control_timestep)
 
     def get_gym_observation_spec(self) -> spaces.Space:
