@@ -282,8 +282,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     def spawn_vehicle(self, blueprint_id: str, location: np.ndarray, roll_pitch_yaw: np.ndarray,
                       auto_gear: bool = True, name: str = "carla_vehicle", rgba: typing.Optional[np.ndarray] = None
                       ) -> typing.Optional[RoarPyRosVehicle]:
-        """A car of a blueprint (see get_blueprints) at location and roll_pitch_yaw as given, as CARLA spawns
-        it: above the road it falls onto it (never below it). rgba: 0..255. None where another car stands
+        """A car of a blueprint (those of /roar_sim/get_world_info; an unknown one is refused, naming them) at
+        location and roll_pitch_yaw as given, as CARLA spawns it: above the road it falls onto it (never below it). rgba: 0..255. None where another car stands
         or there is no ground, as CARLA's try_spawn_actor (with a warning)."""
         self._check_open()
         from geometry_msgs.msg import Pose

@@ -175,14 +175,6 @@ TrackPose Track::poseAt(double s) const {
   return pose;
 }
 
-double Track::curvatureAt(double s) const {
-  s = wrap(s);
-  const std::size_t i = segmentAt(s), j = (i + 1) % size();
-  const double seg = (j == 0 ? length_ : s_[j]) - s_[i];
-  const double t = (s - s_[i]) / seg;
-  return (1 - t) * curvature_[i] + t * curvature_[j];
-}
-
 Projection Track::projectOnSegment(const Eigen::Vector2d& p, std::size_t i, double* dist2) const {
   const std::size_t j = (i + 1) % size();
   const Eigen::Vector2d a = position(i), d = position(j) - a;

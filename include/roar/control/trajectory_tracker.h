@@ -60,8 +60,7 @@ class TrajectoryTracker {
   vehicle::VehicleControl update(const TrackerInput& input);
 
   double lateralError() const { return lateral_error_; }  // m, positive: the car is left of the line
-  double targetSpeed() const { return target_speed_; }
-  double progress() const { return progress_; }  // s on the trajectory
+  double progress() const { return progress_; }           // s on the trajectory
   // m from the car to the nearest point of its trajectory at the last update; beyond max_distance the
   // update braked.
   double distance() const { return distance_; }

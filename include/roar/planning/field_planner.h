@@ -42,7 +42,6 @@ class FieldPlanner {
   void locate(const std::string& car, const Eigen::Vector3d& position, double speed, double time,
               const std::optional<Eigen::Vector2d>& velocity = std::nullopt);
   bool located(const std::string& car) const { return cars_.count(car) > 0; }
-  void forget(const std::string& car) { cars_.erase(car); }
   // The share of the line's speeds the car is planned at (0 < pace <= 1; 1: the line's own).
   // Throws std::invalid_argument outside (0, 1].
   void setPace(const std::string& car, double pace);

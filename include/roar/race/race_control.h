@@ -124,8 +124,6 @@ class RaceControl {
   std::vector<Standing> standings() const;
   const CarRecord& car(const std::string& name) const;
   const std::map<std::string, CarRecord>& cars() const { return cars_; }
-  // The start signal: the simulated time of the first position of any car.
-  double startTime() const { return start_time_; }
   // s from the start signal to the car's finish (or its last position), penalties included.
   double raceTime(const std::string& name) const;
   // Time lost in traffic: over the laps after the first (the start is traffic for everyone), each lap

@@ -148,7 +148,6 @@ class Track {
   // Metres a race covers from its start line to its finish: a lap, or the run of a point-to-point course.
   double raceDistance() const { return closed() ? length_ : info_.finish_s - info_.start_finish_s; }
   TrackPose poseAt(double s) const;
-  double curvatureAt(double s) const;
   Projection project(const Eigen::Vector2d& p) const;
   // The nearest in 3D, the road's surface height counted: under a bridge, the branch at the point's height.
   Projection projectAtHeight(const Eigen::Vector3d& p) const;
