@@ -54,27 +54,35 @@ class RoarPyRemoteServerActorWrapper(rpi.RoarPyActorWrapper, RoarPyObjectWithRem
         self._need_action_space_spec = True
         self._next_action = None
         self._dropped_warned = False
+        self._action_bounds = (None, None, None)  # (the action space, its flattened low, high)
         self._refresh_sensor_list()
 
     def _refresh_sensor_list(self) -> None:
         self.sensors_map, self._last_sensor_id = _refreshed(
             self.sensors_map, self._wrapped_object.get_sensors(), RoarPyRemoteServerSensorWrapper, self._last_sensor_id)
 
+    def _flat_bounds(self, spec) -> typing.Tuple[np.ndarray, np.ndarray]:
+        """The action space's flattened range, finite in float32; worked out once per space (every action of
+        every client passes here)."""
+        if self._action_bounds[0] is not spec:
+            bounds = spaces.flatten_space(spec)
+            limit = float(np.finfo(np.float32).max)
+            self._action_bounds = (spec, np.maximum(np.asarray(bounds.low, dtype=np.float64), -limit),
+                                   np.minimum(np.asarray(bounds.high, dtype=np.float64), limit))
+        return self._action_bounds[1], self._action_bounds[2]
+
     def _unflattened(self, flat: np.ndarray):
         spec = self._wrapped_object.get_action_spec()
+        low, high = self._flat_bounds(spec)
         flat = np.asarray(flat, dtype=np.float64).ravel()
-        if flat.size != spaces.flatdim(spec) or not np.all(np.isfinite(flat)):
+        if flat.size != low.size or not np.all(np.isfinite(flat)):
             if not self._dropped_warned:
                 self._dropped_warned = True
                 _log.warning("actor '%s': dropped an action of %d value(s) (finite: %s); its space flattens to %d",
-                             self.name, flat.size, bool(np.all(np.isfinite(flat))), spaces.flatdim(spec))
+                             self.name, flat.size, bool(np.all(np.isfinite(flat))), low.size)
             return None
         # Clamped to the space's range, as CARLA clamps a control, so that no finite value overflows its dtype
         # (test_roar_py_remote test_a_huge_finite_action_is_clamped_not_the_end_of_the_session).
-        bounds = spaces.flatten_space(spec)
-        limit = float(np.finfo(np.float32).max)
-        low = np.maximum(np.asarray(bounds.low, dtype=np.float64), -limit)
-        high = np.minimum(np.asarray(bounds.high, dtype=np.float64), limit)
         return spaces.unflatten(spec, np.clip(flat, low, high))
 
     def _depack_info(self, data: RoarPyRemoteActorObsInfoRequest) -> bool:
