@@ -119,6 +119,20 @@ ACTION_RANGES = {"throttle": (0.0, 1.0), "steer": (-1.0, 1.0), "brake": (0.0, 1.
 ACTION_SWITCHES = ("hand_brake", "reverse")
 
 
+class OnceWarnings:
+    """An object's RoarPyCompatibilityWarnings, each (by its key) said once."""
+
+    def __init__(self, who: str):
+        self.who = who
+        self._said: typing.Set[str] = set()
+
+    def warn(self, key: str, message: str, stacklevel: int) -> None:
+        """stacklevel: as warnings.warn's, counted from the caller of this."""
+        if key not in self._said:
+            self._said.add(key)
+            warnings.warn(f"{self.who}: {message}", RoarPyCompatibilityWarning, stacklevel=stacklevel + 1)
+
+
 class ActionReader:
     """ROAR_PY's action as ROAR_PY's CARLA backend turns it into CARLA's VehicleControl, and as CARLA takes
     that: each field read as one number (arrays of one element too); a field the car's action spec does not
@@ -130,13 +144,10 @@ class ActionReader:
         self.who = who
         self.auto_gear = auto_gear
         self.num_gears = num_gears
-        self._warned: typing.Set[str] = set()
+        self.warnings = OnceWarnings(who)
 
     def _warn_once(self, key: str, message: str):
-        if key not in self._warned:
-            self._warned.add(key)
-            warnings.warn(f"{self.who}: {message} (as CARLA does; said once)", RoarPyCompatibilityWarning,
-                          stacklevel=4)
+        self.warnings.warn(key, f"{message} (as CARLA does; said once)", stacklevel=4)
 
     def _number(self, action, key: str) -> float:
         if key not in action:

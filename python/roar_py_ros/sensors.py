@@ -228,7 +228,7 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
         rpi.RoarPyLiDARSensor.__init__(self, name, 1.0 / rate)
         from sensor_msgs.msg import PointCloud2
 
-        self._lidar = dict(spec)
+        self._spec = dict(spec)
 
         def convert(msg):
             points = conversions.lidar_points(msg)
@@ -239,11 +239,11 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
 
     @property
     def num_lasers(self) -> int:
-        return self._lidar["num_lasers"]
+        return self._spec["num_lasers"]
 
     @property
     def max_distance(self) -> float:
-        return self._lidar["max_distance"]
+        return self._spec["max_distance"]
 
     @property
     def min_distance(self) -> float:
@@ -251,23 +251,23 @@ class RoarPyRosLiDARSensor(RosSensorMixin, rpi.RoarPyLiDARSensor):
 
     @property
     def points_per_second(self) -> float:
-        return self._lidar["points_per_second"]
+        return self._spec["points_per_second"]
 
     @property
     def rotation_frequency(self) -> float:
-        return self._lidar["rotation_frequency"]
+        return self._spec["rotation_frequency"]
 
     @property
     def upper_fov(self) -> float:
-        return self._lidar["upper_fov"]
+        return self._spec["upper_fov"]
 
     @property
     def lower_fov(self) -> float:
-        return self._lidar["lower_fov"]
+        return self._spec["lower_fov"]
 
     @property
     def horizontal_fov(self) -> float:
-        return self._lidar["horizontal_fov"]
+        return self._spec["horizontal_fov"]
 
 
 class RoarPyRosGNSSSensor(RosSensorMixin, rpi.RoarPyGNSSSensor):

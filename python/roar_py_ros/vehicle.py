@@ -5,7 +5,6 @@ import itertools
 import re
 import threading
 import typing
-import warnings
 
 import numpy as np
 import rospy
@@ -82,7 +81,6 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
         self._pending_collisions: typing.Dict[int, list] = {}
         self.control = None  # roar_sim's VehicleControl of the last action
         self.carla_id = next(_ACTOR_IDS)
-        self._not_modelled_warned: typing.Set[str] = set()
         from nav_msgs.msg import Odometry
         from roar_ros.msg import CollisionEvent, QueueDepths, VehicleControl
 
@@ -230,10 +228,9 @@ class RoarPyRosVehicle(rpi.RoarPyBaseVehicle, rpi.RoarPyResettableActor):
     def _not_modelled(self, what: str, enable: bool) -> None:
         # CARLA takes both; roar_sim always simulates the car, so turning either off is said once and ignored.
         self._check_open()
-        if not enable and what not in self._not_modelled_warned:
-            self._not_modelled_warned.add(what)
-            warnings.warn(f"vehicle '{self.name}': {what}(False) is not modelled: roar_sim always simulates the car "
-                          "with gravity (said once)", conversions.RoarPyCompatibilityWarning, stacklevel=3)
+        if not enable:
+            self._actions.warnings.warn(what, f"{what}(False) is not modelled: roar_sim always simulates the car "
+                                        "with gravity (said once)", stacklevel=3)
 
     # ---- actions --------------------------------------------------------------------------------------------
     def get_action_spec(self):
