@@ -83,7 +83,8 @@ def camera_data(msg, target: typing.Type[data.RoarPyCameraSensorData]):
         depth = image[:, :, 0].astype(np.float64)
         depth[~np.isfinite(depth) | (depth > CARLA_DEPTH_FAR_M)] = CARLA_DEPTH_FAR_M
         return data.RoarPyCameraSensorDataDepth(depth, False)
-    return data.RoarPyCameraSensorDataSemanticSegmentation(CARLA_TAG_OF_SEMANTIC_CLASS[image])
+    return data.RoarPyCameraSensorDataSemanticSegmentation(CARLA_TAG_OF_SEMANTIC_CLASS[image],
+                                                           data.CARLA_SEMANTIC_LABEL_COLOR_MAP)
 
 
 _POINT_FIELD_TYPES = {1: np.int8, 2: np.uint8, 3: np.int16, 4: np.uint16, 5: np.int32, 6: np.uint32, 7: np.float32,

@@ -133,7 +133,9 @@ def _lazy_camera_class(base: type, field: str) -> type:
             object.__setattr__(self, "_size", size)
             object.__setattr__(self, "_image", None)
             if base is data.RoarPyCameraSensorDataSemanticSegmentation:
-                self.ss_label_color_map = dict(data.CARLA_SEMANTIC_LABEL_COLOR_MAP)
+                self.ss_label_color_map = data.CARLA_SEMANTIC_LABEL_COLOR_MAP
+            if base is data.RoarPyCameraSensorDataDepth:
+                self.is_log_scale = False  # metres, as ROAR_PY's CARLA backend converts depth
 
         def _pixels(self):
             if self._image is None:

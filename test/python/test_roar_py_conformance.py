@@ -3,6 +3,7 @@ its worlds, actors, sensors, base, wrappers and visualizations packages) exists 
 ROAR's programs call take ROAR_PY's arguments in ROAR_PY's order (extra trailing keyword arguments
 allowed). The backend's names are roar_py_carla's (RoarPyCarlaWorld, RoarPyCarlaActor, RoarPyCarlaVehicle,
 RoarPyCarlaInstance). A failure names what is missing or different."""
+import dataclasses
 import importlib
 import inspect
 
@@ -102,7 +103,8 @@ SIGNATURES = [
     (rpi.RoarPyOccupancyMapSensor, "__init__", [("name", "occupancy_map_sensor")]),
     (rpi.RoarPyOccupancyMapSensorImpl, "__init__",
      [("producer", None), ("location_sensor", None), ("rotation_sensor", None), ("name", "occupancy_map_sensor")]),
-    (rpi.RoarPyCustomLambdaSensor, "__init__", [("name", None), ("control_timestep", None), ("data_space", None)]),
+    (rpi.RoarPyCustomLambdaSensor, "__init__",
+     [("name", REQUIRED), ("control_timestep", REQUIRED), ("data_space", REQUIRED)]),
     (rpi.RoarPyOccupancyMapProducer, "__init__",
      [("waypoints", None), ("width", None), ("height", None), ("width_world", None), ("height_world", None)]),
     (rpi.RoarPyOccupancyMapProducer, "plot_occupancy_map", [("location_2d", None), ("rotation_yaw", None)]),
@@ -221,6 +223,25 @@ def test_methods_take_roar_pys_arguments_in_order(owner, method, expected):
             assert parameter.default == default, f"{owner.__name__}.{method}: {name} defaults to {parameter.default!r}"
     for extra in parameters[len(expected):]:
         assert extra.default is not inspect.Parameter.empty, f"{owner.__name__}.{method}: extra '{extra.name}' required"
+
+
+# ROAR_PY's sensor data classes: their fields in order, none with a default (a program builds them whole).
+DATA_FIELDS = {
+    rpi.RoarPyCameraSensorDataRGB: ["image_rgb"],
+    rpi.RoarPyCameraSensorDataGreyscale: ["image_greyscale"],
+    rpi.RoarPyCameraSensorDataDepth: ["image_depth", "is_log_scale"],
+    rpi.RoarPyCameraSensorDataSemanticSegmentation: ["image_ss", "ss_label_color_map"],
+    rpi.RoarPyCustomLambdaSensorData: ["flattened", "space"],
+}
+
+
+@pytest.mark.parametrize("owner", list(DATA_FIELDS), ids=lambda o: o.__name__)
+def test_sensor_data_classes_have_roar_pys_fields_without_defaults(owner):
+    fields = dataclasses.fields(owner)
+    assert [f.name for f in fields] == DATA_FIELDS[owner]
+    defaulted = [f.name for f in fields if f.default is not dataclasses.MISSING
+                 or f.default_factory is not dataclasses.MISSING]
+    assert defaulted == [], f"{owner.__name__}: {defaulted} have defaults ROAR_PY's have not"
 
 
 @pytest.mark.parametrize("owner", list(BACKEND_MEMBERS), ids=lambda o: o.__name__)

@@ -431,20 +431,29 @@ def test_frame_quaternion_and_roll_pitch_yaw_sensors_convert_each_other():
     assert np.allclose(asyncio.run(back.receive_observation()).roll_pitch_yaw, [0.1, -0.2, 2.5])
 
 
-def test_a_custom_lambda_sensor_reads_its_function():
+class SpeedAndLap(rpi.RoarPyCustomLambdaSensor):
+    """A custom sensor as ROAR's programs write one: a subclass with its own receive_observation."""
+
+    def __init__(self, name, speed):
+        super().__init__(name, 0.05, spaces.Dict({"speed": spaces.Box(0, 100, (1,)), "lap": spaces.Discrete(5)}))
+        self.speed = speed
+
+    async def receive_observation(self):
+        return self.observed({"speed": np.array([self.speed], np.float32), "lap": 2})
+
+
+def test_a_custom_lambda_sensor_subclass_reads_its_value():
     space = spaces.Dict({"speed": spaces.Box(0, 100, (1,)), "lap": spaces.Discrete(5)})
-    sensor = rpi.RoarPyCustomLambdaSensor("custom", 0.05, space,
-                                          func=lambda: {"speed": np.array([12.5], np.float32), "lap": 2})
+    sensor = SpeedAndLap("custom", 12.5)
     data = asyncio.run(sensor.receive_observation())
     assert data.flattened.tolist() == [0, 0, 1, 0, 0, 12.5], "a plain dict's keys sorted: lap, then speed"
     assert int(data.unflattened["lap"]) == 2
     assert sensor.get_last_gym_observation()["speed"][0] == pytest.approx(12.5)
     again = rpi.RoarPyCustomLambdaSensorData.from_data(data.to_data(Scheme.MSGPACK_COMPRESSED), Scheme.MSGPACK_COMPRESSED)
     assert again.space == space and np.array_equal(again.flattened, data.flattened)
-    bad = rpi.RoarPyCustomLambdaSensor("bad", 0.05, space, func=lambda: {"speed": np.array([500.0], np.float32), "lap": 2})
     with pytest.raises(ValueError, match="not a value of"):
-        asyncio.run(bad.receive_observation())
-    with pytest.raises(NotImplementedError, match="func="):
+        asyncio.run(SpeedAndLap("bad", 500.0).receive_observation())
+    with pytest.raises(NotImplementedError, match="subclass implements receive_observation"):
         asyncio.run(rpi.RoarPyCustomLambdaSensor("abstract", 0.05, space).receive_observation())
 
 
@@ -474,7 +483,7 @@ def test_camera_data_is_roar_pys():
     depth = rpi.RoarPyCameraSensorDataDepth(np.linspace(0, 1000, 48).reshape(6, 8), False)
     assert np.asarray(depth.get_image()).max() == 255 and depth.get_image().mode == "L" and depth.get_size() == (8, 6)
     assert depth.to_gym().shape == (6, 8), "CARLA's backend gives depth as H x W float64"
-    ss = rpi.RoarPyCameraSensorDataSemanticSegmentation(np.full((6, 8, 1), 7, np.uint64))
+    ss = rpi.RoarPyCameraSensorDataSemanticSegmentation(np.full((6, 8, 1), 7, np.uint64), rpi.CARLA_SEMANTIC_LABEL_COLOR_MAP)
     assert tuple(np.asarray(ss.get_image())[0, 0]) == (128, 64, 128), "CARLA's tag 7 is the road"
     lidar = rpi.RoarPyLiDARSensorData(32, 0.5, np.ones((3, 4), np.float32))
     assert lidar.convert_obs_to_gym_obs().shape == (3, 4) and lidar.channels == 32

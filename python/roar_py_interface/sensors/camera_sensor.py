@@ -96,7 +96,7 @@ class RoarPyCameraSensorDataGreyscale(RoarPyCameraSensorData):
 @dataclasses.dataclass
 class RoarPyCameraSensorDataDepth(RoarPyCameraSensorData):
     image_depth: np.ndarray  # H x W float64 metres, as CARLA's backend gives it (1000 m where nothing is hit)
-    is_log_scale: bool = False
+    is_log_scale: bool
 
     def get_image(self) -> Image.Image:
         # ROAR_PY's picture of depth: divided by the frame's spread of depths, as 8 bits.
@@ -131,8 +131,7 @@ CARLA_SEMANTIC_LABEL_COLOR_MAP: typing.Dict[int, typing.Tuple[np.ndarray, str]] 
 @dataclasses.dataclass
 class RoarPyCameraSensorDataSemanticSegmentation(RoarPyCameraSensorData):
     image_ss: np.ndarray  # H x W x 1 uint64 semantic tags
-    ss_label_color_map: typing.Dict[int, typing.Tuple[np.ndarray, str]] = dataclasses.field(
-        default_factory=lambda: dict(CARLA_SEMANTIC_LABEL_COLOR_MAP))
+    ss_label_color_map: typing.Dict[int, typing.Tuple[np.ndarray, str]]
 
     def get_image(self) -> Image.Image:
         palette = np.zeros((256, 3), np.uint8)

@@ -1,5 +1,4 @@
-"""ROAR_PY's custom lambda sensor: readings a function makes of another sensor's."""
-import asyncio
+"""ROAR_PY's custom lambda sensor: a sensor whose readings a subclass makes, values of a gym space."""
 import dataclasses
 import typing
 
@@ -62,17 +61,15 @@ class RoarPyCustomLambdaSensorData(RoarPyRemoteSupportedSensorData):
 
 
 class RoarPyCustomLambdaSensor(RoarPySensor[RoarPyCustomLambdaSensorData]):
-    """A sensor whose reading is a value of data_space. ROAR_PY's class is abstract (a subclass implements
-    receive_observation); here ``func`` (a function or coroutine function of no arguments returning a value
-    of data_space) can stand in for that subclass."""
+    """A sensor whose reading is a value of data_space; abstract, as ROAR_PY's: a subclass implements
+    receive_observation, and may hand its value to ``observed`` to have it checked against the space,
+    flattened and kept as the last observation."""
 
     sensordata_type = RoarPyCustomLambdaSensorData
 
-    def __init__(self, name: str, control_timestep: float, data_space: spaces.Space,
-                 func: typing.Optional[typing.Callable[[], typing.Any]] = None):
+    def __init__(self, name: str, control_timestep: float, data_space: spaces.Space):
         super().__init__(name, control_timestep)
         self.data_space = data_space
-        self._func = func
         self._last_obs: typing.Optional[RoarPyCustomLambdaSensorData] = None
         self._closed = False
 
@@ -82,19 +79,18 @@ class RoarPyCustomLambdaSensor(RoarPySensor[RoarPyCustomLambdaSensorData]):
     def convert_obs_to_gym_obs(self, obs: RoarPyCustomLambdaSensorData):
         return obs.convert_obs_to_gym_obs()
 
-    async def receive_observation(self) -> RoarPyCustomLambdaSensorData:
-        if self._func is None:
-            raise NotImplementedError(f"sensor '{self.name}': a RoarPyCustomLambdaSensor needs func= or a subclass "
-                                      f"with receive_observation")
+    def observed(self, value: typing.Any) -> RoarPyCustomLambdaSensorData:
+        """A subclass's reading: checked against data_space, flattened and kept as the last observation."""
         if self._closed:
             raise RuntimeError(f"sensor '{self.name}' is closed")
-        value = self._func()
-        if asyncio.iscoroutine(value):
-            value = await value
         if not self.data_space.contains(value):
-            raise ValueError(f"sensor '{self.name}': its function returned {value!r}, not a value of {self.data_space}")
+            raise ValueError(f"sensor '{self.name}': {value!r} is not a value of {self.data_space}")
         self._last_obs = RoarPyCustomLambdaSensorData(spaces.flatten(self.data_space, value), self.data_space)
         return self._last_obs
+
+    async def receive_observation(self) -> RoarPyCustomLambdaSensorData:
+        raise NotImplementedError(f"sensor '{self.name}': a RoarPyCustomLambdaSensor's subclass implements "
+                                  "receive_observation")
 
     def get_last_observation(self) -> typing.Optional[RoarPyCustomLambdaSensorData]:
         return self._last_obs
