@@ -18,7 +18,8 @@ void check(const TrackerOptions& o) {
     if (!(v > 0) || !std::isfinite(v))
       throw std::invalid_argument("trajectory tracker: lengths, angles and gains must be positive");
   }
-  for (double v : {o.lookahead_time, o.yaw_rate_gain, o.speed_preview, o.max_speed, o.max_distance}) {
+  for (double v :
+       {o.lookahead_time, o.yaw_rate_gain, o.speed_preview, o.max_speed, o.max_distance, o.recorded_speed_gain}) {
     if (!(v >= 0) || !std::isfinite(v))
       throw std::invalid_argument("trajectory tracker: times, damping and caps must not be negative");
   }
@@ -84,6 +85,15 @@ vehicle::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
   const double lock = options_.max_steer_angle * vehicle::steeringShare(options_.steering_curve, std::abs(speed));
   control.steer = std::clamp(steeringAngle(in, projection.s, speed) / lock, -1.0, 1.0);
 
+  const planning::TrajectoryPoint here = planning::sampleAt(trajectory_, projection.s);
+  if (std::isfinite(here.recorded_pedal)) {
+    // A recorded lap: the pedal that drove it here, trimmed by the speed it had here.
+    target_speed_ = options_.max_speed > 0 ? std::min(here.speed, options_.max_speed) : here.speed;
+    const double effort = here.recorded_pedal + options_.recorded_speed_gain * (target_speed_ - speed);
+    control.throttle = std::clamp(effort, 0.0, 1.0);
+    control.brake = std::clamp(-effort, 0.0, 1.0);
+    return control;
+  }
   const planning::TrajectoryPoint ahead =
       planning::sampleAt(trajectory_, projection.s + speed * options_.speed_preview);
   target_speed_ = options_.max_speed > 0 ? std::min(ahead.speed, options_.max_speed) : ahead.speed;

@@ -131,20 +131,26 @@ Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const
 }
 
 Trajectory recordedTrajectory(const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds,
-                              double smoothing) {
+                              const std::vector<double>& pedals, double smoothing) {
   if (positions.size() != speeds.size())
     throw TrajectoryError("recorded trajectory: " + std::to_string(positions.size()) + " positions for " +
+                          std::to_string(speeds.size()) + " speeds");
+  if (!pedals.empty() && pedals.size() != speeds.size())
+    throw TrajectoryError("recorded trajectory: " + std::to_string(pedals.size()) + " pedals for " +
                           std::to_string(speeds.size()) + " speeds");
   Trajectory t;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     if (!positions[i].allFinite() || !std::isfinite(speeds[i]) || speeds[i] < 0)
       throw TrajectoryError("recorded trajectory: sample " + std::to_string(i) +
                             " is not finite or its speed negative");
+    if (!pedals.empty() && !(std::abs(pedals[i]) <= 1.0))
+      throw TrajectoryError("recorded trajectory: sample " + std::to_string(i) + "'s pedal is not within -1..1");
     // Samples closer than a metre (the car slow, or standing) add nothing but noise to the heading.
     if (!t.points.empty() && (positions[i] - t.points.back().position).norm() < 1.0) continue;
     TrajectoryPoint p;
     p.position = positions[i];
     p.speed = speeds[i];
+    if (!pedals.empty()) p.recorded_pedal = pedals[i];
     p.s = t.points.empty() ? 0.0 : t.points.back().s + (positions[i] - t.points.back().position).norm();
     t.points.push_back(p);
   }
@@ -250,7 +256,8 @@ TrajectoryPoint sampleAt(const Trajectory& t, double s) {
   out.s = s;
   out.curvature = (1 - f) * pts[i].curvature + f * b.curvature;
   out.speed = (1 - f) * pts[i].speed + f * b.speed;
-  out.acceleration = pts[i].acceleration;  // constant over a segment
+  out.acceleration = pts[i].acceleration;      // constant over a segment
+  out.recorded_pedal = pts[i].recorded_pedal;  // held, as a control is, until the next sample
   out.offset = (1 - f) * pts[i].offset + f * b.offset;
   return out;
 }

@@ -47,6 +47,14 @@ class PyWorld {
     world_.setVehicleVelocity(name, linear, angular);
   }
 
+  void move(const std::string& name, double x, double y, double yaw, double speed) {
+    try {
+      world_.moveVehicle(name, Eigen::Vector2d(x, y), yaw, speed);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+  }
+
   // Controls as the simulator's own checks take them: out of range clamped, NaN refused.
   void setControl(const std::string& name, double throttle, double steer, double brake, bool hand_brake, bool reverse) {
     vehicle::VehicleControl c;
@@ -117,22 +125,24 @@ class PyWorld {
 
 py::dict followRecordedLap(const std::string& map, const std::string& maps_dir, const std::string& model,
                            const std::string& urdf_dir, const std::string& config_dir,
-                           const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds, int laps) {
+                           const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds,
+                           const std::vector<double>& pedals, int laps) {
   if (laps < 1 || laps > 100)
     throw py::value_error("follow_recorded_lap: laps must be 1 to 100, got " + std::to_string(laps));
   const track::Track track = track::loadMapFolder(track::resolveMapFolder(map, maps_dir));
   const vehicle::VehicleParams vehicle = vehicle::loadVehicleModel(model, urdf_dir, config_dir);
   planning::Trajectory trajectory;
   try {
-    trajectory = planning::recordedTrajectory(positions, speeds);
+    trajectory = planning::recordedTrajectory(positions, speeds, pedals);
   } catch (const planning::TrajectoryError& e) {
     throw py::value_error(std::string("follow_recorded_lap: ") + e.what());
   }
   stack::TimeTrialOptions options;
   options.laps = laps;
-  std::vector<std::array<double, 4>> trace;  // time, x, y, speed
+  std::vector<std::array<double, 7>> trace;  // time, x, y, speed, and the control applied: throttle, brake, steer
   options.on_tick = [&trace](double time, const sim::VehicleState& s) {
-    trace.push_back({time, s.pose.position.x(), s.pose.position.y(), s.speed});
+    const auto& c = s.applied_control;
+    trace.push_back({time, s.pose.position.x(), s.pose.position.y(), s.speed, c.throttle, c.brake, c.steer});
   };
   stack::TimeTrialResult r;
   {
@@ -166,6 +176,8 @@ void bindWorld(py::module_& m) {
            py::arg("yaw") = 0.0, "Puts the car back at rest on the ground at x, y and yaw")
       .def("set_velocity", &PyWorld::setVelocity, py::arg("name"), py::arg("linear"), py::arg("angular"),
            "base_link's velocities (m/s, rad/s, map frame), the wheels rolling with the road")
+      .def("move", &PyWorld::move, py::arg("name"), py::arg("x"), py::arg("y"), py::arg("yaw"), py::arg("speed"),
+           "Moves the moving car to x, y facing yaw at the speed, keeping its slip, yaw rate and inner states")
       .def("set_control", &PyWorld::setControl, py::arg("name"), py::arg("throttle") = 0.0, py::arg("steer") = 0.0,
            py::arg("brake") = 0.0, py::arg("hand_brake") = false, py::arg("reverse") = false,
            "The control from the next tick on (steer positive to the left)")
@@ -175,9 +187,11 @@ void bindWorld(py::module_& m) {
       .def_property_readonly("time", &PyWorld::time);
   m.def(
       "follow_recorded_lap", &followRecordedLap, py::arg("map"), py::arg("maps_dir"), py::arg("model"),
-      py::arg("urdf_dir"), py::arg("config_dir"), py::arg("positions"), py::arg("speeds"), py::arg("laps") = 1,
-      "A car of the model tracks a recorded lap (positions (N, 2) at a fixed rate, speeds m/s) from the grid: an "
-      "out-lap, then `laps` timed laps. A dict of lap_times, recorded_lap (the lap's own time), finished, "
+      py::arg("urdf_dir"), py::arg("config_dir"), py::arg("positions"), py::arg("speeds"),
+      py::arg("pedals") = std::vector<double>{}, py::arg("laps") = 1,
+      "A car of the model tracks a recorded lap (positions (N, 2) at a fixed rate, speeds m/s, and the pedals "
+      "(throttle - brake) that drove it, fed forward when given) from the grid: an out-lap, then `laps` timed laps. A "
+      "dict of lap_times, recorded_lap (the lap's own time), finished, "
       "barrier_contacts, worst_offroad (m beyond the road's edge), max_ and rms_lateral_error (m) and trace (time, x, "
-      "y, speed each tick)");
+      "y, speed, throttle, brake and steer each tick)");
 }

@@ -161,6 +161,34 @@ void VehicleDynamics::setVelocity(const btVector3& linear, const btVector3& angu
   last_acceleration_ = btVector3(0, 0, 0);
 }
 
+void VehicleDynamics::moveTo(const btTransform& base_link_pose, double speed) {
+  const btTransform base = baseLinkPose();
+  const btMatrix3x3 to_body = base.getBasis().transpose();
+  const btVector3 com_offset = body_->getCenterOfMassPosition() - base.getOrigin();
+  const btVector3 angular = body_->getAngularVelocity();
+  // base_link's own velocity (not the centre of mass's), in the body frame, scaled to the speed.
+  const btVector3 linear = body_->getLinearVelocity() - angular.cross(com_offset);
+  const double scale = linear.length() > 1e-6 ? speed / linear.length() : 0.0;
+  const btVector3 body_linear = to_body * linear * scale, body_angular = to_body * angular;
+  const btTransform com = base_link_pose * com_from_base_;
+  body_->setCenterOfMassTransform(com);
+  body_->setInterpolationWorldTransform(com);
+  world_->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body_->getBroadphaseHandle(),
+                                                                          world_->getDispatcher());
+  world_->updateSingleAabb(body_.get());
+  const btMatrix3x3& basis = base_link_pose.getBasis();
+  const btVector3 new_angular = basis * body_angular;
+  const btVector3 new_offset = body_->getCenterOfMassPosition() - base_link_pose.getOrigin();
+  body_->setLinearVelocity(basis * body_linear + new_angular.cross(new_offset));
+  body_->setAngularVelocity(new_angular);
+  for (auto& w : wheels_) {
+    w.omega *= scale;
+    w.state.angular_velocity *= scale;
+    w.road_object = nullptr;
+  }
+  substep_start_velocity_ = body_->getLinearVelocity();
+}
+
 std::array<double, 4> VehicleDynamics::wheelSteerAngles() const {
   // Ackermann: both front wheels point at one turning centre on the rear axle line.
   std::array<double, 4> angles{0.0, 0.0, 0.0, 0.0};

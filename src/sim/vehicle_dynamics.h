@@ -42,6 +42,9 @@ class VehicleDynamics {
   void reset(const btTransform& base_link_pose);
   // base_link's velocities (map frame) set as they are; the wheels roll with the road.
   void setVelocity(const btVector3& linear, const btVector3& angular);
+  // base_link to the pose at the speed, its velocities kept in its own frame (slip angle and yaw rate) and
+  // its wheels' spin scaled with the speed; steering, brakes and drivetrain keep their states.
+  void moveTo(const btTransform& base_link_pose, double speed);
   btTransform baseLinkPose() const;
   VehicleState state() const;
 

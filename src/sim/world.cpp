@@ -380,6 +380,19 @@ void World::setVehicleVelocity(const std::string& name, const Eigen::Vector3d& l
                              btVector3(angular.x(), angular.y(), angular.z()));
 }
 
+void World::moveVehicle(const std::string& name, const Eigen::Vector2d& position, double yaw, double speed) {
+  Impl::Slot& slot = impl_->slot(name);
+  if (!position.allFinite() || !std::isfinite(yaw) || !std::isfinite(speed) || speed < 0.0 || speed > 150.0) {
+    throw std::invalid_argument("move: position and yaw must be finite and the speed 0 to 150 m/s");
+  }
+  btTransform pose = slot.dynamics->baseLinkPose();
+  const btVector3 forward = pose.getBasis().getColumn(0);
+  const btQuaternion turn(btVector3(0, 0, 1), std::remainder(yaw - std::atan2(forward.y(), forward.x()), 2.0 * M_PI));
+  pose.setRotation(turn * pose.getRotation());
+  pose.setOrigin(btVector3(position.x(), position.y(), pose.getOrigin().z()));
+  slot.dynamics->moveTo(pose, speed);
+}
+
 bool World::hasVehicle(const std::string& name) const { return impl_->vehicles.count(name) > 0; }
 
 std::vector<std::string> World::vehicleNames() const {

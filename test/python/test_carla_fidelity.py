@@ -9,8 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-import roar_core
-from roar_fidelity import TelemetryError, read_telemetry
+from roar_fidelity import TelemetryError, measure, read_telemetry
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 LAP = os.path.join(ROOT, "test", "data", "carla_telemetry", "monza_lap2_entry_a.json")
@@ -84,14 +83,27 @@ def test_the_fidelity_bench_compares_our_car_with_the_log():
 
 
 def test_our_model3_laps_monza_on_the_logged_lap_without_contact():
-    """The closed-loop check: the time trial's tracker follows the logged lap's path at its speeds."""
+    """The closed-loop check: the time trial's tracker follows the logged lap's path at its speeds, with the
+    pedals that drove it fed forward, in our car: no contact, never off the road, within 2 % of the log's lap."""
     log = read_telemetry(LAP)
-    result = roar_core.follow_recorded_lap("monza", os.path.join(ROOT, "maps"), "vehicle.tesla.model3",
-                                           os.path.join(ROOT, "urdf"), os.path.join(ROOT, "config", "vehicles"),
-                                           log.loc, log.speed, 1)
+    model = measure.Model("vehicle.tesla.model3", os.path.join(ROOT, "urdf"), os.path.join(ROOT, "config", "vehicles"))
+    result = measure.closed_loop_lap(model, log)
     assert result["finished"] and result["barrier_contacts"] == 0
     assert result["worst_offroad"] < 0.0, "never beyond the road's edge"
     logged = len(log.speed) * 0.05
-    lap = result["lap_times"][0]
-    print(f"our lap {lap:.2f} s, the log's {logged:.2f} s ({lap / logged - 1:+.1%})")
-    assert abs(lap / logged - 1) < 0.05
+    print(f"our lap {result['lap']:.2f} s, the log's {logged:.2f} s ({result['lap'] / logged - 1:+.1%})")
+    assert abs(result["lap"] / logged - 1) < 0.02
+
+
+def test_a_log_our_car_writes_replays_within_the_targets():
+    """The bench's floor: a log our own car writes driving the lap (rounded as ROAR's are), replayed through the
+    same car with the car held on the log before each window, meets the open-loop targets: what is left
+    against CARLA's logs is the model's."""
+    model = measure.Model("vehicle.tesla.model3", os.path.join(ROOT, "urdf"), os.path.join(ROOT, "config", "vehicles"))
+    own = measure.own_log(model, read_telemetry(LAP))
+    assert np.all(np.round(own.loc, 1) == own.loc), "locations to 0.1 m, as ROAR's logs"
+    player = measure.Replayer(model, "monza", os.path.join(ROOT, "maps"))
+    e = measure.window_errors([player.window([own], k, i) for k, i in measure.windows_of([own], 50)])
+    for part in (e[:, 2] == 0, e[:, 2] == 1):
+        assert np.median(e[part, 1]) <= 0.02 and np.percentile(e[part, 1], 95) <= 0.06
+        assert np.median(e[part, 0]) <= 0.5 and np.percentile(e[part, 0], 95) <= 2.0

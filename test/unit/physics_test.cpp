@@ -211,10 +211,13 @@ TEST(Physics, CarlaModel3DrivesAsCarlasTelemetryShows) {
   EXPECT_LT(first, 4.0) << "the brakes build";
   EXPECT_GT(strongest, 17.5);
   EXPECT_LT(strongest, 20.0);
+  // Cornering is held to the telemetry by the closed-loop lap (test_carla_fidelity.py); the skid pad is printed
+  // for the cars' table (doc/cars.md).
+  const double skidpad = skidpadG("carla_model3");
   std::printf(
       "carla_model3: still %ld ticks, %.1f/%.1f km/h, 100 km/h %.2f s after moving, top %.1f km/h, "
-      "braking %.1f m/s^2 at most\n",
-      still, speeds[still], speeds[still + 3], (hundred - moving) * 0.05, top, strongest);
+      "braking %.1f m/s^2 at most, skid pad %.2f g\n",
+      still, speeds[still], speeds[still + 3], (hundred - moving) * 0.05, top, strongest, skidpad);
 }
 
 // CARLA's vehicle.audi.a2: the A2's mass on CARLA's tyres and steering.

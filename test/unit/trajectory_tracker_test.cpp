@@ -125,6 +125,45 @@ TEST(TrajectoryTracker, BrakesRatherThanSteerAtATrajectoryFarFromTheCar) {
   EXPECT_GT(tracker.update({{10, 40}, 0, 10.0, 0}).throttle, 0.5) << "max_distance 0: no limit";
 }
 
+// A recorded lap's own pedal is fed forward where the car is (its speeds already hold the car's response), with
+// the speed error trimming it; a planned trajectory's profile is read ahead instead.
+TEST(TrajectoryTracker, RecordedPedalsAreFedForward) {
+  // A lap of a 100 m circle, 2 m a sample: full throttle for its first half, full brake for its second.
+  const double radius = 100.0;
+  std::vector<Eigen::Vector2d> positions;
+  std::vector<double> speeds, pedals;
+  for (int i = 0; i < 314; ++i) {
+    const double a = 2.0 * i / radius;
+    positions.emplace_back(radius * std::sin(a), radius * (1 - std::cos(a)));
+    speeds.push_back(20.0);
+    pedals.push_back(i < 157 ? 1.0 : -1.0);
+  }
+  auto at = [&](double s) {
+    return Eigen::Vector2d(radius * std::sin(s / radius), radius * (1 - std::cos(s / radius)));
+  };
+  const auto car = test::sedan();
+  const control::TrackerOptions options = stack::trackerFor(car);
+  // A tracker of its own for each place: the car jumps between them.
+  auto control = [&](double s, double speed) {
+    control::TrajectoryTracker tracker(options, planning::vehicleLimits(car, 1.0, 1.0));
+    tracker.setTrajectory(planning::recordedTrajectory(positions, speeds, pedals));
+    return tracker.update({at(s), s / radius, speed, 0.0});
+  };
+  const auto throttle = control(60.0, 20.0);
+  EXPECT_DOUBLE_EQ(throttle.throttle, 1.0) << "the pedal that drove the lap at 60 m, though its speed is held";
+  EXPECT_DOUBLE_EQ(throttle.brake, 0.0);
+  const auto before = control(312.0, 20.0);
+  EXPECT_DOUBLE_EQ(before.throttle, 1.0) << "2 m before the braking point at 314 m: not read ahead";
+  const auto brake = control(400.0, 20.0);
+  EXPECT_DOUBLE_EQ(brake.brake, 1.0);
+  EXPECT_NEAR(control(60.0, 25.0).throttle, 1.0 - 5.0 * options.recorded_speed_gain, 1e-9) << "5 m/s too fast";
+
+  pedals[3] = 1.5;
+  EXPECT_THROW(planning::recordedTrajectory(positions, speeds, pedals), planning::TrajectoryError);
+  pedals.pop_back();
+  EXPECT_THROW(planning::recordedTrajectory(positions, speeds, pedals), planning::TrajectoryError);
+}
+
 // Every shipped circuit, with either lateral controller: the whole stack (planner's line and profile,
 // tracker) drives clean flying laps within 3% of what the profile promises, on the road all the way.
 TEST(TimeTrial, EveryShippedCircuitIsRacedCleanCloseToThePromisedLap) {

@@ -160,6 +160,42 @@ TEST(World, VelocitiesSetAtRunTimeCarryTheCarOn) {
   EXPECT_THROW(world.setVehicleVelocity("nobody", {0, 0, 0}, {0, 0, 0}), sim::SpawnError);
 }
 
+// A moved car keeps its motion in its own frame: turned by a quarter turn in a skid, it skids on as before
+// relative to its body, at the new speed, its steering and wheels as they were.
+TEST(World, AMovedCarKeepsItsSlipYawRateAndInnerStates) {
+  const auto track = test::openGround();
+  sim::WorldOptions o;
+  o.control_timeout = 0.0;
+  World world(track, o);
+  world.spawnVehicle("ego", test::sedan(), at(0, 0));
+  for (int i = 0; i < 20; ++i) world.step();
+  vehicle::VehicleControl turn;
+  turn.throttle = 0.5;
+  turn.steer = 0.3;
+  world.setControl("ego", turn);
+  world.setVehicleVelocity("ego", {20, 0, 0}, {0, 0, 0});
+  for (int i = 0; i < 20; ++i) world.step();
+  const auto before = world.vehicleState("ego");
+  ASSERT_GT(before.body_angular_velocity.z(), 0.2) << "turning left";
+  const double yaw = sim::yawOf(before.pose.orientation) + M_PI / 2;
+  world.moveVehicle("ego", {50.0, 80.0}, yaw, 0.5 * before.speed);
+  const auto after = world.vehicleState("ego");
+  EXPECT_NEAR(after.pose.position.x(), 50.0, 1e-6);
+  EXPECT_NEAR(after.pose.position.y(), 80.0, 1e-6);
+  EXPECT_NEAR(after.pose.position.z(), before.pose.position.z(), 1e-6) << "its height kept";
+  EXPECT_NEAR(sim::yawOf(after.pose.orientation), std::remainder(yaw, 2 * M_PI), 1e-6);
+  EXPECT_NEAR(after.speed, 0.5 * before.speed, 1e-6);
+  EXPECT_NEAR(after.body_linear_velocity.y() / after.body_linear_velocity.x(),
+              before.body_linear_velocity.y() / before.body_linear_velocity.x(), 1e-6)
+      << "the same slip angle";
+  EXPECT_NEAR(after.body_angular_velocity.z(), before.body_angular_velocity.z(), 1e-6);
+  EXPECT_DOUBLE_EQ(after.steering_angle, before.steering_angle);
+  EXPECT_NEAR(after.wheels[2].angular_velocity, 0.5 * before.wheels[2].angular_velocity, 1e-9);
+  EXPECT_THROW(world.moveVehicle("ego", {NAN, 0.0}, 0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(world.moveVehicle("ego", {0.0, 0.0}, 0.0, 200.0), std::invalid_argument);
+  EXPECT_THROW(world.moveVehicle("nobody", {0.0, 0.0}, 0.0, 1.0), sim::SpawnError);
+}
+
 TEST(World, StaleControlBrakesTheCar) {
   const auto track = test::openGround();
   sim::WorldOptions o;

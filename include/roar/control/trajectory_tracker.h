@@ -32,7 +32,10 @@ struct TrackerOptions {
   double yaw_rate_gain = 0.1;  // rad per rad/s
   double speed_gain = 1.0;     // throttle or brake per m/s of speed error
   double speed_preview = 0.1;  // s: the profile is read this far ahead to cover the car's response
-  double max_speed = 0.0;      // m/s cap on the profile; 0: none
+  // Throttle or brake per m/s of speed error on top of a recorded lap's own pedal (its speeds already hold the
+  // car's response, so they are read where the car is).
+  double recorded_speed_gain = 0.1;
+  double max_speed = 0.0;  // m/s cap on the profile; 0: none
   // m: a car further than this from its trajectory is braked to a stop rather than steered at it (a window
   // of the map before a switch, or of a car somewhere else); 0: never. Wider than any road, so that a car
   // that has left the road is still brought back.

@@ -2,6 +2,7 @@
 // A racing trajectory: a line with the speed, curvature and acceleration to drive along it. Closed for the
 // whole circuit; open for the window ahead of one car.
 #include <Eigen/Core>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct TrajectoryPoint {
   double acceleration = 0.0;  // m/s^2 along the path
   double time = 0.0;          // s from the first point of the lap
   double offset = 0.0;        // m left of the track's centre line
+  // The pedal that drove a recorded lap from here (throttle - brake, -1..1), held until the next point; NaN on a
+  // planned trajectory. The tracker feeds it forward (TrajectoryTracker.RecordedPedalsAreFedForward).
+  double recorded_pedal = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct Trajectory {
@@ -57,10 +61,11 @@ Trajectory trajectoryOf(const track::Track& track, const RacingLine& line, const
 
 // A closed trajectory along a recorded lap (a car's positions at a fixed rate, with its speeds there: CARLA's
 // telemetry of a lap): the points a metre or more apart, heading and curvature from the path smoothed over
-// +-`smoothing` metres, accelerations from the speeds, times by integration. Throws TrajectoryError for fewer
-// than 10 distinct points or a non-finite or negative value, naming the sample.
+// +-`smoothing` metres, accelerations from the speeds, times by integration; `pedals` (throttle - brake at each
+// sample, or none) become the points' recorded_pedal. Throws TrajectoryError for fewer than 10 distinct points,
+// a non-finite or negative value or a pedal outside -1..1, naming the sample.
 Trajectory recordedTrajectory(const std::vector<Eigen::Vector2d>& positions, const std::vector<double>& speeds,
-                              double smoothing = 6.0);
+                              const std::vector<double>& pedals = {}, double smoothing = 6.0);
 
 // Interpolated at s (wrapped on a closed trajectory, clamped to the ends of an open one).
 TrajectoryPoint sampleAt(const Trajectory& trajectory, double s);

@@ -107,6 +107,12 @@ class World {
   // Sets base_link's velocities (m/s and rad/s, map frame), the wheels rolling with the road; throws
   // std::invalid_argument for velocities that are not finite or beyond 150 m/s and 20 rad/s.
   void setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
+  // Moves a moving car: base_link to (x, y) facing yaw at the speed (m/s), its height, roll and pitch kept,
+  // its motion kept in its own frame (slip angle, yaw rate) and its wheels', steering's and drivetrain's
+  // states kept: a logged path's replay holds the car on the log while its own state settles
+  // (bench/carla_fidelity.py). Throws std::invalid_argument for values that are not finite or a speed
+  // beyond 150 m/s.
+  void moveVehicle(const std::string& name, const Eigen::Vector2d& position, double yaw, double speed);
   bool hasVehicle(const std::string& name) const;
   std::vector<std::string> vehicleNames() const;
   const vehicle::VehicleParams& vehicleParams(const std::string& name) const;
