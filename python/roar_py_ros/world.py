@@ -27,7 +27,6 @@ MAX_SUBSTEP = 0.005
 class RoarPyRosWorld(rpi.RoarPyWorld):
     def __init__(self, instance):
         from geometry_msgs.msg import PoseArray
-        from rosgraph_msgs.msg import Clock
         from roar_ros.msg import MapInfo, WaypointArray
 
         self._instance = instance
@@ -46,8 +45,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
             rospy.Subscriber("/waypoints", WaypointArray, self._on_waypoints, queue_size=1),
             rospy.Subscriber("/spawn_points", PoseArray, self._on_spawn_points, queue_size=1),
             rospy.Subscriber("/roar_sim/map", MapInfo, self._on_map, queue_size=1),
-            rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1, tcp_nodelay=True),
         ]
+        self._clock_sub = None
         self._refresh_settings()
         self._wait(lambda: self._waypoints_msg is not None and self._spawn_msg is not None,
                    "waypoint_server's /waypoints and /spawn_points")
@@ -95,7 +94,19 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         info = self._services.call("/roar_sim/get_world_info", GetWorldInfo)
         self._mode, self._control_dt, self._physics_dt = info.mode, info.control_dt, info.physics_dt
         self._sim_time = info.stamp.to_sec()
+        self._follow_clock()
         return info
+
+    def _follow_clock(self):
+        """/clock is followed in asynchronous mode only: a synchronous step's answer carries its time, and a
+        message a tick would cost every step a wake-up of this process (bench/roar_py_bench.py)."""
+        from rosgraph_msgs.msg import Clock
+
+        if self.is_asynchronous and self._clock_sub is None:
+            self._clock_sub = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1, tcp_nodelay=True)
+        elif not self.is_asynchronous and self._clock_sub is not None:
+            self._clock_sub.unregister()
+            self._clock_sub = None
 
     def _set_stepping(self, **fields):
         """Changes roar_sim's stepping; fields not given are kept (the pace too: 0 there is flat out)."""
@@ -106,6 +117,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         if not response.success:
             raise ValueError(f"roar_sim refused the stepping settings: {response.message}")
         self._mode, self._control_dt, self._physics_dt = response.mode, response.control_dt, response.physics_dt
+        self._follow_clock()
 
     def set_asynchronous(self, asynchronous: bool):
         """Asynchronous: roar_sim runs on by itself at wall-clock time, as CARLA's server does; synchronous:
@@ -484,6 +496,6 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         self._services.call("/roar_sim/draw_debug", DrawDebug, check=False, clear=True)
 
     def close(self):
-        for sub in self._subs:
+        for sub in self._subs + ([self._clock_sub] if self._clock_sub is not None else []):
             sub.unregister()
-        self._subs = []
+        self._subs, self._clock_sub = [], None

@@ -147,6 +147,7 @@ void SimNode::loadMap(const std::string& folder, const std::string& reason) {
   auto scene = std::make_unique<sensors::RayScene>(*track);
   io_.clear();  // the cars go (their agents refer to the old track)
   scene_ticks_.clear();
+  scene_posed_at_ = nullptr;
   world_ = std::move(world);
   scene_ = std::move(scene);
   track_ = std::move(track);
@@ -364,9 +365,19 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   if (!any) return poses;
   SceneTick kept = sceneNow();
   for (const auto& [name, car] : kept.cars) poses[name] = car.pose;
-  poseRayScene(kept);
   scene_ticks_.push_back(std::move(kept));
-  while (scene_ticks_.size() > kKeptSceneTicks) scene_ticks_.pop_front();
+  while (scene_ticks_.size() > kKeptSceneTicks) {
+    if (scene_posed_at_ == &scene_ticks_.front()) scene_posed_at_ = nullptr;
+    scene_ticks_.pop_front();
+  }
+  // Posing the scene (Embree's refit) is most of a tick's cost with sensors that cast no ray this tick:
+  // an unread on-demand camera, sensors between their samples (bench/roar_py_bench.py).
+  bool rays = false;
+  for (auto& [name, io] : io_) {
+    rays = rays || (io.agent && io.agent->needsScene()) ||
+           (!io.sensors->empty() && io.sensors->rig().castsRaysAt(world_->time(), *io.sensors));
+  }
+  if (rays) poseRayScene(scene_ticks_.back());
   return poses;
 }
 
@@ -391,6 +402,7 @@ void SimNode::poseRayScene(const SceneTick& tick) {
     scene_->setVehicleVelocity(io.scene_id, car->second.linear, car->second.angular);
   }
   scene_->commit();
+  scene_posed_at_ = &tick;
 }
 
 void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses) {

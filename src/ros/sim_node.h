@@ -212,6 +212,9 @@ class SimNode {
   // The ray scene's state (every car's pose and velocities) at each of the last kKeptSceneTicks ticks, for
   // on-demand camera frames rendered after their tick (/roar_sim/render_sensor).
   std::deque<SceneTick> scene_ticks_;
+  // The kept tick whose poses the ray scene has (nullptr: none kept): a tick whose sensors cast no ray does
+  // not pose it (the scene is posed when a ray is cast, at that tick or for an on-demand frame).
+  const SceneTick* scene_posed_at_ = nullptr;
   std::map<std::string, ros::Subscriber> recorded_subs_;  // each recorder's progress, by its node's name
 };
 

@@ -406,10 +406,9 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
     const SceneTick now = sceneNow();
     const SceneTick* tick = &now;
     if (!req.stamp.isZero()) tick = keptSceneTick(req.stamp.toSec(), req.vehicle);
-    const bool newest = !scene_ticks_.empty() && tick == &scene_ticks_.back();
-    if (!newest) poseRayScene(*tick);
+    if (tick != scene_posed_at_) poseRayScene(*tick);
     const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, tick->cars.at(req.vehicle).pose, nullptr);
-    if (!newest && !scene_ticks_.empty()) poseRayScene(scene_ticks_.back());
+    if (tick == &now) scene_posed_at_ = nullptr;  // posed at a moment that is not kept
     res.image = toImage(frame, type, toRosTime(tick->time), req.vehicle + "/" + req.sensor + "_optical");
     res.success = true;
     res.message = "rendered " + req.vehicle + "/" + req.sensor + " at t = " + std::to_string(tick->time);

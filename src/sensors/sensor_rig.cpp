@@ -155,15 +155,30 @@ void SensorRig::sampleMotion(double time, const BodyMotion& motion, SensorSink& 
   }
 }
 
+bool SensorRig::rendered(const CameraGroup& group, SensorSink& sink) {
+  for (const Sensor* m : group.members) {
+    if (!m->spec.camera.on_demand || sink.wanted(m->spec)) return true;
+  }
+  return false;
+}
+
+bool SensorRig::castsRaysAt(double time, SensorSink& sink) const {
+  for (const auto& g : camera_groups_) {
+    if (g->members.front()->due(time) && rendered(*g, sink)) return true;
+  }
+  for (const auto& s : sensors_) {
+    if (castsRays(s->spec.type) && !isCamera(s->spec.type) && s->due(time)) return true;
+  }
+  return false;
+}
+
 void SensorRig::sampleRays(double time, const RayScene& scene, const Eigen::Isometry3d& base_in_map, int own_vehicle,
                            SensorSink& sink) {
   for (auto& g : camera_groups_) {
     Sensor& lead = *g->members.front();
     if (!lead.due(time)) continue;
     for (Sensor* m : g->members) m->markDone(time);
-    bool wanted = false;
-    for (Sensor* m : g->members) wanted = wanted || !m->spec.camera.on_demand || sink.wanted(m->spec);
-    if (!wanted) {
+    if (!rendered(*g, sink)) {
       for (Sensor* m : g->members) sink.deferred(m->spec, time);
       continue;
     }

@@ -3,6 +3,7 @@ data, wrappers, the occupancy-map producer, serialisation, and actions read as R
 them. Each test says the ROAR_PY (or CARLA) behaviour it mirrors."""
 import asyncio
 import collections
+import os
 import pickle
 import threading
 import warnings
@@ -16,6 +17,8 @@ from shapely.geometry import Point, Polygon
 import roar_py_interface as rpi
 from roar_py_interface import spaces, transforms
 from roar_py_ros import conversions
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 Scheme = rpi.RoarPyRemoteSupportedSensorSerializationScheme
 
@@ -472,6 +475,60 @@ def test_the_occupancy_map_draws_the_road_ahead_upwards():
     data = rpi.RoarPyOccupancyMapSensorData.from_image(producer.plot_occupancy_map(np.array([100.0, 4.0]), 0.0))
     assert data.convert_obs_to_gym_obs().shape == (48, 48, 1) and data.get_gym_observation_spec().shape == (48, 48, 1)
     assert rpi.RoarPyOccupancyMapSensorData.from_data(data.to_data(Scheme.MSGPACK), Scheme.MSGPACK).occupancy_map.size == (48, 48)
+
+
+def roar_pys_occupancy_walk(producer, location_min, location_max):
+    """ROAR_PY's occupancy map walk, one waypoint at a time as its loop goes: from ten before the last start the
+    first waypoint whose cross-section crosses the square's sides, then the run of those after it that do."""
+    def crosses(a, b, c, d):
+        u, v = b - a, d - c
+        det = u[0] * v[1] - u[1] * v[0]
+        if det == 0:
+            return False
+        r = ((a[1] - c[1]) * v[0] - (a[0] - c[0]) * v[1]) / det
+        s = ((a[1] - c[1]) * u[0] - (a[0] - c[0]) * u[1]) / det
+        return 0 <= r <= 1 and 0 <= s <= 1
+
+    def in_range(w):
+        start, end = w.line_representation[0][:2], w.line_representation[1][:2]
+        side_1, side_2 = np.array([location_min[0], location_max[1]]), np.array([location_max[0], location_min[1]])
+        return any(crosses(start, end, a, b) for a, b in ((location_min, side_1), (side_1, location_max),
+                                                          (location_max, side_2), (side_2, location_min)))
+    waypoints, count, last = producer.waypoints, len(producer.waypoints), None
+    search_from = 0 if producer.reference_start == -1 else producer.reference_start - 10
+    for i in range(count):
+        if in_range(waypoints[(search_from + i) % count]):
+            producer.reference_start = (search_from + i) % count
+            last = waypoints[producer.reference_start]
+            break
+    pairs = []
+    for i in range(1, count + 1):
+        waypoint = waypoints[(producer.reference_start + i) % count]
+        if last is not None:
+            pairs.append((last, waypoint))
+            last = None
+        if not in_range(waypoint):
+            break
+        last = waypoint
+    return pairs
+
+
+def test_the_occupancy_map_draws_what_roar_pys_loop_draws():
+    # The producer tests every waypoint at once; ROAR_PY's walk, one at a time, must give the same pairs along
+    # Monza, off it and across its ends, for the runner's 2 m map and a wide one.
+    waypoints = rpi.RoarPyWaypoint.load_waypoint_list(np.load(os.path.join(ROOT, "maps", "monza", "waypoints.npz")))
+    rng = np.random.default_rng(7)
+    for width_world in (2.0, 20.0, 300.0):
+        producer = rpi.RoarPyOccupancyMapProducer(waypoints, 50, 50, width_world, width_world)
+        producer.reference_start = -1
+        for k in range(0, 2 * len(waypoints), 37):
+            place = waypoints[k % len(waypoints)].location[:2] + rng.normal(0, 3, 2) + (
+                rng.normal(0, 60, 2) if k % 5 == 0 else 0)
+            half = np.array([width_world, width_world])
+            expected = roar_pys_occupancy_walk(producer, place - half, place + half)
+            got = producer._pairs_in_range(place - half, place + half)
+            assert [(id(a), id(b)) for a, b in got] == [(id(a), id(b)) for a, b in expected], (width_world, k)
+            assert producer.start_index == producer.reference_start
 
 
 def test_camera_data_is_roar_pys():

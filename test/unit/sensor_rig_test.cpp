@@ -81,6 +81,43 @@ TEST(SensorRig, EverySensorReportsAtItsRateAndCamerasShareACast) {
   EXPECT_NEAR(sink.imu_stamps[99], 1.0, 1e-9);
 }
 
+// castsRaysAt says whether sampleRays would cast a ray at a tick, so that a tick whose sensors cast none need
+// not pose the scene: an on-demand camera nobody wants casts none, a LiDAR between its samples none.
+TEST(SensorRig, OnlySensorsThatAreDueAndWantedCastRays) {
+  struct Wanting : Counter {
+    bool want = false;
+    bool wanted(const sensors::SensorSpec&) override { return want; }
+  };
+  const auto track = test::stadiumTrack();
+  sensors::RayScene scene(track);
+  const int id = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
+  const auto all = sensors::readSensorSet(test::sourceDir() + "/config/sensors/default.yaml");
+  std::vector<sensors::SensorSpec> specs;
+  for (auto spec : all) {
+    if (spec.name == "front_rgb") {
+      spec.camera.on_demand = true;
+      specs.push_back(spec);
+    }
+    if (spec.name == "top_lidar") {
+      spec.rate = 10;  // every other tick
+      specs.push_back(spec);
+    }
+  }
+  ASSERT_EQ(specs.size(), 2u);
+  sensors::SensorRig rig(specs, {}, track.info().origin);
+  Wanting sink;
+  const Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  for (int tick = 1; tick <= 8; ++tick) {
+    const double t = 0.05 * tick;
+    sink.want = tick == 3;
+    const bool lidar_due = tick % 2 == 0;
+    EXPECT_EQ(rig.castsRaysAt(t, sink), lidar_due || sink.want) << "tick " << tick;
+    rig.sampleRays(t, scene, pose, id, sink);
+    EXPECT_EQ(sink.count["front_rgb"], tick >= 3 ? 1 : 0) << "rendered only when wanted, at tick 3";
+    EXPECT_EQ(sink.count["top_lidar"], tick / 2);
+  }
+}
+
 TEST(SensorRig, RatesAKindCannotKeepAreRefused) {
   sensors::SensorSpec cam;
   cam.name = "fast_cam";

@@ -66,6 +66,10 @@ class SensorRig {
   // Cameras see the car they are on; LiDAR, radar and occupancy maps do not.
   void sampleRays(double time, const RayScene& scene, const Eigen::Isometry3d& base_in_map, int own_vehicle,
                   SensorSink& sink);
+  // Whether sampleRays at `time` would cast a ray (a camera due and wanted, or a LiDAR, radar or occupancy
+  // map due): when none would, the scene need not be posed for the tick (sensor_rig_test
+  // OnlySensorsThatAreDueAndWantedCastRays).
+  bool castsRaysAt(double time, SensorSink& sink) const;
   // Camera `name`'s frame with the scene as it is and the car at base_in_map: what sampleRays renders at a
   // tick in that state, to the bit (sensor_rig_test AnOnDemandFrameIsTheFrameSampledAtItsTick). Throws
   // SensorSpecError for a name that is no camera of this rig.
@@ -76,6 +80,8 @@ class SensorRig {
   struct Sensor;
   struct CameraGroup;
   void rebuildCameraGroups();
+  // A camera group renders when a member is not on demand, or a reader wants its frame.
+  static bool rendered(const CameraGroup& group, SensorSink& sink);
 
   RigTiming timing_;
   track::GeoOrigin origin_;
