@@ -6,7 +6,8 @@ config/vehicles/<model>.yaml and its URDF:
 
 1. longitudinal, on straight stretches: the pedal lags, the brakes' torque and the torque curve (scipy's
    least squares on every tick's speed, robust to the odd stretch where the car slid);
-2. the standing start: the stand's length, the engine's inertia and the clutch (a grid on the first 3 s);
+2. the brake pedal's rate limit and the pressure's build (a grid on the full-brake bands), then the standing
+   start: the stand's length, the engine's inertia and the clutch (a grid on the first 3 s and the surge);
 3. lateral, on every window and the closed-loop lap: tyre friction and stiffnesses, steering curve and
    response, weight distribution, yaw inertia, drive split, roll (scipy's Powell search from the model's
    values, on the position and speed errors at 0.5, 1, 1.5 and 2 s plus the closed-loop lap's time, contacts
@@ -98,6 +99,26 @@ def longitudinal(car: Car, logs) -> Car:
                         diff_step=2e-2, loss="soft_l1", f_scale=0.3, max_nfev=300)
     print(f"longitudinal: {len(starts)} straight windows, rms speed error {np.sqrt(np.mean(residuals(fit.x) ** 2)):.3f} m/s")
     return with_values(fit.x)
+
+
+def brake_onset(car: Car, logs) -> Car:
+    """The brake pedal's rate limit and the pressure's build (a grid): the full-brake bands' worst error
+    against the logs', in bands of 10 samples or more (bench/carla_fidelity.py's figure)."""
+    logged = measure.logged_accelerations(logs, "brake")
+    starts = measure.windows_of(logs, measure.WINDOW)
+    best = None
+    for rate, rise in itertools.product([3.0, 4.0, 5.0, 6.0, 8.0, 10.0], [0.1, 0.15, 0.2, 0.25]):
+        c = copy.deepcopy(car.config)
+        c["brakes"]["pedal_rate_per_s"], c["brakes"]["rise_time_s"] = rate, rise
+        candidate = Car(c, car.urdf, car.name)
+        ours = measure.our_accelerations(replay(candidate, logs, starts), logs, "brake")
+        errors = [abs(np.median(ours[b]) / np.median(logged[b]) - 1) for b in logged
+                  if len(logged[b]) >= 10 and len(ours.get(b, [])) >= 10]
+        if errors and (best is None or max(errors) < best[0]):
+            best = (max(errors), candidate)
+    print(f"brake onset: worst band {best[0]:.1%} at {best[1].config['brakes']['pedal_rate_per_s']}/s and "
+          f"{best[1].config['brakes']['rise_time_s']} s")
+    return best[1]
 
 
 def standing_start(car: Car, logs) -> Car:
@@ -229,7 +250,7 @@ def main():
     if 1 in args.stage:
         car = longitudinal(car, logs)
     if 2 in args.stage:
-        car = standing_start(car, logs)
+        car = standing_start(brake_onset(car, logs), logs)
     if 3 in args.stage:
         car = lateral(car, logs, read_telemetry(args.lap), args.evaluations)
     print(yaml.safe_dump(car.config, sort_keys=False))

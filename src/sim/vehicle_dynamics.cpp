@@ -138,7 +138,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   anti_roll_load_.fill(0.0);
   powertrain_.reset(false);  // moved, not spawned: CARLA keeps a teleported car in gear
   control_ = vehicle::parkedControl();
-  brake_level_ = 0.0;  // the pedals released: the parked car is held by its hand brake, at once
+  brake_pedal_ = brake_level_ = 0.0;  // the pedals released: the parked car is held by its hand brake, at once
   substep_start_velocity_ = btVector3(0, 0, 0);
   last_acceleration_ = btVector3(0, 0, 0);
 }
@@ -155,7 +155,7 @@ void VehicleDynamics::setVelocity(const btVector3& linear, const btVector3& angu
   // ROAR_PY_RL's resets stop it and drive off at once, as over CARLA).
   if (linear.length() > 0.1) {
     powertrain_.settle(control_.throttle);
-    brake_level_ = control_.brake;
+    brake_pedal_ = brake_level_ = control_.brake;
   }
   substep_start_velocity_ = body_->getLinearVelocity();
   last_acceleration_ = btVector3(0, 0, 0);
@@ -221,9 +221,11 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
       0.5 * front * (wheels_[0].omega + wheels_[1].omega) + 0.5 * rear * (wheels_[2].omega + wheels_[3].omega);
   const double drive = powertrain_.update(request, driven_omega, dt);
   const auto& brakes = params_.brakes;
-  const double brake_lag = control_.brake > brake_level_ ? brakes.rise_time : brakes.release_time;
+  const double pedal_step = brakes.pedal_rate > 0 ? brakes.pedal_rate * dt : 1.0;
+  brake_pedal_ += std::clamp(control_.brake - brake_pedal_, -pedal_step, pedal_step);
+  const double brake_lag = brake_pedal_ > brake_level_ ? brakes.rise_time : brakes.release_time;
   brake_level_ =
-      brake_lag > 0 ? brake_level_ + (control_.brake - brake_level_) * -std::expm1(-dt / brake_lag) : control_.brake;
+      brake_lag > 0 ? brake_level_ + (brake_pedal_ - brake_level_) * -std::expm1(-dt / brake_lag) : brake_pedal_;
   // Anti-roll bars from the last substep's compressions (one substep of lag, far below the roll mode).
   const double bars[2] = {params_.suspension.anti_roll_front, params_.suspension.anti_roll_rear};
   for (int axle = 0; axle < 2; ++axle) {

@@ -86,7 +86,8 @@ class VehicleDynamics {
   vehicle::VehicleControl control_ = vehicle::parkedControl();
   double drag_share_ = 1.0;   // of the free-air drag: below 1 in another car's slipstream
   double steering_ = 0.0;     // rad, commanded road-wheel angle after the rate limit
-  double brake_level_ = 0.0;  // the brake pedal as the pressure follows it (BrakeParams::rise_time)
+  double brake_pedal_ = 0.0;  // the brake pedal as its rate limit lets it follow the control (BrakeParams)
+  double brake_level_ = 0.0;  // the brake pressure as it follows the pedal (BrakeParams::rise_time)
   btVector3 substep_start_velocity_{0, 0, 0};
   btVector3 substep_start_spin_{0, 0, 0};
   btVector3 last_acceleration_{0, 0, 0};

@@ -212,6 +212,7 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.brakes.hand_brake_torque = above(brakes, "hand_brake_torque_nm", 0, 20000, " N m");
   p.brakes.abs = flag(brakes, "abs", true);
   p.brakes.rear_grip_share = inRange(brakes, "rear_grip_share", 0, 1);
+  if (brakes.has("pedal_rate_per_s")) p.brakes.pedal_rate = inRange(brakes, "pedal_rate_per_s", 0, 1000, " /s");
   if (brakes.has("rise_time_s")) p.brakes.rise_time = inRange(brakes, "rise_time_s", 0, 2, " s");
   if (brakes.has("release_time_s")) p.brakes.release_time = inRange(brakes, "release_time_s", 0, 2, " s");
   brakes.finish();

@@ -281,6 +281,38 @@ TEST(Physics, AccelerationAndTopSpeedArePlausibleForASportsSedan) {
   RecordProperty("top_speed_kmh", std::to_string(top));
 }
 
+// A rate-limited brake pedal (CARLA's vehicles limit their inputs' rates) ramps the braking up over its travel
+// time, then brakes as hard as a pedal that moves at once.
+TEST(Physics, ARateLimitedBrakePedalRampsTheBrakingUp) {
+  auto decelerations = [](double pedal_rate) {
+    vehicle::VehicleParams car = test::sedan();
+    car.brakes.pedal_rate = pedal_rate;
+    car.brakes.rise_time = 0.0;
+    const auto ground = test::openGround();
+    sim::World world(ground, Drive::options());
+    world.spawnVehicle("ego", car, sim::Pose());
+    for (int i = 0; i < 20; ++i) world.step();
+    world.setControl("ego", vehicle::VehicleControl());
+    world.setVehicleVelocity("ego", {25, 0, 0}, {0, 0, 0});
+    world.step();
+    vehicle::VehicleControl brake;
+    brake.brake = 1.0;
+    std::vector<double> out;
+    for (int tick = 0; tick < 10; ++tick) {
+      const double before = world.vehicleState("ego").speed;
+      world.setControl("ego", brake);
+      world.step();
+      out.push_back((before - world.vehicleState("ego").speed) / 0.05);
+    }
+    return out;
+  };
+  const auto at_once = decelerations(0.0), ramped = decelerations(4.0);  // full travel in 0.25 s: 5 ticks
+  EXPECT_LT(ramped[0], 0.3 * at_once[0]) << "a tenth of the pedal on average over the first tick";
+  EXPECT_GT(ramped[1], 1.5 * ramped[0]) << "the pedal further down";
+  EXPECT_LT(ramped[1], 0.9 * at_once[1]);
+  EXPECT_NEAR(ramped[8], at_once[8], 0.05 * at_once[8]) << "the pedal down";
+}
+
 TEST(Physics, ParkedCarStaysPut) {
   Drive d;
   const auto before = d.state();

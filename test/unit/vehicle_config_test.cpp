@@ -251,9 +251,12 @@ TEST(VehicleConfig, LagsStandAndCarSimEdTyreAreReadAndRangeChecked) {
     return dir.write("car.yaml", text);
   };
   vehicle::VehicleParams p;
-  vehicle::readVehicleYaml(with("brakes:\n", "brakes:\n  rise_time_s: 0.25\n  release_time_s: 0.5\n"), &p);
+  vehicle::readVehicleYaml(
+      with("brakes:\n", "brakes:\n  pedal_rate_per_s: 6\n  rise_time_s: 0.25\n  release_time_s: 0.5\n"), &p);
+  EXPECT_DOUBLE_EQ(p.brakes.pedal_rate, 6.0);
   EXPECT_DOUBLE_EQ(p.brakes.rise_time, 0.25);
   EXPECT_DOUBLE_EQ(p.brakes.release_time, 0.5);
+  EXPECT_DOUBLE_EQ(p.pedalResponseTime(), 0.25 + 0.5 / 6.0) << "the lag from the ramp's half-way point";
   vehicle::readVehicleYaml(with("gearbox:\n", "gearbox:\n  engage_time_s: 1.5\n  clutch_strength_nm_s_per_rad: 2\n"),
                            &p);
   EXPECT_DOUBLE_EQ(p.gearbox.engage_time, 1.5);
@@ -277,6 +280,8 @@ TEST(VehicleConfig, LagsStandAndCarSimEdTyreAreReadAndRangeChecked) {
     return errorOf([&] { vehicle::readVehicleYaml(with(from, to), &p); });
   };
   EXPECT_NE(error("brakes:\n", "brakes:\n  rise_time_s: 5\n").find("brakes.rise_time_s: 5 is outside [0, 2] s"),
+            std::string::npos);
+  EXPECT_NE(error("brakes:\n", "brakes:\n  pedal_rate_per_s: -1\n").find("brakes.pedal_rate_per_s: -1 is outside"),
             std::string::npos);
   EXPECT_NE(error("gearbox:\n", "gearbox:\n  engage_time_s: -1\n").find("gearbox.engage_time_s: -1 is outside"),
             std::string::npos);

@@ -113,8 +113,10 @@ struct BrakeParams {
   // Electronic brake-force distribution: the rear wheels brake with at most this share of their grip,
   // keeping lateral grip at the rear when braking into a corner.
   double rear_grip_share = 0.8;
-  // s: brake pressure follows the pedal as a first-order lag, building with rise_time and releasing with
-  // release_time (0: at once).
+  // The pedal moves at most pedal_rate a second (0: at once), as CARLA's vehicles rate-limit their inputs;
+  // brake pressure follows it as a first-order lag, building with rise_time and releasing with release_time
+  // (s; 0: at once).
+  double pedal_rate = 0.0;
   double rise_time = 0.0;
   double release_time = 0.0;
 };
@@ -152,8 +154,11 @@ struct VehicleParams {
   double rear_grip_share = 0.8;    // traction control lets the rear wheels drive with at most this share of their grip
 
   double wheelbase() const { return wheels[0].position.x() - wheels[2].position.x(); }
-  // s the pedals take to act: the longer of the torque's response and the brakes' build (0: at once).
-  double pedalResponseTime() const { return std::max(engine.response_time, brakes.rise_time); }
+  // s the pedals take to act: the longer of the torque's response and the brakes' build, from half the pedal's
+  // travel time on (0: at once).
+  double pedalResponseTime() const {
+    return std::max(engine.response_time, brakes.rise_time + (brakes.pedal_rate > 0 ? 0.5 / brakes.pedal_rate : 0.0));
+  }
   double track_width() const { return wheels[0].position.y() - wheels[1].position.y(); }
 };
 
