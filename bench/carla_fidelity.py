@@ -20,6 +20,7 @@ import time
 
 import numpy as np
 
+import roar_paths
 from roar_fidelity import measure, read_telemetry
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -60,8 +61,8 @@ def main():
     parser.add_argument("--telemetry", default=os.path.join(ROOT, "..", "shared", "fixtures", "carla_telemetry"),
                         help="a folder of CARLA telemetry logs (*.json)")
     parser.add_argument("--model", default="vehicle.tesla.model3")
-    parser.add_argument("--config-dir", default=os.path.join(ROOT, "config", "vehicles"))
-    parser.add_argument("--urdf-dir", default=os.path.join(ROOT, "urdf"))
+    parser.add_argument("--config-dir", default=str(roar_paths.layout()["vehicles"]))
+    parser.add_argument("--urdf-dir", default=str(roar_paths.layout()["urdf"]))
     parser.add_argument("--lap", default=os.path.join(ROOT, "test", "data", "carla_telemetry", "monza_lap2_entry_a.json"),
                         help="a log of one whole lap (for the closed-loop check)")
     parser.add_argument("--stride", type=int, default=25, help="ticks between open-loop windows")
@@ -78,7 +79,7 @@ def main():
     print(f"{args.model} beside CARLA's: {sum(len(l.speed) for l in logs)} ticks of {len(logs)} logs "
           f"({', '.join(l.name for l in logs)})")
 
-    maps = os.path.join(ROOT, "maps")
+    maps = str(roar_paths.layout()["maps"])
     starts = measure.windows_of(logs, args.stride)
     unsettled = measure.Replayer(model, "monza", maps, history=0)
     held = measure.Replayer(model, "monza", maps)

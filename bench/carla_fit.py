@@ -32,6 +32,7 @@ import numpy as np
 import yaml
 from scipy.optimize import least_squares, minimize
 
+import roar_paths
 from roar_fidelity import measure, read_telemetry
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -61,7 +62,7 @@ class Car:
 
 def replay(car: Car, logs, starts, history: int = measure.HISTORY):
     with tempfile.TemporaryDirectory() as folder:
-        player = measure.Replayer(car.model(folder), "monza", os.path.join(ROOT, "maps"), history)
+        player = measure.Replayer(car.model(folder), "monza", str(roar_paths.layout()["maps"]), history)
         return [player.window(logs, k, i) for k, i in starts]
 
 
@@ -216,7 +217,7 @@ def lateral(car: Car, logs, lap_log, evaluations: int) -> Car:
         try:
             with tempfile.TemporaryDirectory() as folder:
                 model = candidate.model(folder)
-                player = measure.Replayer(model, "monza", os.path.join(ROOT, "maps"))
+                player = measure.Replayer(model, "monza", str(roar_paths.layout()["maps"]))
                 windows = [player.window(logs, k, i) for k, i in starts]
                 lap = measure.closed_loop_lap(model, lap_log)
         except ValueError:  # a candidate that cannot be spawned or driven
@@ -243,9 +244,9 @@ def main():
     if not files:
         sys.exit(f"carla_fit: no telemetry (*.json) in {args.telemetry}")
     logs = [read_telemetry(f) for f in files]
-    with open(os.path.join(ROOT, "config", "vehicles", args.model + ".yaml")) as f:
+    with open(roar_paths.layout()["vehicles"] / (args.model + ".yaml")) as f:
         config = yaml.safe_load(f)
-    with open(os.path.join(ROOT, "urdf", args.model + ".urdf")) as f:
+    with open(roar_paths.layout()["urdf"] / (args.model + ".urdf")) as f:
         car = Car(config, f.read(), args.model)
     if 1 in args.stage:
         car = longitudinal(car, logs)

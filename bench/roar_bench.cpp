@@ -32,6 +32,7 @@
 #include <thread>
 
 #include "roar/config/number.h"
+#include "roar/config/package_layout.h"
 #include "roar/planning/minimum_time.h"
 #include "roar/rl/vector_env.h"
 #include "roar/sensors/camera.h"
@@ -49,9 +50,14 @@ using namespace roar;
 
 namespace {
 
-std::string sourceDir() {
+config::PackageLayout layout() {
   const char* env = std::getenv("ROAR_SOURCE_DIR");
-  return env ? env : ROAR_SOURCE_DIR;
+  return {env ? env : ROAR_SOURCE_DIR};
+}
+
+// The car the benchmarks drive: the default model.
+vehicle::VehicleParams defaultCar() {
+  return vehicle::loadVehicleModel(config::kDefaultModel, layout().urdf(), layout().vehicles());
 }
 
 // A driver for the car on the track: the planner's racing trajectory and the tracker.
@@ -70,9 +76,8 @@ control::TrackerInput trackerInput(const sim::VehicleState& s) {
 
 void PhysicsRealTimeFactor(benchmark::State& state) {
   const int cars = static_cast<int>(state.range(0));
-  const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_ring");
-  const vehicle::VehicleParams car =
-      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const track::Track track = track::loadMapFolder(layout().maps() + "/" + config::kDefaultMap);
+  const vehicle::VehicleParams car = defaultCar();
   sim::World world(track, {});
   const control::TrajectoryTracker driver = racingDriver(track, car);
   std::vector<control::TrajectoryTracker> drivers;
@@ -97,7 +102,7 @@ void PhysicsRealTimeFactor(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(ticks) * world.options().control_dt * cars, benchmark::Counter::kIsRate);
 }
 
-track::Track defaultTrack() { return track::loadMapFolder(sourceDir() + "/maps/roar_ring"); }
+track::Track defaultTrack() { return track::loadMapFolder(layout().maps() + "/" + config::kDefaultMap); }
 
 // A sensor's pose: 1.9 m above the pole position, looking down the main straight.
 Eigen::Isometry3d sensorPose(const track::Track& track) {
@@ -175,13 +180,13 @@ struct NullSink : sensors::SensorSink {
 
 void SensorSuiteRealTimeFactor(benchmark::State& state) {
   const track::Track track = defaultTrack();
-  const vehicle::VehicleParams car =
-      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const vehicle::VehicleParams car = defaultCar();
   sim::World world(track, {});
   world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
   sensors::RayScene scene(track);
-  const int id = scene.addVehicle(sensors::readVehicleLooks(sourceDir() + "/urdf/sedan.urdf"), {0.1f, 0.2f, 0.8f});
-  sensors::SensorRig rig(sensors::readSensorSet(sourceDir() + "/config/sensors/default.yaml"),
+  const int id = scene.addVehicle(sensors::readVehicleLooks(layout().urdf() + "/" + config::kDefaultModel + ".urdf"),
+                                  {0.1f, 0.2f, 0.8f});
+  sensors::SensorRig rig(sensors::readSensorSet(layout().sensors() + "/default.yaml"),
                          {world.options().control_dt, world.options().physics_dt, world.options().gravity},
                          track.info().origin);
   control::TrajectoryTracker driver = racingDriver(track, car);
@@ -208,7 +213,7 @@ namespace {
 // one (two environments per thread), observing config/rl/state.yaml (state and waypoints) or that plus an
 // 84x84 RGB camera. The car chases the waypoint 10 m ahead, so it drives (and auto-resets) like an agent.
 rl::EnvOptions benchEnv(bool camera) {
-  rl::EnvOptions o = rl::readEnvOptions(sourceDir() + "/config/rl/state.yaml");
+  rl::EnvOptions o = rl::readEnvOptions(layout().rl() + "/state.yaml");
   if (camera) {
     o.observation.camera.width = o.observation.camera.height = 84;
     o.observation.camera.rgb = true;
@@ -227,9 +232,8 @@ rl::Value chaseAction(const rl::Space& actions, const rl::Value& obs) {
 void RlEnvSteps(benchmark::State& state) {
   const bool camera = state.range(0) == 1;
   const int threads = static_cast<int>(state.range(1));
-  const track::Track track = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-  const vehicle::VehicleParams car =
-      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const track::Track track = track::loadMapFolder(layout().maps() + "/roar_sprint");
+  const vehicle::VehicleParams car = defaultCar();
   std::vector<std::unique_ptr<rl::RacingEnv>> envs;
   const int count = threads == 1 ? 1 : 2 * threads;
   for (int i = 0; i < count; ++i) envs.push_back(std::make_unique<rl::RacingEnv>(track, car, benchEnv(camera)));
@@ -269,10 +273,8 @@ BENCHMARK(PhysicsRealTimeFactor)->ArgName("cars")->Arg(1)->Arg(10)->MinTime(3.0)
 namespace {
 
 void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
-  const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
-  const auto limits = planning::vehicleLimits(
-      vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles"),
-      track.info().friction, stack::TimeTrialOptions().grip_use);
+  const auto track = track::loadMapFolder(layout().maps() + "/" + map);
+  const auto limits = planning::vehicleLimits(defaultCar(), track.info().friction, stack::TimeTrialOptions().grip_use);
   for (auto _ : state) benchmark::DoNotOptimize(planning::planRacingTrajectory(track, limits, {}));
   state.counters["track_km"] = track.length() / 1000.0;
 }
@@ -280,13 +282,13 @@ BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_ring, std::string("roar_ring"))->Un
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_speedway, std::string("roar_speedway"))->Unit(benchmark::kMillisecond);
 
 void printRacingTable(int laps, double grip_use, control::LateralMethod lateral, bool minimum_time, bool yardstick) {
-  const auto car = vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+  const auto car = defaultCar();
   std::printf("\nRacing stack, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
               laps, grip_use, lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
   std::printf("%-16s %6s %9s %9s %9s %7s %9s %8s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
               "ratio", "min_time", "vs_min", "max_err_m", "rms_err_m", "contacts");
-  for (const auto& map : track::listMaps(sourceDir() + "/maps")) {
-    const auto track = track::loadMapFolder(sourceDir() + "/maps/" + map);
+  for (const auto& map : track::listMaps(layout().maps())) {
+    const auto track = track::loadMapFolder(layout().maps() + "/" + map);
     stack::TimeTrialOptions options;
     options.laps = laps;
     options.grip_use = grip_use;
@@ -385,17 +387,15 @@ int main(int argc, char** argv) {
   }
   if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
   if (scaling) {
-    const track::Track sprint = track::loadMapFolder(sourceDir() + "/maps/roar_sprint");
-    const vehicle::VehicleParams car =
-        vehicle::loadVehicleModel("sedan", sourceDir() + "/urdf", sourceDir() + "/config/vehicles");
+    const track::Track sprint = track::loadMapFolder(layout().maps() + "/roar_sprint");
+    const vehicle::VehicleParams car = defaultCar();
     bench::printScalingTable(
         [&](bool camera) { return std::make_unique<rl::RacingEnv>(sprint, car, benchEnv(camera)); }, chaseAction,
         scaling_options);
   }
   if (traffic) {
     try {
-      bench::printTrafficTable(sourceDir() + "/maps", sourceDir() + "/urdf", sourceDir() + "/config/vehicles",
-                               traffic_options);
+      bench::printTrafficTable(layout().maps(), layout().urdf(), layout().vehicles(), traffic_options);
     } catch (const std::invalid_argument& e) {  // a bad field or pace step, refused before any race
       std::fprintf(stderr, "roar_bench: %s\n", e.what());
       return 2;

@@ -20,14 +20,17 @@ import time
 
 import numpy as np
 
+import roar_paths
 import roar_rl
-from roar_rl.vector_env import ROOT
+
+ROOT = roar_paths.package_root()
 
 
 def options_file(camera: bool) -> str:
-    text = (ROOT / "config" / "rl" / "state.yaml").read_text()
+    state = roar_paths.layout()["rl"] / "state.yaml"
+    text = state.read_text()
     if not camera:
-        return str(ROOT / "config" / "rl" / "state.yaml")
+        return str(state)
     text = text.replace("  waypoint_distances:", "  camera: {width: 84, height: 84, rgb: true}\n  waypoint_distances:")
     handle = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
     handle.write(text)

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "roar/config/number.h"
+#include "roar/config/package_layout.h"
 #include "roar/config/yaml_section.h"
 #include "roar/planning/overtaking/planner.h"
 #include "roar/stack/pass_place.h"
@@ -152,7 +153,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
                   table.pace_step, kMinPaceStep, kMaxPaceStep);
     throw std::invalid_argument(said);
   }
-  const auto vehicle = vehicle::loadVehicleModel("sedan", urdf_dir, vehicle_config_dir);
+  const auto vehicle = vehicle::loadVehicleModel(config::kDefaultModel, urdf_dir, vehicle_config_dir);
   std::printf(
       "\nTraffic: the stack's cars racing each other, overtaking on, %d laps, %d seeds per circuit and field, "
       "reverse grids %g%% of pace apart, lockstep, in one process\n",

@@ -7,6 +7,8 @@ import typing
 
 import numpy as np
 
+import roar_paths
+
 from .telemetry import TICK, Telemetry
 
 BAND = 20.0 / 3.6         # m/s: the speed bands the accelerations are grouped in
@@ -232,8 +234,7 @@ def closed_loop_lap(model: Model, lap: Telemetry, pedals: bool = True, maps_dir:
     pedals that drove it fed forward (or, pedals=False, the stack's own speed control on its speeds), an
     out-lap from the grid, then the timed lap. roar_core.follow_recorded_lap's dict, with `lap` its lap time."""
     import roar_core
-    maps_dir = maps_dir or os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
-                                        "maps")
+    maps_dir = maps_dir or str(roar_paths.layout()["maps"])
     r = roar_core.follow_recorded_lap("monza", maps_dir, model.name, model.urdf_dir, model.config_dir, lap.loc,
                                       lap.speed, pedals=(lap.throttle - lap.brake) if pedals else [], laps=1)
     r["lap"] = r["lap_times"][0] if r["lap_times"] else float("nan")

@@ -1,5 +1,8 @@
 """Where the roar_ros package is (its maps, configs, launch files): the one answer every Python module of
-roar_ros takes, with or without ROS."""
+roar_ros takes, with or without ROS; its folders and default model and map are the C++ side's
+(config::PackageLayout, through roar_core)."""
+import functools
+import typing
 from pathlib import Path
 
 
@@ -11,3 +14,20 @@ def package_root() -> Path:
         return here
     import rospkg  # only installed: rospkg finds the share folder through ROS_PACKAGE_PATH
     return Path(rospkg.RosPack().get_path("roar_ros"))
+
+
+@functools.lru_cache(maxsize=None)
+def layout() -> typing.Dict[str, Path]:
+    """The package's folders: maps, urdf, vehicles (car models), sensors, scenarios, rl."""
+    import roar_core  # the C++ side's answer (a compiled module: imported when first asked)
+    return {kind: Path(folder) for kind, folder in roar_core.package_layout(str(package_root())).items()}
+
+
+def default_model() -> str:
+    import roar_core
+    return roar_core.DEFAULT_MODEL
+
+
+def default_map() -> str:
+    import roar_core
+    return roar_core.DEFAULT_MAP

@@ -15,7 +15,7 @@ import typing
 import rosgraph
 import rospy
 
-from roar_paths import package_root  # noqa: F401 - also roar_py_ros.connection.package_root
+from roar_paths import default_map, package_root  # noqa: F401 - also roar_py_ros.connection.package_root
 
 from .watchdog import SHUTDOWN_WAIT
 
@@ -143,7 +143,7 @@ def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[P
         if not os.environ.get("ROS_IP") and not os.environ.get("ROS_HOSTNAME"):
             # A private stack serves this program only: every node of it, this one too, on loopback.
             os.environ["ROS_IP"] = "127.0.0.1"
-        started = PrivateSim(map_name or "roar_ring", _private_port)
+        started = PrivateSim(map_name or default_map(), _private_port)
         deadline = time.time() + timeout
         while not master_online(os.environ["ROS_MASTER_URI"]):
             if not started.alive() or time.time() > deadline:
@@ -152,7 +152,7 @@ def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[P
                 raise RoarSimError("could not start a private ROS master and roar_sim:\n" + failure)
             time.sleep(0.05)
     elif not sim_registered():
-        started = PrivateSim(map_name or "roar_ring", None)
+        started = PrivateSim(map_name or default_map(), None)
     ensure_node()
     deadline = time.time() + timeout
     while not (sim_registered() and service_registered(WAYPOINT_SERVER + "/get_waypoints")):

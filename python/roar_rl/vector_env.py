@@ -10,22 +10,23 @@ from roar_py_interface import spaces
 import roar_core
 import roar_rl_core as _core
 
-from roar_paths import package_root
+from roar_paths import layout, package_root
 
 ROOT = package_root()
+FOLDERS = layout()
 
 
 def available_maps() -> typing.List[str]:
-    return list(roar_core.list_maps(str(ROOT / "maps")))
+    return list(roar_core.list_maps(str(FOLDERS["maps"])))
 
 
 def available_env_options() -> typing.List[str]:
-    return sorted(p.stem for p in (ROOT / "config" / "rl").glob("*.yaml"))
+    return sorted(p.stem for p in FOLDERS["rl"].glob("*.yaml"))
 
 
 def _map_folder(map_name: str) -> str:
     try:
-        return roar_core.resolve_map_folder(str(map_name), str(ROOT / "maps"))
+        return roar_core.resolve_map_folder(str(map_name), str(FOLDERS["maps"]))
     except roar_core.MapError as error:
         raise ValueError(f"VectorEnv: map_name: {error}") from None
 
@@ -33,7 +34,7 @@ def _map_folder(map_name: str) -> str:
 def _options_path(env_options: str) -> str:
     if os.path.isfile(env_options):
         return env_options
-    path = ROOT / "config" / "rl" / f"{env_options}.yaml"
+    path = FOLDERS["rl"] / f"{env_options}.yaml"
     if not path.exists():
         raise ValueError(f"VectorEnv: env_options '{env_options}' is neither a file nor one of {available_env_options()}")
     return str(path)
@@ -94,12 +95,12 @@ class VectorEnv:
     must then be num_envs; rows come in the order the environments were done, see infos["env_id"])."""
 
     def __init__(self, map_name: str = "roar_sprint", env_options: str = "state", num_envs: int = 4,
-                 num_threads: typing.Optional[int] = None, model: str = "sedan", seed: int = 0,
+                 num_threads: typing.Optional[int] = None, model: str = roar_core.DEFAULT_MODEL, seed: int = 0,
                  batch_size: typing.Optional[int] = None):
         num_envs = _whole("num_envs", num_envs)
         threads = _whole("num_threads", num_threads) if num_threads is not None else min(num_envs, os.cpu_count() or 1)
-        where = (_map_folder(map_name), _options_path(env_options), model, str(ROOT / "urdf"),
-                 str(ROOT / "config" / "vehicles"), num_envs, threads)
+        where = (_map_folder(map_name), _options_path(env_options), model, str(FOLDERS["urdf"]),
+                 str(FOLDERS["vehicles"]), num_envs, threads)
         self.batch_size = None if batch_size is None else _whole("batch_size", batch_size)
         self._core = _core.VectorEnv(*where) if batch_size is None else _core.AsyncVectorEnv(*where, int(batch_size))
         self.num_envs = self._core.num_envs

@@ -43,9 +43,9 @@ struct CarModelsOptions {
 CarModelsOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   CarModelsOptions o;
-  o.urdf_dir = readString(nh, "urdf_dir", packagePath() + "/urdf");
+  o.urdf_dir = readString(nh, "urdf_dir", packageLayout().urdf());
   o.joint_frames = readBool(nh, "joint_frames", true);
-  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", config::kDefaultModel))) {
     o.cars.push_back({car.name, car.model, car.colour});
   }
   return o;

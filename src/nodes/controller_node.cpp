@@ -53,13 +53,13 @@ struct ControllerOptions {
 ControllerOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   ControllerOptions o;
-  const std::string pkg = packagePath();
-  const std::string urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
-  const std::string config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
+  const config::PackageLayout pkg = packageLayout();
+  const std::string urdf_dir = readString(nh, "urdf_dir", pkg.urdf());
+  const std::string config_dir = readString(nh, "vehicle_config_dir", pkg.vehicles());
   // The race's cars the stack drives, but those another driver (a policy_driver) drives instead; each car's
   // geometry from the same vehicle files the simulator reads.
   const std::vector<std::string> exclude = readStringList(nh, "exclude", {});
-  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", config::kDefaultModel))) {
     if (car.driven && std::find(exclude.begin(), exclude.end(), car.name) == exclude.end()) {
       o.cars.push_back({car.name, vehicle::loadVehicleModel(car.model, urdf_dir, config_dir), car.max_speed});
     }

@@ -67,11 +67,11 @@ void readOvertakeOptions(const ros::NodeHandle& nh, planning::OvertakeOptions* o
 PlannerNodeOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   PlannerNodeOptions o;
-  const std::string pkg = packagePath();
+  const config::PackageLayout pkg = packageLayout();
   // Every car of the race: the stack's cars follow or pass any car ahead of them.
-  const std::string urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
-  const std::string vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
-  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", "sedan"))) {
+  const std::string urdf_dir = readString(nh, "urdf_dir", pkg.urdf());
+  const std::string vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg.vehicles());
+  for (const auto& car : readRaceCars(nh, readScenario(nh), readString(nh, "model", config::kDefaultModel))) {
     o.vehicles.push_back(car.name);
     o.pace[car.name] = car.pace;
     o.model_of[car.name] = car.model;

@@ -33,18 +33,17 @@ struct PolicyDriverOptions {
 PolicyDriverOptions readParameters(const ros::NodeHandle& nh) {
   using namespace ros_bridge;
   PolicyDriverOptions o;
-  const std::string pkg = packagePath();
+  const config::PackageLayout pkg = packageLayout();
   const auto scenario = readScenario(nh);
   o.map_folder = readMapFolder(nh, scenario);
   o.vehicle = readString(nh, "vehicle", "ego");
-  std::string model = readString(nh, "model", "sedan");
+  std::string model = readString(nh, "model", config::kDefaultModel);
   for (const auto& car : readRaceCars(nh, scenario, model)) {
     if (car.name == o.vehicle) model = car.model;
   }
-  o.forward_gears =
-      static_cast<int>(vehicle::loadVehicleModel(model, readString(nh, "urdf_dir", pkg + "/urdf"),
-                                                 readString(nh, "vehicle_config_dir", pkg + "/config/vehicles"))
-                           .gearbox.ratios.size());
+  o.forward_gears = static_cast<int>(vehicle::loadVehicleModel(model, readString(nh, "urdf_dir", pkg.urdf()),
+                                                               readString(nh, "vehicle_config_dir", pkg.vehicles()))
+                                         .gearbox.ratios.size());
   o.policy_file = readString(nh, "policy", "");
   if (o.policy_file.empty())
     throw ParamError("parameter " + nh.resolveName("policy") + " must name a policy file (rl_train's policy.yaml)");

@@ -80,7 +80,8 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
   RaceControlOptions o;
   const auto scenario = readScenario(nh);
   o.map_folder = readMapFolder(nh, scenario);
-  for (const auto& car : readRaceCars(nh, scenario, readString(nh, "model", "sedan"))) o.vehicles.push_back(car.name);
+  for (const auto& car : readRaceCars(nh, scenario, readString(nh, "model", config::kDefaultModel)))
+    o.vehicles.push_back(car.name);
   auto& r = o.rules;
   r.laps = readInt(nh, "laps", scenario ? scenario->laps : 3, 1, 1000);
   r.collision = readRule(nh, "collision_rule", "penalty");

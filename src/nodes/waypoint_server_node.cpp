@@ -30,8 +30,8 @@ class WaypointServer {
  public:
   WaypointServer(ros::NodeHandle nh, ros::NodeHandle pnh) {
     using namespace ros_bridge;
-    const std::string pkg = packagePath();
-    maps_dir_ = readString(pnh, "maps_dir", pkg + "/maps");
+    const config::PackageLayout pkg = packageLayout();
+    maps_dir_ = readString(pnh, "maps_dir", pkg.maps());
     const std::string folder = readMapFolder(pnh, readScenario(pnh));
     frame_ = readMapFrame(pnh);
     grid_ = readInt(pnh, "spawn_points", track::kGridSlots, 1, 1000);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "roar/config/package_layout.h"
 #include "roar/sensors/sensor_spec.h"
 #include "roar/stack/scenario.h"
 #include "roar/track/map_folder.h"
@@ -18,15 +19,7 @@ using namespace roar;
 namespace {
 
 // The package's folders of the names a scenario uses (a node's defaults, config/ and maps/ of root).
-stack::ScenarioContext contextOf(const std::string& root) {
-  stack::ScenarioContext context;
-  context.maps_dir = root + "/maps";
-  context.sensors_dir = root + "/config/sensors";
-  context.urdf_dir = root + "/urdf";
-  context.vehicle_config_dir = root + "/config/vehicles";
-  context.rl_dir = root + "/config/rl";
-  return context;
-}
+stack::ScenarioContext contextOf(const std::string& root) { return stack::contextOf(config::PackageLayout{root}); }
 
 py::dict scenarioDict(const stack::Scenario& scenario) {
   py::list cars;
@@ -52,8 +45,8 @@ py::dict scenarioDict(const stack::Scenario& scenario) {
 }
 
 py::dict loadScenario(const std::string& name_or_path, const std::string& root) {
-  return scenarioDict(
-      stack::loadScenario(stack::resolveScenario(name_or_path, root + "/config/scenarios"), contextOf(root)));
+  return scenarioDict(stack::loadScenario(stack::resolveScenario(name_or_path, config::PackageLayout{root}.scenarios()),
+                                          contextOf(root)));
 }
 
 py::list readSensorSet(const std::string& name_or_path, const std::string& sensors_dir) {
@@ -83,5 +76,23 @@ PYBIND11_MODULE(roar_core, m) {
         "agent); ScenarioError names the file and field");
   m.def("read_sensor_set", &readSensorSet, py::arg("name_or_path"), py::arg("sensors_dir"),
         "A sensor set (a file, or a name in sensors_dir): its sensors' names and types");
+  m.attr("DEFAULT_MODEL") = config::kDefaultModel;
+  m.attr("DEFAULT_MAP") = config::kDefaultMap;
+  m.def(
+      "package_layout",
+      [](const std::string& root) {
+        const config::PackageLayout layout{root};
+        py::dict d;
+        d["maps"] = layout.maps();
+        d["urdf"] = layout.urdf();
+        d["vehicles"] = layout.vehicles();
+        d["sensors"] = layout.sensors();
+        d["scenarios"] = layout.scenarios();
+        d["rl"] = layout.rl();
+        return d;
+      },
+      py::arg("root"),
+      "The package's folders under root (config::PackageLayout): maps, urdf, vehicles, sensors, "
+      "scenarios, rl");
   bindWorld(m);
 }

@@ -137,6 +137,6 @@ void refuseUnknownParameters(const ros::NodeHandle& private_nh) {
   }
 }
 
-std::string packagePath() { return ros::package::getPath("roar_ros"); }
+config::PackageLayout packageLayout() { return {ros::package::getPath("roar_ros")}; }
 
 }  // namespace roar::ros_bridge

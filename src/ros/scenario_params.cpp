@@ -11,13 +11,13 @@ namespace {
 
 // Where the names a list of cars uses are looked up: the same parameters for every node.
 stack::ScenarioContext contextOf(const ros::NodeHandle& nh) {
-  const std::string pkg = packagePath();
+  const config::PackageLayout pkg = packageLayout();
   stack::ScenarioContext context;
-  context.maps_dir = readString(nh, "maps_dir", pkg + "/maps");
-  context.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
-  context.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
-  context.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
-  context.rl_dir = readString(nh, "rl_dir", pkg + "/config/rl");
+  context.maps_dir = readString(nh, "maps_dir", pkg.maps());
+  context.sensors_dir = readString(nh, "sensors_dir", pkg.sensors());
+  context.urdf_dir = readString(nh, "urdf_dir", pkg.urdf());
+  context.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg.vehicles());
+  context.rl_dir = readString(nh, "rl_dir", pkg.rl());
   return context;
 }
 
@@ -50,11 +50,11 @@ YAML::Node yamlOf(XmlRpc::XmlRpcValue& v) {
 }  // namespace
 
 std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
-  const std::string pkg = packagePath();
+  const config::PackageLayout pkg = packageLayout();
   const std::string name = readString(nh, "scenario", "");
   if (name.empty()) return std::nullopt;
   try {
-    return stack::loadScenario(stack::resolveScenario(name, readString(nh, "scenarios_dir", pkg + "/config/scenarios")),
+    return stack::loadScenario(stack::resolveScenario(name, readString(nh, "scenarios_dir", pkg.scenarios())),
                                contextOf(nh));
   } catch (const stack::ScenarioError& e) {
     throw ParamError("parameter " + nh.resolveName("scenario") + ": " + e.what());
@@ -87,9 +87,9 @@ std::vector<stack::ScenarioCar> readRaceCars(const ros::NodeHandle& nh, const st
 
 std::string readMapFolder(const ros::NodeHandle& nh, const std::optional<stack::Scenario>& scenario) {
   std::string map = readString(nh, "map", "");
-  if (map.empty()) map = scenario ? scenario->map : "roar_ring";
+  if (map.empty()) map = scenario ? scenario->map : config::kDefaultMap;
   try {
-    return track::resolveMapFolder(map, readString(nh, "maps_dir", packagePath() + "/maps"));
+    return track::resolveMapFolder(map, readString(nh, "maps_dir", packageLayout().maps()));
   } catch (const track::MapError& e) {
     throw ParamError("parameter " + nh.resolveName("map") + ": " + e.what());
   }

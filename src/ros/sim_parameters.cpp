@@ -9,16 +9,16 @@ namespace roar::ros_bridge {
 
 SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
   SimNodeOptions o;
-  const std::string pkg = packagePath();
+  const config::PackageLayout pkg = packageLayout();
   const auto scenario = readScenario(nh);
   o.map_folder = readMapFolder(nh, scenario);
-  o.maps_dir = readString(nh, "maps_dir", pkg + "/maps");
-  o.urdf_dir = readString(nh, "urdf_dir", pkg + "/urdf");
-  o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg + "/config/vehicles");
+  o.maps_dir = readString(nh, "maps_dir", pkg.maps());
+  o.urdf_dir = readString(nh, "urdf_dir", pkg.urdf());
+  o.vehicle_config_dir = readString(nh, "vehicle_config_dir", pkg.vehicles());
   o.default_model = readString(nh, "default_model", o.default_model);
-  o.sensors_dir = readString(nh, "sensors_dir", pkg + "/config/sensors");
+  o.sensors_dir = readString(nh, "sensors_dir", pkg.sensors());
   o.default_sensor_set = readString(nh, "sensor_set", "");
-  o.rl_dir = readString(nh, "rl_dir", pkg + "/config/rl");
+  o.rl_dir = readString(nh, "rl_dir", pkg.rl());
   o.map_frame = readMapFrame(nh);
   o.world.control_dt = readDouble(nh, "control_dt", o.world.control_dt, 1e-4, 1.0);
   o.world.physics_dt = readDouble(nh, "physics_dt", o.world.physics_dt, 1e-4, 0.05);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "roar/config/package_layout.h"
 #include "roar/ros/frames.h"
 #include "roar/sim/world.h"
 
@@ -31,7 +32,7 @@ struct SimNodeOptions {
   std::string maps_dir;  // where /roar_sim/load_map and list_maps look maps up by name
   std::string urdf_dir;
   std::string vehicle_config_dir;
-  std::string default_model = "sedan";
+  std::string default_model = config::kDefaultModel;
   std::string sensors_dir;
   std::string default_sensor_set;  // for vehicles that name none
   std::string rl_dir;              // RL environments named by a vehicle's agent

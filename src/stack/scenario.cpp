@@ -14,6 +14,16 @@
 
 namespace roar::stack {
 
+ScenarioContext contextOf(const config::PackageLayout& layout) {
+  ScenarioContext context;
+  context.maps_dir = layout.maps();
+  context.sensors_dir = layout.sensors();
+  context.urdf_dir = layout.urdf();
+  context.vehicle_config_dir = layout.vehicles();
+  context.rl_dir = layout.rl();
+  return context;
+}
+
 namespace fs = std::filesystem;
 
 namespace {

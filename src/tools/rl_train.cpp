@@ -19,6 +19,7 @@
 #include <string>
 
 #include "roar/config/number.h"
+#include "roar/config/package_layout.h"
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
 #include "roar/rl/evolution.h"
@@ -35,7 +36,7 @@ struct Args {
   std::string source = ROAR_SOURCE_DIR;
   std::string map = "roar_sprint";
   std::string env;  // default: <source>/config/rl/state.yaml
-  std::string model = "sedan";
+  std::string model = config::kDefaultModel;
   std::string out;
   double minutes = 15.0;
   int generations = 100000;
@@ -110,7 +111,7 @@ std::optional<Args> parse(int argc, char** argv) {
     else
       return std::nullopt;
   }
-  if (a.env.empty()) a.env = a.source + "/config/rl/state.yaml";
+  if (a.env.empty()) a.env = config::PackageLayout{a.source}.rl() + "/state.yaml";
   if (a.out.empty()) {
     char stamp[32];
     const std::time_t now = std::time(nullptr);
@@ -162,9 +163,9 @@ int main(int argc, char** argv) {
   if (!parsed) return usage();
   const Args& args = *parsed;
   try {
-    const track::Track track = track::loadMapFolder(track::resolveMapFolder(args.map, args.source + "/maps"));
-    const vehicle::VehicleParams car =
-        vehicle::loadVehicleModel(args.model, args.source + "/urdf", args.source + "/config/vehicles");
+    const config::PackageLayout layout{args.source};
+    const track::Track track = track::loadMapFolder(track::resolveMapFolder(args.map, layout.maps()));
+    const vehicle::VehicleParams car = vehicle::loadVehicleModel(args.model, layout.urdf(), layout.vehicles());
     rl::EnvOptions training = rl::readEnvOptions(args.env);
     training.termination.time_limit = args.episode_seconds;
     rl::EnvOptions laps = training;

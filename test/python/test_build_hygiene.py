@@ -103,3 +103,33 @@ def test_the_roar_py_modules_do_not_pull_in_the_rl_extension():
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "[]"
+
+
+def test_the_package_layout_is_written_once():
+    """The package's folders and its default model and map have one owner, include/roar/config/package_layout.h
+    (roar_core.package_layout, DEFAULT_MODEL and DEFAULT_MAP on the Python side): no other file builds such a
+    path or names such a default, and the launch files' defaults are the same."""
+    import xml.etree.ElementTree as ET
+
+    import roar_core
+
+    owner = os.path.join("include", "roar", "config", "package_layout.h")
+    forms = re.compile(r'"/config/|"config", "|/ "config"|"/urdf"|"/maps"|"sedan"|"roar_ring"')
+    written = []
+    for folder in ("src", "include", "bench", "python", "scripts"):
+        for path in glob.glob(os.path.join(REPO, folder, "**", "*"), recursive=True):
+            if not path.endswith((".cpp", ".h", ".py")) or os.path.relpath(path, REPO) == owner:
+                continue
+            with open(path) as f:
+                for number, line in enumerate(f, 1):
+                    # A benchmark of a named circuit names it.
+                    if forms.search(line) and "BENCHMARK_CAPTURE" not in line:
+                        written.append(f"{os.path.relpath(path, REPO)}:{number}: {line.strip()}")
+    assert written == [], "the package's layout or defaults written again:\n" + "\n".join(written)
+    for launch in glob.glob(os.path.join(REPO, "launch", "*.launch")):
+        for arg in ET.parse(launch).getroot().iter("arg"):
+            default = arg.get("default")
+            if arg.get("name") == "model" and default:
+                assert default == roar_core.DEFAULT_MODEL, f"{launch}: model defaults to {default}"
+            if arg.get("name") == "map" and default:
+                assert default == roar_core.DEFAULT_MAP, f"{launch}: map defaults to {default}"

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "roar/config/package_layout.h"
+
 namespace roar::ros_bridge {
 
 class ParamError : public std::runtime_error {
@@ -32,7 +34,7 @@ void markParameterKnown(const ros::NodeHandle& nh, const std::string& name);
 // (test_ros_habits test_a_misspelt_private_parameter_is_refused). Call after every parameter is read.
 void refuseUnknownParameters(const ros::NodeHandle& private_nh);
 
-// The package's own folder (for default paths of maps, URDFs and vehicle configs).
-std::string packagePath();
+// The package's own folders (the default paths of maps, URDFs, car models, sensor sets, scenarios, RL options).
+config::PackageLayout packageLayout();
 
 }  // namespace roar::ros_bridge

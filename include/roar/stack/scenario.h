@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "roar/config/package_layout.h"
+
 namespace YAML {
 class Node;
 }
@@ -15,7 +17,7 @@ namespace roar::stack {
 
 struct ScenarioCar {
   std::string name;
-  std::string model = "sedan";
+  std::string model = config::kDefaultModel;
   int spawn_point = 0;
   Eigen::Vector3f colour = Eigen::Vector3f(-1, -1, -1);  // linear RGB 0..1; negative: the simulator picks one
   std::string sensors;                                   // a sensor set of config/sensors (empty: none)
@@ -47,6 +49,8 @@ struct ScenarioContext {
   std::string vehicle_config_dir;
   std::string rl_dir;  // RL environments (config/rl)
 };
+// The package's own folders.
+ScenarioContext contextOf(const config::PackageLayout& layout);
 
 // Reads and checks a scenario: every error names the file and the field (an unknown map, model, sensor
 // set or RL environment, two cars with one name or one spawn point, a spawn point past the map's grid).
@@ -55,7 +59,8 @@ Scenario loadScenario(const std::string& path, const ScenarioContext& context);
 // `default_model`, grid slot its place in the list) or a mapping with a scenario car's keys. Every list of
 // cars is read and checked here, whatever its source: errors name `source`, `field`[i] and the key.
 std::vector<ScenarioCar> readCars(const YAML::Node& list, const std::string& field, const std::string& source,
-                                  const ScenarioContext& context, const std::string& default_model = "sedan");
+                                  const ScenarioContext& context,
+                                  const std::string& default_model = config::kDefaultModel);
 // `name_or_path`: a file, or the name of one in `scenarios_dir` (without .yaml).
 std::string resolveScenario(const std::string& name_or_path, const std::string& scenarios_dir);
 // An RL environment file: a path, or a name in `rl_dir` (without .yaml). Throws ScenarioError.
