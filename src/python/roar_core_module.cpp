@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "race_binding.h"
 #include "roar/config/package_layout.h"
 #include "roar/sensors/sensor_spec.h"
 #include "roar/stack/scenario.h"
@@ -95,4 +96,5 @@ PYBIND11_MODULE(roar_core, m) {
       "The package's folders under root (config::PackageLayout): maps, urdf, vehicles, sensors, "
       "scenarios, rl");
   bindWorld(m);
+  bindRaces(m);
 }

@@ -1,0 +1,63 @@
+"""One cell of a batch, run through the C++ stack in the worker's process (no ROS master): a row of figures,
+or of why it failed."""
+import os
+import random
+import socket
+import time
+import traceback
+import typing
+
+import roar_paths
+
+
+def race_field(cell: dict) -> typing.List[dict]:
+    """A race's cars from its seed: the fastest at full pace, the others up to pace_spread slower, on a grid
+    shuffled by the seed."""
+    rng = random.Random(cell["seed"])
+    count, spread = cell["field"]["cars"], cell["field"]["pace_spread"]
+    paces = [1.0] + [round(1.0 - rng.uniform(0.0, spread), 4) for _ in range(count - 1)]
+    grid = list(range(count))
+    rng.shuffle(grid)
+    return [{"name": f"car{k}", "grid_slot": grid[k], "pace": paces[k]} for k in range(count)]
+
+
+def _time_trial(cell: dict, folders: dict) -> dict:
+    import roar_core
+    r = roar_core.run_time_trial(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
+                                 laps=cell["laps"], grip_use=cell["grip_use"])
+    laps = r["lap_times"]
+    return {"finished": r["finished"], "best_lap": r["best_lap"], "mean_lap": sum(laps) / len(laps) if laps else None,
+            "promised_lap": r["promised_lap"], "barrier_contacts": r["barrier_contacts"],
+            "worst_offroad": r["worst_offroad"], "max_lateral_error": r["max_lateral_error"],
+            "rms_lateral_error": r["rms_lateral_error"], "sim_time": r["sim_time"]}
+
+
+def _race(cell: dict, folders: dict) -> dict:
+    import roar_core
+    r = roar_core.run_race(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
+                           race_field(cell), laps=cell["laps"], grip_use=cell["grip_use"])
+    cars = r["cars"]
+    finishers = [c for c in cars if c["finished"]]
+    return {"finished": r["finished"], "winner": cars[0]["name"] if cars else None,
+            "winning_time": cars[0]["race_time"] if finishers else None,
+            "mean_race_time": sum(c["race_time"] for c in finishers) / len(finishers) if finishers else None,
+            "best_lap": min((t for c in cars for t in c["lap_times"]), default=None),
+            "overtakes": r["overtakes"], "passes_completed": r["passes_completed"], "contacts": r["contacts"],
+            "car_contacts": sum(c["car_contacts"] for c in cars),
+            "barrier_contacts": sum(c["barrier_contacts"] for c in cars),
+            "track_limit_violations": sum(c["track_limit_violations"] for c in cars),
+            "time_in_traffic": sum(c["time_in_traffic"] for c in cars) / len(cars), "sim_time": r["sim_time"]}
+
+
+def run_cell(cell: dict) -> dict:
+    """The cell's row: its figures, or its error (a bad map or model is a row saying why, not the batch's end)."""
+    started = time.time()
+    row = {"status": "done", "error": ""}
+    try:
+        folders = {k: str(v) for k, v in roar_paths.layout().items()}
+        row.update(_time_trial(cell, folders) if cell["kind"] == "time_trial" else _race(cell, folders))
+    except Exception as e:  # every failure of a cell is its row's, the batch goes on
+        row.update(status="failed", error=f"{type(e).__name__}: {e}".strip()[:2000],
+                   trace=traceback.format_exc(limit=3)[-2000:])
+    row.update(wall_s=round(time.time() - started, 3), worker=f"{socket.gethostname()}:{os.getpid()}")
+    return row

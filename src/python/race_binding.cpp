@@ -1,0 +1,142 @@
+// roar_core.run_time_trial and roar_core.run_race: a map's time trial or race, run through the C++ stack in
+// this process (stack::runTimeTrial, stack::runRace) with the GIL released, results as plain dicts.
+#include "race_binding.h"
+
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "roar/stack/race.h"
+#include "roar/stack/time_trial.h"
+#include "roar/track/map_folder.h"
+#include "roar/vehicle/vehicle_config.h"
+
+namespace py = pybind11;
+using namespace roar;
+
+namespace {
+
+struct Setup {
+  track::Track track;
+  vehicle::VehicleParams vehicle;
+};
+
+Setup setUp(const std::string& map, const std::string& maps_dir, const std::string& model, const std::string& urdf_dir,
+            const std::string& config_dir) {
+  return {track::loadMapFolder(track::resolveMapFolder(map, maps_dir)),
+          vehicle::loadVehicleModel(model, urdf_dir, config_dir)};
+}
+
+void checkRace(int laps, double grip_use) {
+  if (laps < 1 || laps > 100) throw py::value_error("laps must be 1 to 100, got " + std::to_string(laps));
+  if (!(grip_use > 0.0 && grip_use <= 1.0))
+    throw py::value_error("grip_use must be in (0, 1], got " + std::to_string(grip_use));
+}
+
+py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const std::string& model,
+                      const std::string& urdf_dir, const std::string& config_dir, int laps, double grip_use) {
+  checkRace(laps, grip_use);
+  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
+  stack::TimeTrialOptions options;
+  options.laps = laps;
+  options.grip_use = grip_use;
+  stack::TimeTrialResult r;
+  {
+    py::gil_scoped_release unlocked;
+    r = stack::runTimeTrial(setup.track, setup.vehicle, options);
+  }
+  py::dict d;
+  d["finished"] = r.finished;
+  d["lap_times"] = r.lap_times;
+  d["best_lap"] = r.best_lap();
+  d["promised_lap"] = r.promised_lap;
+  d["barrier_contacts"] = r.barrier_contacts;
+  d["worst_offroad"] = r.worst_offroad;
+  d["max_lateral_error"] = r.max_lateral_error;
+  d["rms_lateral_error"] = r.rms_lateral_error;
+  d["sim_time"] = r.sim_time;
+  return d;
+}
+
+stack::RaceCar raceCar(const py::dict& car, std::size_t index) {
+  stack::RaceCar c;
+  const std::string where = "cars[" + std::to_string(index) + "]";
+  for (const auto& [key, value] : car) {
+    const std::string k = py::str(key);
+    if (k == "name") {
+      c.name = py::str(value);
+    } else if (k == "grid_slot") {
+      c.grid_slot = value.cast<int>();
+    } else if (k == "pace") {
+      c.pace = value.cast<double>();
+    } else if (k == "max_speed") {
+      c.max_speed = value.cast<double>();
+    } else {
+      throw py::value_error(where + ": unknown key '" + k + "' (name, grid_slot, pace, max_speed)");
+    }
+  }
+  if (c.name.empty()) throw py::value_error(where + ": a car needs a name");
+  if (!(c.pace > 0.0 && c.pace <= 1.0)) throw py::value_error(where + ".pace must be in (0, 1]");
+  if (c.grid_slot < 0) throw py::value_error(where + ".grid_slot must not be negative");
+  if (!(c.max_speed >= 0.0)) throw py::value_error(where + ".max_speed must not be negative");
+  return c;
+}
+
+py::dict runRace(const std::string& map, const std::string& maps_dir, const std::string& model,
+                 const std::string& urdf_dir, const std::string& config_dir, const std::vector<py::dict>& car_dicts,
+                 int laps, double grip_use) {
+  checkRace(laps, grip_use);
+  if (car_dicts.empty() || car_dicts.size() > 20) throw py::value_error("a race needs 1 to 20 cars");
+  std::vector<stack::RaceCar> cars;
+  for (std::size_t i = 0; i < car_dicts.size(); ++i) cars.push_back(raceCar(car_dicts[i], i));
+  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
+  stack::RaceOptions options;
+  options.laps = laps;
+  options.grip_use = grip_use;
+  stack::RaceResult r;
+  {
+    py::gil_scoped_release unlocked;
+    r = stack::runRace(setup.track, setup.vehicle, cars, options);
+  }
+  py::list results;
+  for (const auto& c : r.cars) {
+    py::dict d;
+    d["name"] = c.name;
+    d["position"] = c.position;
+    d["finished"] = c.finished;
+    d["race_time"] = c.race_time;
+    d["lap_times"] = c.lap_times;
+    d["car_contacts"] = c.car_contacts;
+    d["barrier_contacts"] = c.barrier_contacts;
+    d["track_limit_violations"] = c.track_limit_violations;
+    d["time_in_traffic"] = c.time_in_traffic;
+    results.append(d);
+  }
+  py::dict d;
+  d["finished"] = r.finished;
+  d["cars"] = results;
+  d["overtakes"] = static_cast<int>(r.overtakes.size());
+  d["passes_completed"] = static_cast<int>(
+      std::count_if(r.passes.begin(), r.passes.end(), [](const stack::PassAttempt& p) { return p.completed; }));
+  d["contacts"] = static_cast<int>(r.contacts.size());
+  d["sim_time"] = r.sim_time;
+  return d;
+}
+
+}  // namespace
+
+void bindRaces(py::module_& m) {
+  m.def("run_time_trial", &runTimeTrial, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
+        py::arg("config_dir"), py::arg("laps") = 1, py::arg("grip_use") = 0.85,
+        "The stack's time trial of a car model on a map (an out-lap, then `laps` flying laps): a dict of finished, "
+        "lap_times, best_lap, promised_lap, barrier_contacts, worst_offroad, max_ and rms_lateral_error, sim_time");
+  m.def("run_race", &runRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
+        py::arg("config_dir"), py::arg("cars"), py::arg("laps") = 2, py::arg("grip_use") = 0.85,
+        "The stack's race of cars of a model (each a dict of name, grid_slot, pace, max_speed), overtaking on: a "
+        "dict of finished, cars (in finishing order: name, position, finished, race_time, lap_times, "
+        "car_contacts, barrier_contacts, track_limit_violations, time_in_traffic), overtakes, passes_completed, "
+        "contacts, sim_time");
+}
