@@ -133,3 +133,11 @@ def test_the_package_layout_is_written_once():
                 assert default == roar_core.DEFAULT_MODEL, f"{launch}: model defaults to {default}"
             if arg.get("name") == "map" and default:
                 assert default == roar_core.DEFAULT_MAP, f"{launch}: map defaults to {default}"
+
+
+def test_every_pytest_suite_runs_in_make_test():
+    with open(os.path.join(REPO, "CMakeLists.txt")) as f:
+        suites = set(re.search(r"foreach\(suite ([^)]*)\)", f.read()).group(1).split())
+    files = {os.path.basename(p)[len("test_"):-len(".py")] for p in glob.glob(os.path.join(REPO, "test", "python",
+                                                                                          "test_*.py"))}
+    assert files - suites == set(), "pytest suites that make test does not run (CMakeLists.txt's foreach(suite ...))"
