@@ -85,10 +85,12 @@ ROAR_PY_MODULES = {
 }
 
 # (object, method, ROAR_PY's parameters after self in order, with defaults where it has them: REQUIRED where
-# ROAR_PY has none and neither may we, None where that is not checked).
+# ROAR_PY has none and neither may we, IS_NONE where its default is None, None where that is not checked).
 REQUIRED = inspect.Parameter.empty
+IS_NONE = type("IsNone", (), {"__repr__": lambda self: "a default of None"})()
 SIGNATURES = [
-    (rpi.RoarPyActor, "__init__", [("name", None), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
+    (rpi.RoarPyActor, "__init__",
+     [("name", REQUIRED), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
     (rpi.RoarPyVehicleAutoGearActor, "__init__",
      [("name", "vehicle_autogear"), ("control_timestep", 0.05), ("force_real_control_timestep", False)]),
     (rpi.RoarPyVehicleManualGearActor, "__init__",
@@ -98,8 +100,8 @@ SIGNATURES = [
     (rpi.RoarPyCameraSensor, "__init__",
      [("name", REQUIRED), ("control_timestep", REQUIRED), ("target_data_type", REQUIRED)]),
     (rpi.RoarPyFrameQuatSensor, "__init__", [("control_timestep", REQUIRED), ("name", "framequat_sensor")]),
-    (rpi.RoarPyRollPitchYawSensorFromFrameQuat, "__init__", [("framequat_sensor", None), ("name", None)]),
-    (rpi.RoarPyFrameQuatSensorFromRollPitchYaw, "__init__", [("rpy_sensor", None), ("name", None)]),
+    (rpi.RoarPyRollPitchYawSensorFromFrameQuat, "__init__", [("framequat_sensor", REQUIRED), ("name", IS_NONE)]),
+    (rpi.RoarPyFrameQuatSensorFromRollPitchYaw, "__init__", [("rpy_sensor", REQUIRED), ("name", IS_NONE)]),
     (rpi.RoarPyOccupancyMapSensor, "__init__", [("name", "occupancy_map_sensor")]),
     (rpi.RoarPyOccupancyMapSensorImpl, "__init__",
      [("producer", None), ("location_sensor", None), ("rotation_sensor", None), ("name", "occupancy_map_sensor")]),
@@ -110,21 +112,23 @@ SIGNATURES = [
     (rpi.RoarPyOccupancyMapProducer, "plot_occupancy_map", [("location_2d", None), ("rotation_yaw", None)]),
     (rpi.RoarPyWaypoint, "__init__", [("location", None), ("roll_pitch_yaw", None), ("lane_width", None)]),
     (rpi.RoarPyWaypointsTracker, "__init__", [("waypoints", None), ("current_traced_index", 0)]),
-    (rpi.RoarPyWaypointsTracker, "trace_point", [("point", None), ("start_idx", 0)]),
-    (rpi.RoarPyWaypointsTracker, "trace_forward_projection", [("projection", None), ("distance", None)]),
-    (rpi.RoarPyWaypointsTracker, "delta_distance_projection", [("projection_origin", None),
-                                                               ("projection_destination", None)]),
-    (rpi.RoarPyWaypointsTracker, "get_interpolated_waypoint", [("projection", None)]),
-    (rpi.RoarPyWaypointsTracker, "total_distance_from_first_waypoint", [("projection_result", None)]),
-    (rpi.RoarPyWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", None)]),
-    (rpi.RoarPyActorWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPyActorWrapper")]),
-    (rpi.RoarPySensorWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPySensorWrapper")]),
-    (rpi.RoarPyWorldWrapper, "__init__", [("wrapped_object", None), ("wrapper_name", "RoarPyWorldWrapper")]),
-    (rpi.RoarPyThreadSafeWrapper, "__init__", [("wrapped_object", None), ("tslock", None)]),
-    (rpi.RoarPyAddItemWrapper, "__init__", [("wrapped_object", None), ("add_callback", None),
-                                            ("remove_callback", None)]),
+    (rpi.RoarPyWaypointsTracker, "trace_point", [("point", REQUIRED), ("start_idx", 0)]),
+    (rpi.RoarPyWaypointsTracker, "trace_forward_projection", [("projection", REQUIRED), ("distance", REQUIRED)]),
+    (rpi.RoarPyWaypointsTracker, "delta_distance_projection", [("projection_origin", REQUIRED),
+                                                               ("projection_destination", REQUIRED)]),
+    (rpi.RoarPyWaypointsTracker, "get_interpolated_waypoint", [("projection", REQUIRED)]),
+    (rpi.RoarPyWaypointsTracker, "total_distance_from_first_waypoint", [("projection_result", REQUIRED)]),
+    (rpi.RoarPyWrapper, "__init__", [("wrapped_object", REQUIRED), ("wrapper_name", REQUIRED)]),
+    (rpi.RoarPyActorWrapper, "__init__", [("wrapped_object", REQUIRED), ("wrapper_name", "RoarPyActorWrapper")]),
+    (rpi.RoarPySensorWrapper, "__init__", [("wrapped_object", REQUIRED), ("wrapper_name", "RoarPySensorWrapper")]),
+    (rpi.RoarPyWorldWrapper, "__init__", [("wrapped_object", REQUIRED), ("wrapper_name", "RoarPyWorldWrapper")]),
+    (rpi.RoarPyThreadSafeWrapper, "__init__", [("wrapped_object", REQUIRED), ("tslock", REQUIRED)]),
+    (rpi.RoarPyAddItemWrapper, "__init__", [("wrapped_object", REQUIRED), ("add_callback", IS_NONE),
+                                            ("remove_callback", IS_NONE)]),
+    # exclude_sensors: ROAR_PY's default is a shared list ([]); ours an empty tuple, copied into the wrapper's
+    # own list, so that a program appending to one wrapper's list does not change another's.
     (rpi.RoarPyActorSensorFilterWrapper, "__init__",
-     [("wrapped_object", None), ("exclude_sensors", None), ("wrapper_name", "RoarPyActorSensorFilterWrapper")]),
+     [("wrapped_object", REQUIRED), ("exclude_sensors", None), ("wrapper_name", "RoarPyActorSensorFilterWrapper")]),
     (rpi.RoarPyVisualizer, "__init__", [("actor", None)]),
     # roar_py_carla's backend.
     (roar_py_ros.RoarPyRosWorld, "spawn_vehicle", [("blueprint_id", None), ("location", None), ("roll_pitch_yaw", None),
@@ -219,6 +223,8 @@ def test_methods_take_roar_pys_arguments_in_order(owner, method, expected):
     for parameter, (name, default) in zip(parameters, expected):
         if default is REQUIRED:
             assert parameter.default is REQUIRED, f"{owner.__name__}.{method}: {name} has a default ROAR_PY's has not"
+        elif default is IS_NONE:
+            assert parameter.default is None, f"{owner.__name__}.{method}: {name} defaults to {parameter.default!r}"
         elif default is not None:
             assert parameter.default == default, f"{owner.__name__}.{method}: {name} defaults to {parameter.default!r}"
     for extra in parameters[len(expected):]:
