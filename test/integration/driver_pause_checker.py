@@ -22,13 +22,17 @@ from race_checker import SimClock, wait_for_results  # noqa: E402
 class DriverPause(unittest.TestCase):
     def test_a_paused_controller_costs_time_not_the_race(self):
         started = time.time()
-        self.assertTrue(SimClock().wait_until(2.0, 120), "the race reaches t = 2 s")
+        clock = SimClock()
+        self.assertTrue(clock.wait_until(2.0, 120), "the race reaches t = 2 s")
         pid = int(subprocess.check_output(["pgrep", "-f", "roar_ros/controller __name:=controller"]).split()[0])
         os.kill(pid, signal.SIGSTOP)
+        stopped_at = clock.now
         try:
             time.sleep(12.0)
         finally:
             os.kill(pid, signal.SIGCONT)
+        # The race runs at real time: a checker a second late stops the controller a second later, not many.
+        self.assertLess(stopped_at, 6.0, "the controller stopped while the cars are on the start straight")
         results = wait_for_results(rospy.get_param("~output_dir"), started + 280.0)
         self.assertTrue(results, "the race finished after the controller continued")
         self.assertEqual(results["status"], "finished")
