@@ -28,6 +28,7 @@ LOG_PREFIX = "roar_py_ros_"
 
 
 def _parents() -> dict:
+    """Each process's parent, and (under the key -pid) its session."""
     parents = {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -40,18 +41,22 @@ def _parents() -> dict:
         # The command name is in parentheses and may hold spaces: the fields after its last ')' are fixed.
         fields = stat[stat.rfind(")") + 2:].split()
         parents[int(entry)] = int(fields[1])
+        parents[-int(entry)] = int(fields[3])
     return parents
 
 
 def descendants(pid: int) -> list:
+    """The process's descendants, and the members of its session (a node roslaunch started just before it
+    died is an orphan of init by then, but still in roslaunch's session)."""
     parents = _parents()
     found, frontier = [], [pid]
     while frontier:
         parent = frontier.pop()
-        children = [p for p, pp in parents.items() if pp == parent]
+        children = [p for p, pp in parents.items() if p > 0 and pp == parent and p not in found]
         found.extend(children)
         frontier.extend(children)
-    return found
+    found.extend(p for p, sid in parents.items() if p < 0 and sid == pid and -p != pid and -p not in found)
+    return sorted(set(abs(p) for p in found))
 
 
 def alive(pid: int) -> bool:

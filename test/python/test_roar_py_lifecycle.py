@@ -220,3 +220,16 @@ def test_a_misspelt_map_is_one_clear_error():
     error = done.stderr[done.stderr.index("RoarSimError"):]
     assert "unknown map 'monzza'" in error and "(did you mean 'monza'?)" in error, error
     assert "\x1b[" not in error and len(error.splitlines()) <= 4, error
+
+
+def test_the_watchdog_finds_an_orphan_left_in_roslaunchs_session():
+    # A node roslaunch starts just before it dies is the orphan of init by then: still in its session, so
+    # stop_tree still kills it.
+    leader = subprocess.Popen([sys.executable, "-c", "import subprocess, sys; p = subprocess.Popen(['sleep', '60']); "
+                               "print(p.pid, flush=True)"], stdout=subprocess.PIPE, text=True, start_new_session=True)
+    orphan = int(leader.stdout.readline())
+    leader.wait(timeout=10)
+    try:
+        assert orphan in watchdog.descendants(leader.pid), "the orphan is in the dead leader's session"
+    finally:
+        os.kill(orphan, signal.SIGKILL)
