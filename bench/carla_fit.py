@@ -37,6 +37,8 @@ from roar_fidelity import measure, read_telemetry
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STRAIGHT = np.radians(3.0)  # a stretch whose path turns less is straight
+# The URDF's centre of mass: base_link's <inertial> <origin xyz="x ...">, its x the first group.
+COM_ORIGIN = re.compile(r'(<inertial>\s*(?:<!--.*?-->\s*)?<origin xyz=")([-0-9.]+)', flags=re.S)
 KNOTS_KMH = np.array([0, 50, 100, 150, 200, 230, 245, 252, 258, 264])  # the torque curve's speeds
 
 
@@ -162,7 +164,7 @@ def lateral_values(car: Car) -> np.ndarray:
     """The model's own values of LATERAL: where the search starts."""
     c, t = car.config, car.config["tyre"]
     curve = dict((k, v) for k, v in c["steering"]["speed_curve_kmh_share"])
-    com_x = float(re.search(r'<inertial>\s*(?:<!--.*?-->\s*)?<origin xyz="([-0-9.]+)', car.urdf, flags=re.S).group(1))
+    com_x = float(COM_ORIGIN.search(car.urdf).group(2))
     izz = float(re.search(r'izz="([0-9.]+)"', car.urdf).group(1))
     return np.array([t["grip"], t["carsimed"]["lat_stiff_value"], t["carsimed"]["lat_stiff_max_load"],
                      np.log(t["carsimed"]["long_stiff_value"]), curve[60], curve[120],
@@ -185,7 +187,7 @@ def with_lateral(car: Car, x) -> Car:
     c["drivetrain"]["front_drive_share"] = d["front_drive"]
     c["suspension"].update(roll_influence=d["roll_influence"], anti_roll_front_n_per_m=d["anti_roll_front"],
                            anti_roll_rear_n_per_m=d["anti_roll_rear"])
-    urdf = re.sub(r'(<inertial>\s*(?:<!--.*?-->\s*)?<origin xyz=")[-0-9.]+', rf'\g<1>{d["com_x"]:.3f}', car.urdf, flags=re.S)
+    urdf = COM_ORIGIN.sub(rf'\g<1>{d["com_x"]:.3f}', car.urdf)
     urdf = re.sub(r'izz="[0-9.]+"', f'izz="{d["izz"]:.0f}"', urdf, count=1)
     return Car(c, urdf, car.name)
 

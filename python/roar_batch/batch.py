@@ -133,9 +133,9 @@ def summary(rows: typing.List[dict]) -> typing.List[dict]:
         g = groups.setdefault(key, {"cell": cell, "values": [], "cells": 0, "failed": 0})
         g["cells"] += 1
         figure = row.get(FIGURES[cell["kind"]])
-        if row.get("status") != "done" or figure is None:
-            g["failed"] += row.get("status") != "done"
-        else:
+        if row.get("status") != "done":
+            g["failed"] += 1
+        elif figure is not None:
             g["values"].append(figure)
     out = []
     for g in groups.values():

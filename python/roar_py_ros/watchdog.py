@@ -27,9 +27,9 @@ SHUTDOWN_WAIT = 15.0  # s roslaunch gets to stop its nodes
 LOG_PREFIX = "roar_py_ros_"
 
 
-def _parents() -> dict:
-    """Each process's parent, and (under the key -pid) its session."""
-    parents = {}
+def _processes() -> dict:
+    """Each process's parent and session: {pid: (ppid, sid)}."""
+    processes = {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
             continue
@@ -40,23 +40,22 @@ def _parents() -> dict:
             continue
         # The command name is in parentheses and may hold spaces: the fields after its last ')' are fixed.
         fields = stat[stat.rfind(")") + 2:].split()
-        parents[int(entry)] = int(fields[1])
-        parents[-int(entry)] = int(fields[3])
-    return parents
+        processes[int(entry)] = (int(fields[1]), int(fields[3]))
+    return processes
 
 
 def descendants(pid: int) -> list:
     """The process's descendants, and the members of its session (a node roslaunch started just before it
     died is an orphan of init by then, but still in roslaunch's session)."""
-    parents = _parents()
-    found, frontier = [], [pid]
+    processes = _processes()
+    found, frontier = set(), [pid]
     while frontier:
         parent = frontier.pop()
-        children = [p for p, pp in parents.items() if p > 0 and pp == parent and p not in found]
-        found.extend(children)
+        children = [p for p, (ppid, _) in processes.items() if ppid == parent and p not in found]
+        found.update(children)
         frontier.extend(children)
-    found.extend(p for p, sid in parents.items() if p < 0 and sid == pid and -p != pid and -p not in found)
-    return sorted(set(abs(p) for p in found))
+    found.update(p for p, (_, sid) in processes.items() if sid == pid and p != pid)
+    return sorted(found)
 
 
 def alive(pid: int) -> bool:

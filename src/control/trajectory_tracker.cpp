@@ -85,9 +85,9 @@ vehicle::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
   const double lock = options_.max_steer_angle * vehicle::steeringShare(options_.steering_curve, std::abs(speed));
   control.steer = std::clamp(steeringAngle(in, projection.s, speed) / lock, -1.0, 1.0);
 
-  const planning::TrajectoryPoint here = planning::sampleAt(trajectory_, projection.s);
-  if (std::isfinite(here.recorded_pedal)) {
+  if (std::isfinite(trajectory_.points.front().recorded_pedal)) {
     // A recorded lap: the pedal that drove it here, trimmed by the speed it had here.
+    const planning::TrajectoryPoint here = planning::sampleAt(trajectory_, projection.s);
     target_speed_ = options_.max_speed > 0 ? std::min(here.speed, options_.max_speed) : here.speed;
     const double effort = here.recorded_pedal + options_.recorded_speed_gain * (target_speed_ - speed);
     control.throttle = std::clamp(effort, 0.0, 1.0);

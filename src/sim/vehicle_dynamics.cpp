@@ -118,16 +118,20 @@ btTransform VehicleDynamics::baseLinkPose() const {
   return body_->getCenterOfMassTransform() * com_from_base_.inverse();
 }
 
-void VehicleDynamics::reset(const btTransform& base_link_pose) {
+void VehicleDynamics::place(const btTransform& base_link_pose) {
   const btTransform com = base_link_pose * com_from_base_;
   body_->setCenterOfMassTransform(com);
   body_->setInterpolationWorldTransform(com);
-  body_->setLinearVelocity(btVector3(0, 0, 0));
-  body_->setAngularVelocity(btVector3(0, 0, 0));
-  body_->clearForces();
   world_->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body_->getBroadphaseHandle(),
                                                                           world_->getDispatcher());
   world_->updateSingleAabb(body_.get());
+}
+
+void VehicleDynamics::reset(const btTransform& base_link_pose) {
+  place(base_link_pose);
+  body_->setLinearVelocity(btVector3(0, 0, 0));
+  body_->setAngularVelocity(btVector3(0, 0, 0));
+  body_->clearForces();
   for (auto& w : wheels_) {
     w.omega = 0.0;
     w.steer = 0.0;
@@ -170,12 +174,7 @@ void VehicleDynamics::moveTo(const btTransform& base_link_pose, double speed) {
   const btVector3 linear = body_->getLinearVelocity() - angular.cross(com_offset);
   const double scale = linear.length() > 1e-6 ? speed / linear.length() : 0.0;
   const btVector3 body_linear = to_body * linear * scale, body_angular = to_body * angular;
-  const btTransform com = base_link_pose * com_from_base_;
-  body_->setCenterOfMassTransform(com);
-  body_->setInterpolationWorldTransform(com);
-  world_->getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body_->getBroadphaseHandle(),
-                                                                          world_->getDispatcher());
-  world_->updateSingleAabb(body_.get());
+  place(base_link_pose);
   const btMatrix3x3& basis = base_link_pose.getBasis();
   const btVector3 new_angular = basis * body_angular;
   const btVector3 new_offset = body_->getCenterOfMassPosition() - base_link_pose.getOrigin();

@@ -67,6 +67,8 @@ class VehicleDynamics {
   };
 
   std::array<double, 4> wheelSteerAngles() const;
+  // The body at the pose, out of its old contacts' pairs (a teleport, not a motion).
+  void place(const btTransform& base_link_pose);
   void updateWheel(int index, double drive_torque, double dt, const SurfaceFriction& friction);
   // The suspension ray's nearest hit, the car's own body aside.
   GroundHit castWheelRay(Wheel& wheel, const btVector3& from, const btVector3& to);
