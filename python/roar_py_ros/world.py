@@ -14,7 +14,8 @@ import roar_py_interface as rpi
 
 from . import conversions
 from .connection import RoarSimError
-from .vehicle import RoarPyRosVehicle, _finite_vector, ros_safe
+from .sensor_host import WorldSensors, _finite_vector, ros_safe
+from .vehicle import RoarPyRosVehicle
 
 WAIT_TIMEOUT = 30.0  # wall seconds
 ASYNC_POLL = 0.002  # wall seconds between looks at the clock in asynchronous mode
@@ -32,6 +33,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         self._instance = instance
         self._services = instance._services
         self._vehicles: typing.Dict[str, RoarPyRosVehicle] = {}
+        self._world_sensors = WorldSensors(self)
         self._cond = threading.Condition()
         self._waypoints_msg = None
         self._waypoints_count = 0
@@ -201,7 +203,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         driven = [v for v in vehicles if v.control is not None]
         response = self._services.call("/roar_sim/step", Step, check=False, ticks=1,
                                        vehicle_names=[v.ros_name for v in driven],
-                                       controls=[v.control for v in driven], observe=[v.ros_name for v in vehicles])
+                                       controls=[v.control for v in driven], observe=self._observed(vehicles))
         if not response.success:
             if "only served in mode" in response.message:
                 self._refresh_settings()
@@ -227,11 +229,17 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
                 raise RoarSimError(f"no tick of roar_sim within {WAIT_TIMEOUT:.0f} s")
             await asyncio.sleep(ASYNC_POLL)
 
+    def _observed(self, vehicles) -> typing.List[str]:
+        """What a step's reply should tell of: the cars, and the world's own sensors when it has some."""
+        return [v.ros_name for v in vehicles] + ([self._world_sensors.ros_name] if self._world_sensors._sensors else [])
+
     def _take_snapshots(self, snapshots):
         by_name = {v.ros_name: v for v in self._vehicles.values()}
         for snapshot in snapshots:
             if snapshot.name in by_name:
                 by_name[snapshot.name]._on_snapshot(snapshot)
+            elif snapshot.name == self._world_sensors.ros_name:
+                self._world_sensors._take_sensor_stamps(snapshot)
 
     def _observe(self, vehicles):
         from roar_ros.srv import Step
@@ -310,7 +318,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
             if np.any(c < 0) or np.any(c > 255):
                 raise ValueError(f"spawn_vehicle: rgba channels must be in [0, 255], got {rgba!r}")
             colour = ColorRGBA(*(c[:3] / 255.0), 1.0)
-        taken = {v.ros_name for v in self._vehicles.values()}
+        taken = {v.ros_name for v in self._vehicles.values()} | {self._world_sensors.ros_name}
         taken |= {v.name for v in self._services.call("/roar_sim/get_world_info", GetWorldInfo).vehicles}
         base = ros_safe(name)
         ros_name, n = base, 2
@@ -347,7 +355,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
     def attach_camera_sensor(self, target_datatype, location, roll_pitch_yaw, fov=90.0, image_width=800,
                              image_height=600, control_timestep=0.0, attachment_type=None, name="carla_camera",
                              bind_to: typing.Optional[RoarPyRosVehicle] = None):
-        return self._bound(bind_to, "attach_camera_sensor").attach_camera_sensor(
+        return self._host(bind_to, "attach_camera_sensor").attach_camera_sensor(
             target_datatype, location, roll_pitch_yaw, fov, image_width, image_height, control_timestep,
             attachment_type, name)
 
@@ -359,14 +367,17 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
                             dropoff_intensity_limit_below=0.8, control_timestep=0.0, noise_std=0.0,
                             attachment_type=None, name="carla_lidar_sensor",
                             bind_to: typing.Optional[RoarPyRosVehicle] = None):
-        return self._bound(bind_to, "attach_lidar_sensor").attach_lidar_sensor(
+        return self._host(bind_to, "attach_lidar_sensor").attach_lidar_sensor(
             location, roll_pitch_yaw, num_lasers, max_distance, points_per_second, rotation_frequency, upper_fov,
             lower_fov, horizontal_fov, atmosphere_attenuation_rate, dropoff_general_rate,
             dropoff_intensity_limit_below, control_timestep, noise_std, attachment_type, name)
 
-    def _bound(self, bind_to, what: str) -> RoarPyRosVehicle:
-        if not isinstance(bind_to, RoarPyRosVehicle):
-            raise ValueError(f"{what}: roar_sim's sensors ride on a car: pass bind_to=<a vehicle of this world>")
+    def _host(self, bind_to, what: str):
+        """A sensor's host: the car bound to, or with bind_to None the world (the sensor fixed in it)."""
+        if bind_to is None:
+            return self._world_sensors
+        if not isinstance(bind_to, RoarPyRosVehicle) or bind_to not in self._vehicles.values():
+            raise ValueError(f"{what}: bind_to must be a vehicle of this world or None, got {bind_to!r}")
         return bind_to
 
     def _actor_named(self, ros_name: typing.Optional[str]) -> typing.Optional[RoarPyRosVehicle]:
@@ -378,12 +389,11 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         return [v for v in self._vehicles.values() if not v.is_closed()]
 
     def get_sensors(self) -> typing.List[rpi.RoarPySensor]:
-        """The sensors not on a car, as ROAR_PY's CARLA world lists them: none, every roar_sim sensor
-        rides on a car (get_all_sensors lists those)."""
-        return []
+        """The sensors on no car (attached with bind_to None), as ROAR_PY's CARLA world lists them."""
+        return list(self._world_sensors.get_sensors())
 
     def get_all_sensors(self) -> typing.List[rpi.RoarPySensor]:
-        return [s for v in self.get_actors() for s in v.get_sensors()]
+        return [s for v in self.get_actors() for s in v.get_sensors()] + self.get_sensors()
 
     @rpi.roar_py_remove_item
     @rpi.roar_py_thread_sync
@@ -398,6 +408,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         for vehicle in self.get_actors():
             if sensor in vehicle._sensors:
                 return vehicle.remove_sensor(sensor)
+        if sensor in self._world_sensors._sensors:
+            return sensor.close()
         raise ValueError(f"remove_sensor: {sensor.name!r} is not a sensor in this world")
 
     def _vehicle_closed(self, vehicle: RoarPyRosVehicle):
@@ -412,6 +424,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         for vehicle in list(self._vehicles.values()):
             vehicle._release()
         self._vehicles.clear()
+        self._world_sensors._release()
 
     def _reset_vehicle(self, vehicle, location, roll_pitch_yaw):
         from geometry_msgs.msg import Pose

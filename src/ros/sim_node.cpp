@@ -43,6 +43,8 @@ void checkVehicleName(const std::string& name) {
     throw std::invalid_argument(
         "name '" + name + "' must start with a letter and hold only letters, digits and underscores (at most 64)");
   }
+  if (name == roar_ros::AttachSensor::Request::WORLD)
+    throw std::invalid_argument("name '" + name + "' is the world's own (its sensors on no car): take another");
 }
 
 // Whether a service's reply can say why it was refused (success, message).
@@ -151,6 +153,9 @@ void SimNode::loadMap(const std::string& folder, const std::string& reason) {
   world_ = std::move(world);
   scene_ = std::move(scene);
   track_ = std::move(track);
+  world_sensors_ =
+      std::make_unique<VehicleSensors>(nh_, roar_ros::AttachSensor::Request::WORLD, options_.map_frame, rigTiming(),
+                                       track_->info().origin, options_.map_frame, sensors::kInTheWorld);
   map_folder_ = folder;
   if (reason != "start") ++map_generation_;
   debug_.clear();
@@ -208,9 +213,8 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       vehicle::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
   // Sensors and agent are read and checked before the car exists, so a bad set leaves nothing half made
   // (their publishers go with them).
-  auto vehicle_sensors = std::make_unique<VehicleSensors>(
-      nh_, name, sensors::RigTiming{options_.world.control_dt, options_.world.physics_dt, options_.world.gravity},
-      track_->info().origin, options_.map_frame);
+  auto vehicle_sensors = std::make_unique<VehicleSensors>(nh_, name, baseFrame(name), rigTiming(),
+                                                          track_->info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
     sensors::SensorLoad load = sensorLoad();
     for (const auto& spec : sensors::readSensorSet(sensors::resolveSensorSet(sensor_set, options_.sensors_dir))) {
@@ -255,11 +259,29 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
 }
 
 sensors::SensorLoad SimNode::sensorLoad() const {
-  sensors::SensorLoad load;
+  sensors::SensorLoad load = sensors::totalLoad(world_sensors_->rig().specs());
   for (const auto& [name, io] : io_) {
     load += sensors::totalLoad(io.sensors->rig().specs());
   }
   return load;
+}
+
+sensors::RigTiming SimNode::rigTiming() const {
+  return {options_.world.control_dt, options_.world.physics_dt, options_.world.gravity};
+}
+
+VehicleSensors& SimNode::sensorsOf(const std::string& host) {
+  if (host == roar_ros::AttachSensor::Request::WORLD) return *world_sensors_;
+  const auto it = io_.find(host);
+  if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + host + "'");
+  return *it->second.sensors;
+}
+
+std::vector<VehicleSensors*> SimNode::allSensors() {
+  std::vector<VehicleSensors*> all;
+  for (auto& [name, io] : io_) all.push_back(io.sensors.get());
+  all.push_back(world_sensors_.get());
+  return all;
 }
 
 void SimNode::removeVehicle(const std::string& name) {
@@ -337,8 +359,8 @@ void SimNode::driverLost(const std::string& name, VehicleIo& io, const std::stri
 
 void SimNode::publishStaticTransforms() {
   std::vector<geometry_msgs::TransformStamped> all;
-  for (const auto& [name, io] : io_) {
-    const auto t = io.sensors->staticTransforms();
+  for (const VehicleSensors* rig : allSensors()) {
+    const auto t = rig->staticTransforms();
     all.insert(all.end(), t.begin(), t.end());
   }
   if (!all.empty()) static_tf_.sendTransform(all);
@@ -360,7 +382,7 @@ void SimNode::tick() {
 
 std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   std::map<std::string, Eigen::Isometry3d> poses;
-  bool any = false;
+  bool any = !world_sensors_->empty();
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return poses;
   SceneTick kept = sceneNow();
@@ -372,7 +394,7 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   }
   // Posing the scene (Embree's refit) is most of a tick's cost with sensors that cast no ray this tick:
   // an unread on-demand camera, sensors between their samples (bench/roar_py_bench.py).
-  bool rays = false;
+  bool rays = !world_sensors_->empty() && world_sensors_->rig().castsRaysAt(world_->time(), *world_sensors_);
   for (auto& [name, io] : io_) {
     rays = rays || (io.agent && io.agent->needsScene()) ||
            (!io.sensors->empty() && io.sensors->rig().castsRaysAt(world_->time(), *io.sensors));
@@ -410,6 +432,9 @@ void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& p
     if (!io.sensors->empty())
       io.sensors->rig().sampleRays(world_->time(), *scene_, poses.at(name), io.scene_id, *io.sensors);
   }
+  // The world's sensors are mounted in the map frame and see every car.
+  if (!world_sensors_->empty())
+    world_sensors_->rig().sampleRays(world_->time(), *scene_, Eigen::Isometry3d::Identity(), -1, *world_sensors_);
 }
 
 void SimNode::publishIdleClock() {
@@ -446,14 +471,17 @@ void SimNode::publishState() {
 }
 
 roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
-  const VehicleIo& io = io_.at(name);
-  const ros::Time stamp = toRosTime(world_->time());
-  const sim::VehicleState state = world_->vehicleState(name);
   roar_ros::VehicleSnapshot out;
   out.name = name;
-  out.odometry = toOdometry(state, stamp, options_.map_frame, baseFrame(name));
-  out.status = toStatus(state, stamp, baseFrame(name));
-  for (const auto& [sensor, at] : io.sensors->lastStamps()) {
+  const bool world = name == roar_ros::AttachSensor::Request::WORLD;  // its sensors' stamps alone
+  if (!world) {
+    const ros::Time stamp = toRosTime(world_->time());
+    const sim::VehicleState state = world_->vehicleState(name);
+    out.odometry = toOdometry(state, stamp, options_.map_frame, baseFrame(name));
+    out.status = toStatus(state, stamp, baseFrame(name));
+  }
+  const VehicleSensors& rig = world ? *world_sensors_ : *io_.at(name).sensors;
+  for (const auto& [sensor, at] : rig.lastStamps()) {
     out.sensor_names.push_back(sensor);
     out.sensor_stamps.push_back(toRosTime(at));
   }

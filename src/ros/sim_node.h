@@ -93,8 +93,14 @@ class SimNode {
                   const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
                   const std::string& agent_env = "", int spawn_point = -1,
                   sim::Placement placement = sim::Placement::kOnGround);
-  // What every car's sensors cost together, against sensors::kSimulatorSensorBudget.
+  // What every sensor costs together (the cars' and the world's), against sensors::kSimulatorSensorBudget.
   sensors::SensorLoad sensorLoad() const;
+  sensors::RigTiming rigTiming() const;  // the world's steps, as every rig is built with
+  // The sensors of a car, or the world's own for AttachSensor's WORLD; throws std::invalid_argument for a
+  // name that is neither.
+  VehicleSensors& sensorsOf(const std::string& host);
+  // Every rig: each car's, then the world's (sensors fixed in the map frame).
+  std::vector<VehicleSensors*> allSensors();
   void removeVehicle(const std::string& name);
   // Lockstep timed out: every driver that has not answered the tick is taken as lost (warned once each).
   // Lockstep: some driver is lost and none that is connected answers.
@@ -184,7 +190,8 @@ class SimNode {
   std::unique_ptr<sensors::RayScene> scene_;
   std::map<std::string, sensors::VisualMesh> looks_;  // by vehicle model
   std::map<std::string, VehicleIo> io_;
-  std::size_t spawned_count_ = 0;  // for the palette
+  std::unique_ptr<VehicleSensors> world_sensors_;  // sensors on no car (AttachSensor's WORLD), gone with the map
+  std::size_t spawned_count_ = 0;                  // for the palette
   std::uint32_t map_generation_ = 0;
   DebugDrawing debug_;
   ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_, driver_back_pub_;

@@ -101,8 +101,13 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
     return refuse(res, "step", "vehicle_names and controls must have the same length");
   }
   std::vector<std::string> observed;
+  bool observe_world = false;  // the world's own sensors' stamps: a snapshot named WORLD
   for (const auto* names : {&req.vehicle_names, &req.observe}) {
     for (const auto& name : *names) {
+      if (names == &req.observe && name == roar_ros::AttachSensor::Request::WORLD) {
+        observe_world = true;
+        continue;
+      }
       if (!io_.count(name)) return refuse(res, "step", "no vehicle named '" + name + "'");
       if (std::find(observed.begin(), observed.end(), name) == observed.end()) observed.push_back(name);
     }
@@ -161,6 +166,7 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
     res.vehicles.push_back(snapshot(name));
     res.vehicles.back().collisions = collisions[name];
   }
+  if (observe_world) res.vehicles.push_back(snapshot(roar_ros::AttachSensor::Request::WORLD));
   return true;
 }
 
@@ -201,13 +207,17 @@ bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::Res
 
 bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::AttachSensor::Response& res) {
   try {
-    auto it = io_.find(req.vehicle);
-    if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + req.vehicle + "'");
+    VehicleSensors& rig = sensorsOf(req.vehicle);
     if (req.sensor_yaml.size() > 100000) throw std::invalid_argument("sensor_yaml is longer than 100000 characters");
-    const auto specs = sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor's sensor_yaml");
+    const auto specs =
+        sensors::parseSensorSetYaml("sensors: [" + req.sensor_yaml + "]", "attach_sensor's sensor_yaml", rig.bounds());
     if (specs.size() != 1) throw std::invalid_argument("sensor_yaml must describe exactly one sensor");
+    if (&rig == world_sensors_.get() && !sensors::seesFromAnywhere(specs.front().type)) {
+      throw std::invalid_argument("sensor '" + specs.front().name + "': type " + sensors::typeName(specs.front().type) +
+                                  " measures the car it rides on: a sensor on no car is a camera, lidar or radar");
+    }
     sensors::checkBudget(sensorLoad(), specs.front(), sensors::kSimulatorSensorBudget);
-    it->second.sensors->attach(specs.front(), world_->time());
+    rig.attach(specs.front(), world_->time());
     publishStaticTransforms();
     res.success = true;
     res.message = "attached " + specs.front().name + " to " + req.vehicle;
@@ -218,10 +228,14 @@ bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::Att
 }
 
 bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::DetachSensor::Response& res) {
-  auto it = io_.find(req.vehicle);
-  res.success = it != io_.end() && it->second.sensors->detach(req.sensor);
+  try {
+    res.success = sensorsOf(req.vehicle).detach(req.sensor);
+  } catch (const std::invalid_argument&) {
+    res.success = false;
+  }
   res.message = res.success ? "detached " + req.sensor
                             : "no sensor '" + req.sensor + "' on a vehicle named '" + req.vehicle + "'";
+  if (res.success) publishStaticTransforms();
   return true;
 }
 
@@ -302,25 +316,29 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
   if (control_dt != options_.world.control_dt || physics_dt != options_.world.physics_dt) {
     // Every check before any change: the world's steps, every sensor's rate, every agent's environment.
     try {
+      const auto check_rates = [&](const VehicleSensors& rig, const std::string& whose) {
+        for (const auto& spec : rig.rig().specs()) {
+          try {
+            sensors::SensorRig::checkRate(spec, control_dt, physics_dt);
+          } catch (const std::exception& e) {
+            throw std::invalid_argument(whose + ": " + e.what());
+          }
+        }
+      };
       for (const auto& [name, io] : io_) {
         if (io.agent) {
           throw std::invalid_argument("vehicle '" + name +
                                       "' is driven by an RL agent whose environment steps control_dt " +
                                       std::to_string(io.agent->options().world.control_dt) + " s");
         }
-        for (const auto& spec : io.sensors->rig().specs()) {
-          try {
-            sensors::SensorRig::checkRate(spec, control_dt, physics_dt);
-          } catch (const std::exception& e) {
-            throw std::invalid_argument("vehicle '" + name + "': " + e.what());
-          }
-        }
+        check_rates(*io.sensors, "vehicle '" + name + "'");
       }
+      check_rates(*world_sensors_, "the world's sensors");
       world_->setTiming(control_dt, physics_dt);
     } catch (const std::exception& e) {
       return refuse(res, "set_stepping", e.what());
     }
-    for (auto& [name, io] : io_) io.sensors->rig().setTiming(control_dt, physics_dt);
+    for (VehicleSensors* rig : allSensors()) rig->rig().setTiming(control_dt, physics_dt);
     options_.world.control_dt = control_dt;
     options_.world.physics_dt = physics_dt;
   }
@@ -394,9 +412,8 @@ bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros:
 
 bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res) {
   try {
-    const auto io = io_.find(req.vehicle);
-    if (io == io_.end()) throw sim::SpawnError("no vehicle named '" + req.vehicle + "'");
-    sensors::SensorRig& rig = io->second.sensors->rig();
+    sensors::SensorRig& rig = sensorsOf(req.vehicle).rig();
+    const bool world = req.vehicle == roar_ros::AttachSensor::Request::WORLD;
     sensors::SensorType type = sensors::SensorType::kCameraRgb;
     for (const auto& spec : rig.specs()) {
       if (spec.name == req.sensor) type = spec.type;
@@ -407,7 +424,8 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
     const SceneTick* tick = &now;
     if (!req.stamp.isZero()) tick = keptSceneTick(req.stamp.toSec(), req.vehicle);
     if (tick != scene_posed_at_) poseRayScene(*tick);
-    const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, tick->cars.at(req.vehicle).pose, nullptr);
+    const Eigen::Isometry3d mount_frame = world ? Eigen::Isometry3d::Identity() : tick->cars.at(req.vehicle).pose;
+    const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, mount_frame, nullptr);
     if (tick == &now) scene_posed_at_ = nullptr;  // posed at a moment that is not kept
     res.image = toImage(frame, type, toRosTime(tick->time), req.vehicle + "/" + req.sensor + "_optical");
     res.success = true;
@@ -421,7 +439,8 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
 const SceneTick* SimNode::keptSceneTick(double stamp, const std::string& vehicle) const {
   const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
                                  [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
-  if (tick != scene_ticks_.end() && tick->cars.count(vehicle)) return &*tick;
+  if (tick != scene_ticks_.end() && (vehicle == roar_ros::AttachSensor::Request::WORLD || tick->cars.count(vehicle)))
+    return &*tick;
   throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
                               (scene_ticks_.empty()
                                    ? std::string(" (no tick since the car's sensors came)")

@@ -24,14 +24,21 @@ geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& t, const s
 
 }  // namespace
 
-VehicleSensors::VehicleSensors(ros::NodeHandle nh, std::string vehicle, const sensors::RigTiming& timing,
-                               const track::GeoOrigin& origin, std::string map_frame)
-    : nh_(nh), it_(nh), vehicle_(std::move(vehicle)), map_frame_(std::move(map_frame)), rig_({}, timing, origin) {}
+VehicleSensors::VehicleSensors(ros::NodeHandle nh, std::string host, std::string parent_frame,
+                               const sensors::RigTiming& timing, const track::GeoOrigin& origin, std::string map_frame,
+                               const sensors::MountBounds& bounds)
+    : nh_(nh),
+      it_(nh),
+      host_(std::move(host)),
+      parent_frame_(std::move(parent_frame)),
+      bounds_(bounds),
+      map_frame_(std::move(map_frame)),
+      rig_({}, timing, origin, 0.0, bounds) {}
 
 void VehicleSensors::attach(const sensors::SensorSpec& spec, double now) {
   rig_.add(spec, now);  // validates first: nothing is advertised for a sensor the rig refuses
   Publishers p;
-  const std::string base = vehicle_ + "/";
+  const std::string base = host_ + "/";
   const int queue = ros_bridge::sensorQueue(spec.rate);
   switch (spec.type) {
     case sensors::SensorType::kLidar:
@@ -79,7 +86,7 @@ bool VehicleSensors::detach(const std::string& name) {
 std::vector<geometry_msgs::TransformStamped> VehicleSensors::staticTransforms() const {
   std::vector<geometry_msgs::TransformStamped> out;
   for (const auto& spec : rig_.specs()) {
-    out.push_back(transformMsg(sensors::mountTransform(spec.mount), baseFrame(vehicle_), frameOf(spec)));
+    out.push_back(transformMsg(sensors::mountTransform(spec.mount), parent_frame_, frameOf(spec)));
     if (sensors::isCamera(spec.type)) {
       Eigen::Isometry3d optical = Eigen::Isometry3d::Identity();
       optical.linear() = sensors::opticalFromBody().transpose();

@@ -1,5 +1,6 @@
 #pragma once
-// The sensors of one simulated car on ROS: its SensorRig, and the publishers its readings go to.
+// The sensors of one simulated car on ROS (or the world's own, AttachSensor's WORLD in place of <vehicle>):
+// its SensorRig, and the publishers its readings go to.
 //   cameras   <vehicle>/camera/<name>/image (+ camera_info), frame <vehicle>/<name>_optical (image_transport);
 //             an on-demand camera publishes only while its topic has a subscriber (/roar_sim/render_sensor
 //             renders its frames for the asking)
@@ -25,8 +26,12 @@ namespace roar::ros_bridge {
 
 class VehicleSensors : public sensors::SensorSink {
  public:
-  VehicleSensors(ros::NodeHandle nh, std::string vehicle, const sensors::RigTiming& timing,
-                 const track::GeoOrigin& origin, std::string map_frame);
+  // `host` names the topics and frames (a car, or AttachSensor's WORLD); the mounts are in parent_frame
+  // (the car's base frame, or the map's), within `bounds`.
+  VehicleSensors(ros::NodeHandle nh, std::string host, std::string parent_frame, const sensors::RigTiming& timing,
+                 const track::GeoOrigin& origin, std::string map_frame,
+                 const sensors::MountBounds& bounds = sensors::kOnACar);
+  const sensors::MountBounds& bounds() const { return bounds_; }
 
   // Throws sensors::SensorSpecError naming the sensor and field.
   void attach(const sensors::SensorSpec& spec, double now);
@@ -36,6 +41,7 @@ class VehicleSensors : public sensors::SensorSink {
   bool empty() const { return publishers_.empty(); }
 
   sensors::SensorRig& rig() { return rig_; }
+  const sensors::SensorRig& rig() const { return rig_; }
 
   void camera(const sensors::SensorSpec& spec, double stamp, const sensors::CameraFrame& frame,
               const sensors::CameraIntrinsics& k) override;
@@ -59,11 +65,13 @@ class VehicleSensors : public sensors::SensorSink {
     image_transport::Publisher image;
     ros::Publisher main, second;
   };
-  std::string frameOf(const sensors::SensorSpec& spec) const { return vehicle_ + "/" + spec.name; }
+  std::string frameOf(const sensors::SensorSpec& spec) const { return host_ + "/" + spec.name; }
 
   ros::NodeHandle nh_;
   image_transport::ImageTransport it_;
-  std::string vehicle_;
+  std::string host_;
+  std::string parent_frame_;
+  sensors::MountBounds bounds_;
   std::string map_frame_;
   sensors::SensorRig rig_;
   std::map<std::string, Publishers> publishers_;

@@ -50,15 +50,15 @@ struct SensorRig::CameraGroup {
 };
 
 SensorRig::SensorRig(const std::vector<SensorSpec>& specs, const RigTiming& timing, const track::GeoOrigin& origin,
-                     double start_time)
-    : timing_(timing), origin_(origin) {
+                     double start_time, const MountBounds& bounds)
+    : timing_(timing), origin_(origin), bounds_(bounds) {
   for (const auto& s : specs) add(s, start_time);
 }
 
 SensorRig::~SensorRig() = default;
 
 void SensorRig::add(const SensorSpec& spec, double now) {
-  validate(spec, "sensor set");
+  validate(spec, "sensor set", bounds_);
   for (const auto& s : sensors_) {
     if (s->spec.name == spec.name)
       throw SensorSpecError("sensor '" + spec.name + "': the car already has a sensor of that name");

@@ -39,9 +39,7 @@ using Section = config::YamlSection<SensorSpecError>;
 
 constexpr double kDeg = M_PI / 180.0;
 
-// How far from base_link a sensor may sit: on the car or on a pole above it, not across the map.
-constexpr double kMaxMountOffset = 20.0;  // m
-constexpr double kMinSensorRate = 0.01;   // Hz: a reading every 100 s; slower, a sensor all but never reports
+constexpr double kMinSensorRate = 0.01;  // Hz: a reading every 100 s; slower, a sensor all but never reports
 constexpr int kMaxImageSide = 4096;
 constexpr long kMaxImagePixels = 4096L * 2048L;  // 8.4 million rays a frame
 constexpr double kMaxLidarPointsPerSecond = 1e7;
@@ -80,7 +78,11 @@ bool castsRays(SensorType type) {
          type == SensorType::kRadar;
 }
 
-SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
+bool seesFromAnywhere(SensorType type) {
+  return isCamera(type) || type == SensorType::kLidar || type == SensorType::kRadar;
+}
+
+SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source, const MountBounds& bounds) {
   if (!node.IsMap()) throw SensorSpecError(source + ": a sensor must be a mapping with name and type");
   SensorSpec spec;
   Section top(node, "", source);
@@ -187,11 +189,11 @@ SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source) {
       break;
   }
   s.finish();
-  validate(spec, source);
+  validate(spec, source, bounds);
   return spec;
 }
 
-void validate(const SensorSpec& spec, const std::string& source) {
+void validate(const SensorSpec& spec, const std::string& source, const MountBounds& bounds) {
   const std::string where = source + ": sensor '" + spec.name + "'";
   auto fail = [&](const std::string& field, const std::string& rule) {
     throw SensorSpecError(where + ": " + field + ": " + rule);
@@ -202,7 +204,8 @@ void validate(const SensorSpec& spec, const std::string& source) {
       fail(field, show(value) + " is outside [" + show(lo) + ", " + show(hi) + "]" + unit);
   };
   for (int axis = 0; axis < 3; ++axis) {
-    range(std::string(1, "xyz"[axis]), spec.mount.position[axis], -kMaxMountOffset, kMaxMountOffset, " m of base_link");
+    range(std::string(1, "xyz"[axis]), spec.mount.position[axis], -bounds.max_offset_m, bounds.max_offset_m,
+          std::string(" m of ") + bounds.relative_to);
   }
   for (const double angle : {spec.mount.roll, spec.mount.pitch, spec.mount.yaw}) {
     if (!std::isfinite(angle)) fail("roll, pitch, yaw", "must be finite");
@@ -282,7 +285,8 @@ void validate(const SensorSpec& spec, const std::string& source) {
   }
 }
 
-std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source) {
+std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source,
+                                           const MountBounds& bounds) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -300,7 +304,7 @@ std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const s
   std::vector<SensorSpec> out;
   std::set<std::string> names;
   for (std::size_t i = 0; i < list.size(); ++i) {
-    out.push_back(parseSensorSpec(list[i], source));
+    out.push_back(parseSensorSpec(list[i], source, bounds));
     if (!names.insert(out.back().name).second) {
       throw SensorSpecError(source + ": sensor name '" + out.back().name + "' is used twice");
     }

@@ -189,8 +189,48 @@ def test_a_synchronous_step_drives_the_car_and_every_sensor_reads_it(world):
     assert car.get_angular_velocity()[2] < 0
     car.remove_sensor(lidar)
     assert lidar.is_closed() and len(list(car.get_sensors())) == 12
-    # As ROAR_PY's CARLA world: get_sensors lists the sensors on no car (roar_sim has none).
+    # As ROAR_PY's CARLA world: get_sensors lists the sensors on no car.
     assert world.get_sensors() == [] and world.get_all_sensors() == list(car.get_sensors())
+
+
+def test_a_sensor_on_no_car_stands_where_it_is_put_and_sees_the_cars(world):
+    # ROAR_PY's world.attach_*_sensor without bind_to: a trackside camera or LiDAR, fixed in the world.
+    car = spawn(world)
+    where = car.get_3d_location()
+    above = world.attach_camera_sensor(rpi.RoarPyCameraSensorDataSemanticSegmentation, where + np.array([0, 0, 25.0]),
+                                       np.array([0.0, np.pi / 2, 0.0]), fov=40.0, image_width=64, image_height=64,
+                                       name="above")
+    lidar = world.attach_lidar_sensor(where + np.array([0, 0, 6.0]), np.zeros(3), max_distance=30.0, name="post")
+    assert world.get_sensors() == [above, lidar] and list(car.get_sensors()) == []
+    assert set(world.get_all_sensors()) == {above, lidar}
+    run(world.step())
+    labels = np.asarray(run(above.receive_observation()).image_ss)
+    car_tag = roar_py_ros.vehicle.CARLA_VEHICLE_TAG
+    assert labels.shape == (64, 64, 1) and (labels == car_tag).mean() > 0.015, "the car, seen from 25 m above it"
+    points = run(lidar.receive_observation()).lidar_points_data
+    assert len(points) > 100
+    # The camera stays where it was put while the car drives away.
+    for _ in range(120):
+        run(car.apply_action(GO))
+        run(world.step())
+    assert np.linalg.norm(car.get_3d_location() - where) > 15.0
+    labels_after = np.asarray(run(above.receive_observation()).image_ss)
+    assert (labels_after == car_tag).mean() < 0.01, "the camera stayed; the car left its view"
+    world.remove_sensor(above)
+    assert above.is_closed() and world.get_sensors() == [lidar]
+    with pytest.raises(ValueError, match="bind_to must be a vehicle of this world or None"):
+        world.attach_camera_sensor(RGB, np.zeros(3), np.zeros(3), bind_to="carla_vehicle")
+    lidar.close()
+    assert world.get_sensors() == []
+    # roar_sim's own word on it: only the kinds that see stand on no car, and no car takes the world's name.
+    from roar_ros.srv import AttachSensor, AttachSensorRequest
+
+    reply = world._services.call("/roar_sim/attach_sensor", AttachSensor, check=False, vehicle=AttachSensorRequest.WORLD,
+                                 sensor_yaml="{name: imu, type: imu}")
+    assert not reply.success and "type imu measures the car it rides on" in reply.message
+    with pytest.warns(roar_py_ros.RoarPyCompatibilityWarning, match="'world' is taken"):
+        named_world = spawn(world, slot=1, name="world")
+    assert named_world.ros_name == "world_2"
 
 
 def test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame(world):
@@ -342,8 +382,8 @@ def test_bad_sensor_arguments_are_named(world):
         car.attach_camera_sensor(RGB, np.array([500.0, 0, 0]), np.zeros(3), image_width=84, image_height=84)
     with pytest.raises(ValueError, match="Unsupported target data type"):
         car.attach_camera_sensor(int, np.zeros(3), np.zeros(3))
-    with pytest.raises(ValueError, match="bind_to"):
-        world.attach_lidar_sensor(np.zeros(3), np.zeros(3))
+    with pytest.raises(ValueError, match=r"location\[0\] \(roar_sim's x\): 200000 is outside .* m of the map's origin"):
+        world.attach_lidar_sensor(np.array([2e5, 0.0, 0.0]), np.zeros(3))
     with pytest.raises(ValueError, match="width_in_world"):
         car.attach_occupancy_map_sensor(50, 50, 0.0, 2.0)
     assert list(car.get_sensors()) == [], "nothing half-attached"

@@ -124,6 +124,29 @@ TEST(SensorSpec, ROARPYsOtherSensorsParse) {
   EXPECT_FALSE(sensors::castsRays(specs[3].type));
 }
 
+// A sensor on no car is mounted in the map frame: anywhere on the map, where one on a car stays within
+// 20 m of its base_link; only the kinds that see can stand on their own.
+TEST(SensorSpec, ASensorOnNoCarIsMountedAnywhereOnTheMap) {
+  const std::string yaml = "sensors: [{name: post, type: camera_rgb, x: 850, y: -420.5, z: 12, pitch: 20}]";
+  const auto specs = sensors::parseSensorSetYaml(yaml, "world.yaml", sensors::kInTheWorld);
+  ASSERT_EQ(specs.size(), 1u);
+  EXPECT_EQ(specs[0].mount.position.x(), 850.0);
+  try {
+    sensors::parseSensorSetYaml(yaml, "car.yaml");
+    FAIL() << "850 m from base_link accepted on a car";
+  } catch (const sensors::SensorSpecError& e) {
+    EXPECT_NE(std::string(e.what()).find("x: 850 is outside [-20, 20] m of base_link"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(sensors::parseSensorSetYaml("sensors: [{name: far, type: lidar, x: 2e5}]", "w", sensors::kInTheWorld),
+               sensors::SensorSpecError);
+  for (const auto type : {sensors::SensorType::kCameraRgb, sensors::SensorType::kCameraDepth,
+                          sensors::SensorType::kLidar, sensors::SensorType::kRadar})
+    EXPECT_TRUE(sensors::seesFromAnywhere(type)) << sensors::typeName(type);
+  for (const auto type : {sensors::SensorType::kImu, sensors::SensorType::kGnss, sensors::SensorType::kOccupancyMap,
+                          sensors::SensorType::kLocation})
+    EXPECT_FALSE(sensors::seesFromAnywhere(type)) << sensors::typeName(type);
+}
+
 TEST(SensorSpec, ANameMustBeARosNameAndASetMustHoldASensor) {
   EXPECT_NE(parseError("{name: ~, type: imu}").find("a sensor's 'name' must be a plain name"), std::string::npos);
   EXPECT_NE(parseError("{name: [a], type: imu}").find("a sensor's 'name' must be a plain name"), std::string::npos);

@@ -46,8 +46,9 @@ struct RigTiming {
 class SensorRig {
  public:
   // Throws SensorSpecError naming the sensor for a rate its kind cannot keep, or a taken name.
+  // Mounts within `bounds` (of base_link, or of the map for a rig on no car).
   SensorRig(const std::vector<SensorSpec>& specs, const RigTiming& timing, const track::GeoOrigin& origin,
-            double start_time = 0.0);
+            double start_time = 0.0, const MountBounds& bounds = kOnACar);
   ~SensorRig();
 
   // A sensor added at `now` reports first one period later.
@@ -85,6 +86,7 @@ class SensorRig {
 
   RigTiming timing_;
   track::GeoOrigin origin_;
+  MountBounds bounds_;
   std::vector<std::unique_ptr<Sensor>> sensors_;
   std::vector<std::unique_ptr<CameraGroup>> camera_groups_;
 };

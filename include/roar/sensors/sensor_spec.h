@@ -34,6 +34,9 @@ bool isCamera(SensorType type);
 // Cameras, LiDAR, radar and the occupancy map cast rays once per control tick; the others sample the
 // car's motion after physics substeps.
 bool castsRays(SensorType type);
+// The kinds a sensor fixed in the world (on no car) can be: those that see (cameras, LiDAR, radar). The
+// others measure the car they ride on, and the occupancy map is drawn around it.
+bool seesFromAnywhere(SensorType type);
 
 struct Mount {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, in base_link
@@ -147,9 +150,19 @@ inline constexpr SensorBudget kSimulatorSensorBudget{"roar_sim's", 4.0e8, 4.0 * 
 // Throws SensorSpecError naming `adding`, the budget and the figures when `in_use` and `adding` exceed it.
 void checkBudget(const SensorLoad& in_use, const SensorSpec& adding, const SensorBudget& budget);
 
+// How far a sensor's mount may lie from what it is mounted on.
+struct MountBounds {
+  double max_offset_m;
+  const char* relative_to;
+};
+// On a car or on a pole above it, not across the map.
+inline constexpr MountBounds kOnACar{20.0, "base_link"};
+// Fixed in the world (on no car): anywhere on a map.
+inline constexpr MountBounds kInTheWorld{1e5, "the map's origin"};
+
 // One sensor from a YAML mapping: name, type, x, y, z, roll, pitch, yaw (degrees), rate, seed and the
 // type's own fields; a key the type does not take is refused. `source` prefixes every error.
-SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source);
+SensorSpec parseSensorSpec(const YAML::Node& node, const std::string& source, const MountBounds& bounds = kOnACar);
 // A sensor set file: `sensors: [ ... ]`; names must be unique.
 std::vector<SensorSpec> readSensorSet(const std::string& path);
 // The file of a sensor set: a file's path as it is (a path with a '/' or ending in .yaml, or a file that
@@ -161,9 +174,10 @@ std::string resolveSensorSet(const std::string& name_or_path, const std::string&
 // touching the file system beyond sensors_dir, so a reply tells nothing of other files (sim_services.test).
 std::string sensorSetByName(const std::string& name, const std::string& sensors_dir);
 std::vector<std::string> listSensorSets(const std::string& sensors_dir);
-std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source);
+std::vector<SensorSpec> parseSensorSetYaml(const std::string& yaml_text, const std::string& source,
+                                           const MountBounds& bounds = kOnACar);
 // Range checks of one spec (physical ranges, and what one core can render); throws SensorSpecError naming
 // the sensor, the field, the value and the range.
-void validate(const SensorSpec& spec, const std::string& source);
+void validate(const SensorSpec& spec, const std::string& source, const MountBounds& bounds = kOnACar);
 
 }  // namespace roar::sensors
