@@ -5,8 +5,10 @@ occupancy map and collision) driven by a loop of the runner's shape (world.step(
 an action) in synchronous mode at 20 Hz control on Monza, this process and the roar_sim it starts on one
 core. Prints steps per second and times real time for an entry that reads only location, velocity and
 rotation (the camera's frames never read, so never rendered), then for one that reads the camera's
-pixels every tick; the reference, measured in the same run, is the same number of bare /roar_sim/step
-calls from rospy (no sensors, no ROAR_PY layer). Each loop runs --rounds times, interleaved with the bare
+pixels every tick, then for ROAR_PY_RL's training environment (test/python/roar_py_rl_pattern_env.py: its
+sensors with a 400x200 camera it filters out, its 14 waypoint distances, its action filter and
+FilterObservation, stepped under nest_asyncio); the reference, measured in the same run, is the same
+number of bare /roar_sim/step calls from rospy (no sensors, no ROAR_PY layer). Each loop runs --rounds times, interleaved with the bare
 step's, and its median is printed with the range: this machine's speed drifts from run to run by a quarter.
 
     /usr/bin/python3 bench/roar_py_bench.py [--steps N] [--rounds 5] [--cores 1] [--camera 1024x768]
@@ -14,12 +16,16 @@ step's, and its median is printed with the range: this machine's speed drifts fr
 import argparse
 import asyncio
 import os
+import sys
 import time
 
 import numpy as np
 
 import roar_py_interface as rpi
 import roar_py_ros
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test", "python"))
+import roar_py_rl_pattern_env as rl_pattern  # noqa: E402  (ROAR_PY_RL's environment, one home: beside its test)
 
 CONTROL_DT = 0.05
 ACTION = {"throttle": 0.5, "steer": 0.0, "brake": 0.0, "hand_brake": 0.0, "reverse": 0, "target_gear": 0}
@@ -51,6 +57,17 @@ async def loop(world, vehicle, sensors, steps: int, read_camera: bool) -> float:
         await vehicle.apply_action({**ACTION, "throttle": 0.5 if np.linalg.norm(velocity) < 20 else 0.0,
                                     "steer": steer})
         await world.step()
+    return time.perf_counter() - started
+
+
+def rl_steps(env, steps: int) -> float:
+    """ROAR_PY_RL's training loop: a steady action through its wrappers, a new episode when one ends."""
+    steady = {"throttle": np.array([0.3], dtype=np.float32), "steer": np.array([0.0], dtype=np.float32)}
+    started = time.perf_counter()
+    for _ in range(steps):
+        _, _, terminated, truncated, _ = env.step(steady)
+        if terminated or truncated:
+            env.reset()
     return time.perf_counter() - started
 
 
@@ -104,6 +121,19 @@ async def main(steps: int, rounds: int, cores: int, camera_size):
             camera_reference.append(await bare_steps(instance, vehicle, camera_steps))
             camera.append(await loop(world, vehicle, sensors, camera_steps, True))
         report("runner's sensors, entry reads the camera every tick", camera_steps, camera, camera_reference)
+        vehicle.close()
+        import nest_asyncio  # ROAR_PY_RL's training steps its env synchronously inside a running loop
+
+        nest_asyncio.apply()
+        env = rl_pattern.training_env(rl_pattern.make_env(instance, (400, 200), rl_pattern.TRAINING_DISTANCES),
+                                      max_episode_steps=10 * steps)
+        env.reset()
+        rl_steps(env, 50)  # warm-up, and the car's first control for the bare steps
+        rl, rl_reference = [], []
+        for _ in range(rounds):
+            rl_reference.append(await bare_steps(instance, env.unwrapped.roar_py_actor, steps))
+            rl.append(rl_steps(env, steps))
+        report("ROAR_PY_RL's environment, its observations (no camera)", steps, rl, rl_reference)
     finally:
         instance.close()
 

@@ -28,7 +28,8 @@ class FilterObservation(ObservationWrapper):
         self.observation_space = spaces.Dict([(k, s) for k, s in wrapped.spaces.items() if k in self._filter_keys])
 
     def observation(self, observation):
-        return type(observation)((k, v) for k, v in observation.items() if k in self._filter_keys)
+        # By key: a value not kept is never read (nor converted).
+        return type(observation)((k, observation[k]) for k in observation.keys() if k in self._filter_keys)
 
 
 class FlattenObservation(ObservationWrapper):

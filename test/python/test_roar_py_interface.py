@@ -230,6 +230,38 @@ def test_the_tracker_measures_distance_along_the_waypoints():
     assert wrapped.waypoint_idx == 0, "searched outwards both ways from the start index"
 
 
+def roar_pys_forward_walk(tracker, projection, distance):
+    """ROAR_PY's trace_forward_projection as it is written: segment by segment."""
+    count = len(tracker.waypoints)
+    remaining = distance % tracker._total_distance
+    index, along = projection.waypoint_idx, projection.distance_from_waypoint
+    while remaining > 0:
+        to_progress = tracker._distance_between_waypoints[index] - along
+        if remaining < to_progress:
+            along += remaining
+            break
+        remaining -= to_progress
+        index, along = (index + 1) % count, 0
+    return index, along
+
+
+def test_forward_projections_walk_as_roar_pys():
+    rng = np.random.default_rng(7)
+    # Irregular spacing round a loop, as a map's waypoints are.
+    angles = np.sort(rng.uniform(0, 2 * np.pi, 300))
+    waypoints = [rpi.RoarPyWaypoint(np.array([100 * np.cos(t), 60 * np.sin(t), 0.0]), np.array([0.0, 0.0, t + np.pi / 2]),
+                                    8.0) for t in angles]
+    tracker = rpi.RoarPyWaypointsTracker(waypoints)
+    cases = [(int(i), float(a), float(d)) for i, a, d in zip(rng.integers(0, 300, 400), rng.uniform(-2.0, 4.0, 400),
+                                                            rng.uniform(-600.0, 600.0, 400))]
+    cases += [(5, 0.0, 0.0), (299, 1.0, tracker._total_distance), (10, 0.0, tracker._distance_between_waypoints[10])]
+    for index, along, distance in cases:
+        got = tracker.trace_forward_projection(rpi.RoarPyWaypointsProjection(index, along), distance)
+        want = roar_pys_forward_walk(tracker, rpi.RoarPyWaypointsProjection(index, along), distance)
+        assert got.waypoint_idx == want[0] and got.distance_from_waypoint == pytest.approx(want[1], abs=1e-9), \
+            (index, along, distance)
+
+
 def test_the_tracker_blends_with_roar_pys_weights():
     waypoints = square_track()
     tracker = rpi.RoarPyWaypointsTracker(waypoints)
@@ -600,6 +632,52 @@ def test_an_observation_space_is_sorted_by_key_as_roar_pys():
     asyncio.run(vehicle.receive_observation())
     flat = rpi.spaces.flatten(spec, vehicle.get_last_gym_observation())
     assert np.allclose(flat, [1, 2, 3, 7, 8, 9])
+
+
+class CountingSensor(FakeSensor):
+    """A location sensor that counts its gym conversions (a camera's would render a frame)."""
+
+    def __init__(self, name, value):
+        super().__init__(name, value)
+        self.conversions = 0
+
+    def convert_obs_to_gym_obs(self, obs):
+        self.conversions += 1
+        return super().convert_obs_to_gym_obs(obs)
+
+
+def test_a_gym_observation_converts_only_the_keys_read():
+    import gymnasium as gym
+
+    vehicle = FakeVehicle()
+    camera, gps = CountingSensor("camera", (1.0, 2.0, 3.0)), CountingSensor("gps", (4.0, 5.0, 6.0))
+    vehicle.sensors = [camera, gps]
+    asyncio.run(vehicle.receive_observation())
+    obs = vehicle.get_last_gym_observation()
+    assert list(obs) == ["camera", "gps"] and "camera" in obs and len(obs) == 2
+    assert (camera.conversions, gps.conversions) == (0, 0), "nothing converted before it is read"
+    assert np.allclose(obs["gps"], [4, 5, 6]) and np.allclose(obs.get("gps"), [4, 5, 6])
+    assert (camera.conversions, gps.conversions) == (0, 1), "read once, converted once"
+    kept = obs.copy()
+    kept["extra"] = 1
+    assert "extra" not in obs and camera.conversions == 0
+    # gymnasium's FilterObservation keeping one key converts that key alone.
+    env = gym.Env()
+    env.observation_space = vehicle.get_gym_observation_spec()
+    filtered = gym.wrappers.FilterObservation(env, ["gps"]).observation(vehicle.get_last_gym_observation())
+    assert list(filtered) == ["gps"] and camera.conversions == 0
+    # Every other way of reading values converts them: as a plain dict, it holds the converted values.
+    for read in (dict, lambda o: {**o}, lambda o: list(o.values()), lambda o: list(o.items()), pickle.dumps, repr,
+                 lambda o: o.setdefault("camera"), lambda o: o.popitem() and o.popitem()):
+        fresh = vehicle.get_last_gym_observation()
+        before = camera.conversions
+        read(fresh)
+        assert camera.conversions == before + 1, read
+    plain = dict(vehicle.get_last_gym_observation())
+    assert all(isinstance(v, np.ndarray) for v in plain.values())
+    assert np.allclose(pickle.loads(pickle.dumps(vehicle.get_last_gym_observation()))["camera"], [1, 2, 3])
+    popped = vehicle.get_last_gym_observation()
+    assert np.allclose(popped.pop("camera"), [1, 2, 3]) and list(popped) == ["gps"]
 
 
 def test_propose_name_moves_the_first_of_a_repeated_name_as_roar_pys():

@@ -70,6 +70,76 @@ class RoarPyObservation(dict):
         raise KeyError(key)
 
 
+class _Pending:
+    """A gym value not converted yet: the conversion, run on the first read of its key."""
+
+    __slots__ = ("convert",)
+
+    def __init__(self, convert):
+        self.convert = convert
+
+
+class RoarPyGymObservation(dict):
+    """An actor's gym observation: a dict of each sensor's gym value by its key, each converted when its key
+    is first read (a camera's frame is rendered only then), so that a program keeping some keys, as
+    gymnasium's FilterObservation does, pays for those alone (test_roar_py_interface
+    test_a_gym_observation_converts_only_the_keys_read). Every way of reading a value converts it: indexing,
+    get, items, values, pop, dict(...), {**...}, ==, pickling."""
+
+    def __getitem__(self, key):
+        value = dict.__getitem__(self, key)
+        if type(value) is _Pending:
+            value = value.convert()
+            dict.__setitem__(self, key, value)
+        return value
+
+    def __iter__(self):  # a Python-level __iter__ makes dict(), {**} and update() read through __getitem__
+        return dict.__iter__(self)
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+    def items(self):
+        return [(k, self[k]) for k in self.keys()]
+
+    def values(self):
+        return [self[k] for k in self.keys()]
+
+    def pop(self, key, *default):
+        if key not in self:
+            return dict.pop(self, key, *default)
+        value = self[key]
+        dict.__delitem__(self, key)
+        return value
+
+    def popitem(self):
+        key = next(reversed(self.keys()))
+        return key, self.pop(key)
+
+    def setdefault(self, key, default=None):
+        if key not in self:
+            dict.__setitem__(self, key, default)
+        return self[key]
+
+    def copy(self):
+        """A shallow copy sharing the conversions not yet run (each runs once per copy that reads it)."""
+        return type(self)(dict.items(self))
+
+    def __eq__(self, other):
+        return dict(self.items()) == other
+
+    __hash__ = None
+
+    def __ne__(self, other):
+        return not self == other
+
+    def __repr__(self):
+        return repr(dict(self.items()))
+
+    def __reduce__(self):
+        return dict, (self.items(),)
+
+
 async def _wait_for_control_timestep(actor) -> None:
     """ROAR_PY's force_real_control_timestep: at most one action (or reset) per control_timestep of wall time."""
     if not getattr(actor, "force_real_control_timestep", False):
@@ -155,7 +225,12 @@ class RoarPyActor:
 
     def convert_obs_to_gym_obs(self, observation: typing.Dict[str, typing.Any]) -> typing.Dict[str, typing.Any]:
         sensors = list(self.get_sensors())
-        return {key: s.convert_obs_to_gym_obs(observation[key]) for key, s in zip(observation_keys(sensors), sensors)}
+
+        def pending(sensor, key):
+            reading = observation[key]
+            return _Pending(lambda: sensor.convert_obs_to_gym_obs(reading))
+
+        return RoarPyGymObservation((key, pending(s, key)) for key, s in zip(observation_keys(sensors), sensors))
 
 
 class RoarPyResettableActor:

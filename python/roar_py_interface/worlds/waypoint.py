@@ -1,5 +1,6 @@
 """ROAR_PY's waypoints: the centre of the road, its orientation and width, and the tracker that follows a
 point along a closed list of them (ROAR_PY_RL measures progress with it)."""
+import bisect
 import collections
 import dataclasses
 import functools
@@ -170,14 +171,21 @@ class RoarPyWaypointsTracker:
         count = len(self._waypoints)
         remaining = distance % self._total_distance
         index, along = projection.waypoint_idx, projection.distance_from_waypoint
-        while remaining > 0:
-            to_progress = self._distance_between_waypoints[index] - along
-            if remaining < to_progress:
-                along += remaining
-                break
-            remaining -= to_progress
-            index, along = (index + 1) % count, 0
-        return RoarPyWaypointsProjection(index, along)
+        if remaining <= 0:
+            return RoarPyWaypointsProjection(index, along)
+        # ROAR_PY walks the segments one by one; the same walk as a search of the distances along the lap:
+        # the rest of this segment first, then the segment holding the point (test_roar_py_interface
+        # test_forward_projections_walk_as_roar_pys).
+        to_progress = self._distance_between_waypoints[index] - along
+        if remaining < to_progress:
+            return RoarPyWaypointsProjection(index, along + remaining)
+        remaining -= to_progress
+        index = (index + 1) % count
+        at = self._total_distance_from_first_waypoint[index] + remaining
+        if at >= self._total_distance:
+            at -= self._total_distance
+        found = bisect.bisect_right(self._total_distance_from_first_waypoint, at) - 1
+        return RoarPyWaypointsProjection(found, at - self._total_distance_from_first_waypoint[found])
 
     def delta_distance_projection(self, projection_origin: RoarPyWaypointsProjection,
                                   projection_destination: RoarPyWaypointsProjection) -> float:
@@ -194,8 +202,8 @@ class RoarPyWaypointsTracker:
         share along): as in ROAR_PY, its weights give the next waypoint at the start of a segment."""
         previous = self._waypoints[projection.waypoint_idx]
         following = self._waypoints[(projection.waypoint_idx + 1) % len(self._waypoints)]
-        alpha = np.clip(projection.distance_from_waypoint / self._distance_between_waypoints[projection.waypoint_idx],
-                        0, 1)
+        alpha = min(max(projection.distance_from_waypoint / self._distance_between_waypoints[projection.waypoint_idx],
+                        0.0), 1.0)
         return RoarPyWaypoint.interpolate(previous, following, alpha)
 
     def total_distance_from_first_waypoint(self, projection_result: RoarPyWaypointsProjection) -> float:
