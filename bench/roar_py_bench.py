@@ -8,8 +8,8 @@ rotation (the camera's frames never read, so never rendered), then for one that 
 pixels every tick, then for ROAR_PY_RL's training environment (test/python/roar_py_rl_pattern_env.py: its
 sensors with a 400x200 camera it filters out, its 14 waypoint distances, its action filter and
 FilterObservation, stepped under nest_asyncio); the reference, measured in the same run, is the same
-number of bare /roar_sim/step calls from rospy (no sensors, no ROAR_PY layer). Each loop runs --rounds times, interleaved with the bare
-step's, and its median is printed with the range: this machine's speed drifts from run to run by a quarter.
+number of bare /roar_sim/step calls from rospy (no sensors, no ROAR_PY layer). Each loop runs --rounds
+times, interleaved with the bare step's, and its median is printed with the range: this machine's speed drifts from run to run by a quarter.
 
     /usr/bin/python3 bench/roar_py_bench.py [--steps N] [--rounds 5] [--cores 1] [--camera 1024x768]
 """

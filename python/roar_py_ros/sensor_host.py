@@ -161,7 +161,6 @@ class SensorHost:
         return self._attach(spec, lambda: sensors.RoarPyRosLiDARSensor(self, name, sim_name, lidar, rate))
 
 
-
 class WorldSensors(SensorHost):
     """The world's own sensors, on no car (ROAR_PY's world.attach_*_sensor without bind_to): cameras and
     LiDARs posed in the map frame, seeing every car."""

@@ -231,7 +231,7 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
 
     def _observed(self, vehicles) -> typing.List[str]:
         """What a step's reply should tell of: the cars, and the world's own sensors when it has some."""
-        return [v.ros_name for v in vehicles] + ([self._world_sensors.ros_name] if self._world_sensors._sensors else [])
+        return [v.ros_name for v in vehicles] + ([self._world_sensors.ros_name] if self._world_sensors.get_sensors() else [])
 
     def _take_snapshots(self, snapshots):
         by_name = {v.ros_name: v for v in self._vehicles.values()}

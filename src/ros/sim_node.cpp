@@ -271,7 +271,7 @@ sensors::RigTiming SimNode::rigTiming() const {
 }
 
 VehicleSensors& SimNode::sensorsOf(const std::string& host) {
-  if (host == roar_ros::AttachSensor::Request::WORLD) return *world_sensors_;
+  if (isWorld(host)) return *world_sensors_;
   const auto it = io_.find(host);
   if (it == io_.end()) throw std::invalid_argument("no vehicle named '" + host + "'");
   return *it->second.sensors;
@@ -473,7 +473,7 @@ void SimNode::publishState() {
 roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
   roar_ros::VehicleSnapshot out;
   out.name = name;
-  const bool world = name == roar_ros::AttachSensor::Request::WORLD;  // its sensors' stamps alone
+  const bool world = isWorld(name);  // its sensors' stamps alone
   if (!world) {
     const ros::Time stamp = toRosTime(world_->time());
     const sim::VehicleState state = world_->vehicleState(name);

@@ -99,6 +99,8 @@ class SimNode {
   // The sensors of a car, or the world's own for AttachSensor's WORLD; throws std::invalid_argument for a
   // name that is neither.
   VehicleSensors& sensorsOf(const std::string& host);
+  // Whether a sensor host's name is the world's (AttachSensor's WORLD) rather than a car's.
+  static bool isWorld(const std::string& host) { return host == roar_ros::AttachSensor::Request::WORLD; }
   // Every rig: each car's, then the world's (sensors fixed in the map frame).
   std::vector<VehicleSensors*> allSensors();
   void removeVehicle(const std::string& name);

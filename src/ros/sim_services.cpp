@@ -104,7 +104,7 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   bool observe_world = false;  // the world's own sensors' stamps: a snapshot named WORLD
   for (const auto* names : {&req.vehicle_names, &req.observe}) {
     for (const auto& name : *names) {
-      if (names == &req.observe && name == roar_ros::AttachSensor::Request::WORLD) {
+      if (names == &req.observe && isWorld(name)) {
         observe_world = true;
         continue;
       }
@@ -235,7 +235,6 @@ bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::Det
   }
   res.message = res.success ? "detached " + req.sensor
                             : "no sensor '" + req.sensor + "' on a vehicle named '" + req.vehicle + "'";
-  if (res.success) publishStaticTransforms();
   return true;
 }
 
@@ -413,7 +412,7 @@ bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros:
 bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res) {
   try {
     sensors::SensorRig& rig = sensorsOf(req.vehicle).rig();
-    const bool world = req.vehicle == roar_ros::AttachSensor::Request::WORLD;
+    const bool world = isWorld(req.vehicle);
     sensors::SensorType type = sensors::SensorType::kCameraRgb;
     for (const auto& spec : rig.specs()) {
       if (spec.name == req.sensor) type = spec.type;
@@ -439,8 +438,7 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
 const SceneTick* SimNode::keptSceneTick(double stamp, const std::string& vehicle) const {
   const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
                                  [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
-  if (tick != scene_ticks_.end() && (vehicle == roar_ros::AttachSensor::Request::WORLD || tick->cars.count(vehicle)))
-    return &*tick;
+  if (tick != scene_ticks_.end() && (isWorld(vehicle) || tick->cars.count(vehicle))) return &*tick;
   throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
                               (scene_ticks_.empty()
                                    ? std::string(" (no tick since the car's sensors came)")

@@ -31,7 +31,6 @@ VehicleSensors::VehicleSensors(ros::NodeHandle nh, std::string host, std::string
       it_(nh),
       host_(std::move(host)),
       parent_frame_(std::move(parent_frame)),
-      bounds_(bounds),
       map_frame_(std::move(map_frame)),
       rig_({}, timing, origin, 0.0, bounds) {}
 

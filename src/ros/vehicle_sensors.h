@@ -31,7 +31,6 @@ class VehicleSensors : public sensors::SensorSink {
   VehicleSensors(ros::NodeHandle nh, std::string host, std::string parent_frame, const sensors::RigTiming& timing,
                  const track::GeoOrigin& origin, std::string map_frame,
                  const sensors::MountBounds& bounds = sensors::kOnACar);
-  const sensors::MountBounds& bounds() const { return bounds_; }
 
   // Throws sensors::SensorSpecError naming the sensor and field.
   void attach(const sensors::SensorSpec& spec, double now);
@@ -41,6 +40,7 @@ class VehicleSensors : public sensors::SensorSink {
   bool empty() const { return publishers_.empty(); }
 
   sensors::SensorRig& rig() { return rig_; }
+  const sensors::MountBounds& bounds() const { return rig_.bounds(); }
   const sensors::SensorRig& rig() const { return rig_; }
 
   void camera(const sensors::SensorSpec& spec, double stamp, const sensors::CameraFrame& frame,
@@ -71,7 +71,6 @@ class VehicleSensors : public sensors::SensorSink {
   image_transport::ImageTransport it_;
   std::string host_;
   std::string parent_frame_;
-  sensors::MountBounds bounds_;
   std::string map_frame_;
   sensors::SensorRig rig_;
   std::map<std::string, Publishers> publishers_;

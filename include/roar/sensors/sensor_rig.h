@@ -55,6 +55,7 @@ class SensorRig {
   void add(const SensorSpec& spec, double now);
   bool remove(const std::string& name);
   std::vector<SensorSpec> specs() const;
+  const MountBounds& bounds() const { return bounds_; }
   // New control and physics steps: throws SensorSpecError naming the first sensor whose rate they cannot
   // keep, changing nothing.
   void setTiming(double control_dt, double physics_dt);
