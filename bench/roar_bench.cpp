@@ -33,6 +33,8 @@
 
 #include "roar/config/number.h"
 #include "roar/config/package_layout.h"
+#include "roar/control/tracker_sizing.h"
+#include "roar/harness/time_trial.h"
 #include "roar/planning/minimum_time.h"
 #include "roar/rl/vector_env.h"
 #include "roar/sensors/camera.h"
@@ -40,7 +42,6 @@
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
 #include "roar/sim/world.h"
-#include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 #include "scaling_table.h"
@@ -62,13 +63,13 @@ vehicle::VehicleParams defaultCar() {
 
 // A driver for the car on the track: the planner's racing trajectory and the tracker.
 control::TrajectoryTracker racingDriver(const track::Track& track, const vehicle::VehicleParams& car) {
-  const auto limits = planning::vehicleLimits(car, track.info().friction, stack::TimeTrialOptions().grip_use);
-  control::TrajectoryTracker tracker(stack::trackerFor(car), limits);
+  const auto limits = planning::vehicleLimits(car, track.info().friction, harness::TimeTrialOptions().grip_use);
+  control::TrajectoryTracker tracker(control::trackerFor(car), limits);
   tracker.setTrajectory(planning::planRacingTrajectory(track, limits, {}));
   return tracker;
 }
 
-control::TrackerInput trackerInput(const sim::VehicleState& s) {
+control::TrackerInput trackerInput(const vehicle::VehicleState& s) {
   const Eigen::Vector3d forward = s.pose.orientation * Eigen::Vector3d::UnitX();
   return {s.pose.position.head<2>(), std::atan2(forward.y(), forward.x()), s.forward_speed,
           s.body_angular_velocity.z()};
@@ -85,7 +86,7 @@ void PhysicsRealTimeFactor(benchmark::State& state) {
   for (int i = 0; i < cars; ++i) {
     names.push_back("car" + std::to_string(i));
     // Spread round the lap so the cars do not queue behind each other.
-    world.spawnVehicle(names.back(), car, sim::poseOnTrack(track.poseAt(i * track.length() / cars)));
+    world.spawnVehicle(names.back(), car, track::poseOnTrack(track.poseAt(i * track.length() / cars)));
     drivers.push_back(driver);
   }
   std::int64_t ticks = 0;
@@ -182,7 +183,7 @@ void SensorSuiteRealTimeFactor(benchmark::State& state) {
   const track::Track track = defaultTrack();
   const vehicle::VehicleParams car = defaultCar();
   sim::World world(track, {});
-  world.spawnVehicle("ego", car, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
+  world.spawnVehicle("ego", car, track::poseOnTrack(track.gridSpawnPoints(1)[0]));
   sensors::RayScene scene(track);
   const int id = scene.addVehicle(sensors::readVehicleLooks(layout().urdf() + "/" + config::kDefaultModel + ".urdf"),
                                   {0.1f, 0.2f, 0.8f});
@@ -274,7 +275,8 @@ namespace {
 
 void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
   const auto track = track::loadMapFolder(layout().maps() + "/" + map);
-  const auto limits = planning::vehicleLimits(defaultCar(), track.info().friction, stack::TimeTrialOptions().grip_use);
+  const auto limits =
+      planning::vehicleLimits(defaultCar(), track.info().friction, harness::TimeTrialOptions().grip_use);
   for (auto _ : state) benchmark::DoNotOptimize(planning::planRacingTrajectory(track, limits, {}));
   state.counters["track_km"] = track.length() / 1000.0;
 }
@@ -289,12 +291,12 @@ void printRacingTable(int laps, double grip_use, control::LateralMethod lateral,
               "ratio", "min_time", "vs_min", "max_err_m", "rms_err_m", "contacts");
   for (const auto& map : track::listMaps(layout().maps())) {
     const auto track = track::loadMapFolder(layout().maps() + "/" + map);
-    stack::TimeTrialOptions options;
+    harness::TimeTrialOptions options;
     options.laps = laps;
     options.grip_use = grip_use;
     options.tracker.lateral = lateral;
     options.planner.minimum_time = minimum_time;
-    const auto r = stack::runTimeTrial(track, car, options);
+    const auto r = harness::runTimeTrial(track, car, options);
     double mean = 0.0;
     for (double t : r.lap_times) mean += t / static_cast<double>(r.lap_times.size());
     // The yardstick: a minimum-time line searched from the planner's, with the same car model.
@@ -317,7 +319,7 @@ void printRacingTable(int laps, double grip_use, control::LateralMethod lateral,
 
 int main(int argc, char** argv) {
   int laps = 10;
-  double grip_use = stack::TimeTrialOptions().grip_use;
+  double grip_use = harness::TimeTrialOptions().grip_use;
   control::LateralMethod lateral = control::TrackerOptions().lateral;
   bool minimum_time = false, yardstick = true;
   bool race = true, benchmarks = true, traffic = false, scaling = false;

@@ -15,9 +15,9 @@
 #include "roar/config/number.h"
 #include "roar/config/package_layout.h"
 #include "roar/config/yaml_section.h"
+#include "roar/harness/pass_place.h"
+#include "roar/harness/race.h"
 #include "roar/planning/overtaking/planner.h"
-#include "roar/stack/pass_place.h"
-#include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 #include "statistics.h"
@@ -29,7 +29,7 @@ namespace {
 // A field of one race: its name and its cars, made from a seed.
 struct Field {
   std::string kind;
-  std::vector<stack::RaceCar> cars;
+  std::vector<harness::RaceCar> cars;
   std::vector<std::string> pace_order;  // fastest first (ties: grid order)
 };
 
@@ -63,16 +63,16 @@ Field twoCarField(std::mt19937& rng) {
 }
 
 void orderByPace(Field* f) {
-  std::vector<stack::RaceCar> cars = f->cars;
+  std::vector<harness::RaceCar> cars = f->cars;
   std::stable_sort(cars.begin(), cars.end(), [](const auto& a, const auto& b) { return a.pace > b.pace; });
   for (const auto& c : cars) f->pace_order.push_back(c.name);
 }
 
-// Completed passes by where they were won (stack::passPlace), the side passed on and the corner's inside.
+// Completed passes by where they were won (harness::passPlace), the side passed on and the corner's inside.
 struct PassPlaces {
   int won[3][2][2] = {};  // [place][0 left, 1 right][1 inside]
 
-  void count(const stack::PassWhere& where, int side) {
+  void count(const harness::PassWhere& where, int side) {
     ++won[static_cast<int>(where.place)][side > 0 ? 0 : 1][where.inside ? 1 : 0];
   }
   void add(const PassPlaces& other) {
@@ -80,7 +80,7 @@ struct PassPlaces {
       for (int side = 0; side < 2; ++side)
         for (int inside = 0; inside < 2; ++inside) won[p][side][inside] += other.won[p][side][inside];
   }
-  int at(stack::PassPlace place, int side, int inside) const { return won[static_cast<int>(place)][side][inside]; }
+  int at(harness::PassPlace place, int side, int inside) const { return won[static_cast<int>(place)][side][inside]; }
 };
 
 struct Totals {
@@ -108,12 +108,12 @@ struct Totals {
 // Where a circuit's completed passes were won: "straight: left 3, right 2; braking zone: inside 4 (left 1,
 // right 3), outside 0; corner: inside 1 (...), outside 0 (...)".
 std::string wonLine(const std::string& circuit, const PassPlaces& t) {
-  using stack::PassPlace;
+  using harness::PassPlace;
   const int straight_left = t.at(PassPlace::kStraight, 0, 0), straight_right = t.at(PassPlace::kStraight, 1, 0);
   std::string out =
       circuit + ": straight left " + std::to_string(straight_left) + ", right " + std::to_string(straight_right);
   for (const PassPlace place : {PassPlace::kBrakingZone, PassPlace::kCorner}) {
-    out += "; " + stack::describe(place);
+    out += "; " + harness::describe(place);
     for (const int inside : {1, 0}) {
       const int left = t.at(place, 0, inside), right = t.at(place, 1, inside);
       out += std::string(inside ? " inside " : ", outside ") + std::to_string(left + right) + " (left " +
@@ -169,7 +169,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     if (!only_map.empty() && map != only_map) continue;
     const auto track = track::loadMapFolder(maps_dir + "/" + map);
     if (!track.closed()) continue;  // laps of circuits: a point-to-point course has no laps to catch a car on
-    stack::RaceOptions options;
+    harness::RaceOptions options;
     options.laps = laps;
     options.field.overtaking = true;
     options.field.overtake = overtake;
@@ -192,12 +192,12 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
     }
     // Free air: each car of a field alone, from its grid slot at its pace, for the lap time traffic costs
     // it and the passing speed's reference (the full-pace cars' runs serve every seed).
-    std::map<std::pair<int, double>, stack::RaceCarResult> alone_at;
-    auto aloneAs = [&](const stack::RaceCar& car) -> const stack::RaceCarResult& {
+    std::map<std::pair<int, double>, harness::RaceCarResult> alone_at;
+    auto aloneAs = [&](const harness::RaceCar& car) -> const harness::RaceCarResult& {
       const auto key = std::make_pair(car.grid_slot, car.pace);
       auto it = alone_at.find(key);
       if (it == alone_at.end())
-        it = alone_at.emplace(key, stack::runRace(track, vehicle, {car}, options).car(car.name)).first;
+        it = alone_at.emplace(key, harness::runRace(track, vehicle, {car}, options).car(car.name)).first;
       return it->second;
     };
     const std::vector<std::function<Field(std::mt19937&)>> fields = {
@@ -219,20 +219,20 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         }
         // Defensive moves made (OvertakeOptions::defend): a car's decisions turning to kDefend.
         std::map<std::string, planning::RaceMode> last_mode;
-        stack::RaceOptions traced = options;
-        traced.on_tick = [&](const stack::RaceTick& tick) {
+        harness::RaceOptions traced = options;
+        traced.on_tick = [&](const harness::RaceTick& tick) {
           planning::RaceMode& last = last_mode[*tick.car];
           if (tick.decision.mode == planning::RaceMode::kDefend && last != planning::RaceMode::kDefend) ++t.defences;
           last = tick.decision.mode;
         };
-        const auto r = stack::runRace(track, vehicle, field.cars, traced);
+        const auto r = harness::runRace(track, vehicle, field.cars, traced);
         ++t.races;
         t.race_seconds += r.sim_time;
         std::map<std::string, double> best_lap;
-        std::map<std::string, const stack::RaceCar*> spec_of;
+        std::map<std::string, const harness::RaceCar*> spec_of;
         for (const auto& c : field.cars) {
           spec_of[c.name] = &c;
-          const double loss = stack::lapTimeLoss(r.car(c.name), aloneAs(c));
+          const double loss = harness::lapTimeLoss(r.car(c.name), aloneAs(c));
           if (std::isfinite(loss)) t.lap_loss.push_back(loss);
         }
         for (const auto& c : r.cars) {
@@ -254,16 +254,16 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
             t.catch_to_pass.push_back(p.end_time - p.caught_time);
             if (p.end_time - p.caught_time > best_lap[p.passer]) ++t.late_passes;
             if (std::isfinite(p.level_s)) {
-              const stack::PassWhere where = stack::passPlace(line, p.level_s, p.side);
+              const harness::PassWhere where = harness::passPlace(line, p.level_s, p.side);
               t.places.count(where, p.side);
-              won_where = std::string(where.place == stack::PassPlace::kStraight ? ", won on a " : ", won in a ") +
-                          stack::describe(where.place);
-              if (where.place != stack::PassPlace::kStraight) won_where += where.inside ? " inside" : " outside";
+              won_where = std::string(where.place == harness::PassPlace::kStraight ? ", won on a " : ", won in a ") +
+                          harness::describe(where.place);
+              if (where.place != harness::PassPlace::kStraight) won_where += where.inside ? " inside" : " outside";
             }
           } else {
             ++t.aborted;
           }
-          const double share = stack::passingSpeedShare(p, aloneAs(*spec_of.at(p.passer)).round_speeds, r.speed_bin);
+          const double share = harness::passingSpeedShare(p, aloneAs(*spec_of.at(p.passer)).round_speeds, r.speed_bin);
           if (std::isfinite(share)) t.passing_share.push_back(share);
           if (verbose) {
             std::printf("  %s seed %d: %s %s %s on the %s, caught %.1f, %.1f-%.1f s, speed %.0f%%%s\n", map.c_str(),
@@ -291,7 +291,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
         if (field.kind == "reverse_grid") {
           ++t.pace_order_races;
           // How far from pace order (the grid has all 15 pairs the other way round); none out: in pace order.
-          const int out = stack::pairsOutOfOrder(r, field.pace_order);
+          const int out = harness::pairsOutOfOrder(r, field.pace_order);
           t.pairs_out_of_order += out;
           t.pace_order += r.finished && out == 0;
           if (verbose) {
@@ -313,7 +313,7 @@ int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, 
       "where completed passes were won (the passer drawing level, on the racing line there: a braking zone where\n"
       "it slows at %g m/s^2 or more, inside or outside of the corner braked for; a corner where it turns tighter\n"
       "than %g m; else a straight):\n",
-      stack::PassPlaceOptions().braking, stack::PassPlaceOptions().corner_radius);
+      harness::PassPlaceOptions().braking, harness::PassPlaceOptions().corner_radius);
   for (const auto& w : won) std::printf("  %s\n", w.c_str());
   std::printf("  %s\n", wonLine("all", all.places).c_str());
   std::printf(

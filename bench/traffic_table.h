@@ -1,5 +1,5 @@
 #pragma once
-// roar_bench --traffic: races of the stack's cars in traffic on every shipped circuit (stack::runRace).
+// roar_bench --traffic: races of the stack's cars in traffic on every shipped circuit (harness::runRace).
 #include <string>
 
 #include "roar/planning/overtaking/planner.h"

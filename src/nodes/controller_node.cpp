@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <list>
 
+#include "roar/control/tracker_sizing.h"
 #include "roar/control/trajectory_tracker.h"
 #include "roar/control/window_pairing.h"
 #include "roar/ros/msg_conversion.h"
@@ -25,7 +26,6 @@
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/wall_throttle.h"
-#include "roar/stack/time_trial.h"
 #include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
@@ -80,7 +80,7 @@ control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::Con
   t.stanley_gain = c.stanley_gain;
   t.yaw_rate_gain = c.yaw_rate_gain;
   t.speed_gain = c.speed_gain;
-  t.speed_preview = std::max(c.speed_preview, pedal_response);  // as stack::trackerFor reads the car
+  t.speed_preview = std::max(c.speed_preview, pedal_response);  // as control::trackerFor reads the car
   t.max_speed = tighter(c.max_speed, car_cap);
   return t;
 }
@@ -96,7 +96,7 @@ class Driver {
         odom_timeout_(odom_timeout),
         window_wait_(window_wait),
         // The tracker's feed-forward needs the car's forces and mass, not the road's friction.
-        tracker_(stack::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)),
+        tracker_(control::trackerFor(car.params), planning::vehicleLimits(car.params, 1.0, 1.0)),
         pairing_(window_wait) {
     control_pub_ = nh.advertise<roar_ros::VehicleControl>(car.name + "/control", ros_bridge::kPerTickQueue);
     trajectory_sub_ = nh.subscribe(car.name + "/local_trajectory", 2, &Driver::onTrajectory, this,

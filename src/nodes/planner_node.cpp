@@ -18,6 +18,7 @@
 #include <variant>
 
 #include "roar/planning/field_planner.h"
+#include "roar/planning/field_planner_sizing.h"
 #include "roar/planning/overtaking/option_table.h"
 #include "roar/planning/tick_gathering.h"
 #include "roar/planning/trajectory.h"
@@ -27,7 +28,6 @@
 #include "roar/ros/planning_msg_conversion.h"
 #include "roar/ros/queues.h"
 #include "roar/ros/scenario_params.h"
-#include "roar/stack/race.h"
 #include "roar/vehicle/vehicle_config.h"
 
 using namespace roar;
@@ -191,7 +191,7 @@ class PlannerNode {
       }
       // Every model's planner knows where every car is: a car passes or follows cars of any model.
       for (const auto& [name, odom] : odoms) {
-        const sim::VehicleState state = ros_bridge::fromOdometry(*odom);
+        const vehicle::VehicleState state = ros_bridge::fromOdometry(*odom);
         for (auto& [model, planner] : fields_) {
           planner->locate(name, state.pose.position, state.forward_speed, odom->header.stamp.toSec(),
                           Eigen::Vector2d(state.linear_velocity.head<2>()));
@@ -228,7 +228,7 @@ class PlannerNode {
   // One model's field planner, with every car's pace.
   std::unique_ptr<planning::FieldPlanner> fieldFor(const track::Track& track, const vehicle::VehicleParams& params) {
     auto out = std::make_unique<planning::FieldPlanner>(
-        stack::fieldPlannerFor(track, params, options_.grip_use, options_.planner, options_.field));
+        planning::fieldPlannerFor(track, params, options_.grip_use, options_.planner, options_.field));
     for (const auto& [name, pace] : options_.pace) out->setPace(name, pace);
     return out;
   }

@@ -75,7 +75,7 @@ class PolicyDriver {
 
  private:
   void onOdometry(const nav_msgs::Odometry& odom) {
-    const sim::VehicleState state = ros_bridge::fromOdometry(odom);
+    const vehicle::VehicleState state = ros_bridge::fromOdometry(odom);
     const Eigen::Vector3d& at = state.pose.position;
     if (!started_) {
       progress_.reset(at);

@@ -33,8 +33,8 @@
 #include "roar/ros/param_reading.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/sim_map_follower.h"
-#include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
+#include "roar/track/pose.h"
 
 using namespace roar;
 
@@ -310,7 +310,7 @@ class RaceControlNode {
     roar_ros::ResetVehicle srv;
     srv.request.name = name;
     srv.request.spawn_point = -1;
-    srv.request.pose = ros_bridge::toMessage(sim::poseOnTrack(incident.respawn_pose));
+    srv.request.pose = ros_bridge::toMessage(track::poseOnTrack(incident.respawn_pose));
     if (!reset_.call(srv) || !srv.response.success) {
       ROS_ERROR("race_control: respawning '%s' through %s failed: %s", name.c_str(), reset_.getService().c_str(),
                 srv.response.message.c_str());

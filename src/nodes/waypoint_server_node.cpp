@@ -17,14 +17,14 @@
 #include "roar/ros/service_refusal.h"
 #include "roar/ros/sim_map_follower.h"
 #include "roar/ros/track_msg_conversion.h"
-#include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
+#include "roar/track/pose.h"
 
 using namespace roar;
 
 namespace {
 
-geometry_msgs::Pose poseMessage(const track::TrackPose& p) { return ros_bridge::toMessage(sim::poseOnTrack(p)); }
+geometry_msgs::Pose poseMessage(const track::TrackPose& p) { return ros_bridge::toMessage(track::poseOnTrack(p)); }
 
 class WaypointServer {
  public:

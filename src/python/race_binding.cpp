@@ -1,5 +1,5 @@
 // roar_core.run_time_trial and roar_core.run_race: a map's time trial or race, run through the C++ stack in
-// this process (stack::runTimeTrial, stack::runRace) with the GIL released, results as plain dicts.
+// this process (harness::runTimeTrial, harness::runRace) with the GIL released, results as plain dicts.
 #include "race_binding.h"
 
 #include <pybind11/stl.h>
@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "roar/stack/race.h"
-#include "roar/stack/time_trial.h"
+#include "roar/harness/race.h"
+#include "roar/harness/time_trial.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
@@ -40,13 +40,13 @@ py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const
                       const std::string& urdf_dir, const std::string& config_dir, int laps, double grip_use) {
   checkRace(laps, grip_use);
   const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
-  stack::TimeTrialOptions options;
+  harness::TimeTrialOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
-  stack::TimeTrialResult r;
+  harness::TimeTrialResult r;
   {
     py::gil_scoped_release unlocked;
-    r = stack::runTimeTrial(setup.track, setup.vehicle, options);
+    r = harness::runTimeTrial(setup.track, setup.vehicle, options);
   }
   py::dict d;
   d["finished"] = r.finished;
@@ -61,8 +61,8 @@ py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const
   return d;
 }
 
-stack::RaceCar raceCar(const py::dict& car, std::size_t index) {
-  stack::RaceCar c;
+harness::RaceCar raceCar(const py::dict& car, std::size_t index) {
+  harness::RaceCar c;
   const std::string where = "cars[" + std::to_string(index) + "]";
   for (const auto& [key, value] : car) {
     const std::string k = py::str(key);
@@ -90,16 +90,16 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
                  int laps, double grip_use) {
   checkRace(laps, grip_use);
   if (car_dicts.empty() || car_dicts.size() > 20) throw py::value_error("a race needs 1 to 20 cars");
-  std::vector<stack::RaceCar> cars;
+  std::vector<harness::RaceCar> cars;
   for (std::size_t i = 0; i < car_dicts.size(); ++i) cars.push_back(raceCar(car_dicts[i], i));
   const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
-  stack::RaceResult r;
+  harness::RaceResult r;
   {
     py::gil_scoped_release unlocked;
-    r = stack::runRace(setup.track, setup.vehicle, cars, options);
+    r = harness::runRace(setup.track, setup.vehicle, cars, options);
   }
   py::list results;
   for (const auto& c : r.cars) {
@@ -120,7 +120,7 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
   d["cars"] = results;
   d["overtakes"] = static_cast<int>(r.overtakes.size());
   d["passes_completed"] = static_cast<int>(
-      std::count_if(r.passes.begin(), r.passes.end(), [](const stack::PassAttempt& p) { return p.completed; }));
+      std::count_if(r.passes.begin(), r.passes.end(), [](const harness::PassAttempt& p) { return p.completed; }));
   d["contacts"] = static_cast<int>(r.contacts.size());
   d["sim_time"] = r.sim_time;
   return d;

@@ -9,8 +9,8 @@
 
 #include "race_binding.h"
 #include "roar/config/package_layout.h"
+#include "roar/scenario/scenario.h"
 #include "roar/sensors/sensor_spec.h"
-#include "roar/stack/scenario.h"
 #include "roar/track/map_folder.h"
 #include "world_binding.h"
 
@@ -20,9 +20,11 @@ using namespace roar;
 namespace {
 
 // The package's folders of the names a scenario uses (a node's defaults, config/ and maps/ of root).
-stack::ScenarioContext contextOf(const std::string& root) { return stack::contextOf(config::PackageLayout{root}); }
+scenario::ScenarioContext contextOf(const std::string& root) {
+  return scenario::contextOf(config::PackageLayout{root});
+}
 
-py::dict scenarioDict(const stack::Scenario& scenario) {
+py::dict scenarioDict(const scenario::Scenario& scenario) {
   py::list cars;
   for (const auto& car : scenario.cars) {
     py::dict c;
@@ -46,8 +48,8 @@ py::dict scenarioDict(const stack::Scenario& scenario) {
 }
 
 py::dict loadScenario(const std::string& name_or_path, const std::string& root) {
-  return scenarioDict(stack::loadScenario(stack::resolveScenario(name_or_path, config::PackageLayout{root}.scenarios()),
-                                          contextOf(root)));
+  return scenarioDict(scenario::loadScenario(
+      scenario::resolveScenario(name_or_path, config::PackageLayout{root}.scenarios()), contextOf(root)));
 }
 
 py::list readSensorSet(const std::string& name_or_path, const std::string& sensors_dir) {
@@ -66,7 +68,7 @@ py::list readSensorSet(const std::string& name_or_path, const std::string& senso
 PYBIND11_MODULE(roar_core, m) {
   m.doc() = "roar_ros's readers of map names, scenarios and sensor sets (the C++ nodes' own)";
   py::register_exception<track::MapError>(m, "MapError", PyExc_ValueError);
-  py::register_exception<stack::ScenarioError>(m, "ScenarioError", PyExc_ValueError);
+  py::register_exception<scenario::ScenarioError>(m, "ScenarioError", PyExc_ValueError);
   py::register_exception<sensors::SensorSpecError>(m, "SensorSpecError", PyExc_ValueError);
   m.def("resolve_map_folder", &track::resolveMapFolder, py::arg("map"), py::arg("maps_dir"),
         "The folder of a map: a map folder as it is, else the folder of that name in maps_dir (MapError if none)");

@@ -1,7 +1,7 @@
 // roar_core.World: the simulator's world in the Python process, without ROS: a map, cars by model or CARLA
 // blueprint, controls in, states out, one fixed tick at a time. What bench/carla_fidelity.py replays CARLA's
 // telemetry through; the same sim::World the simulator node and the in-process race step. And
-// roar_core.follow_recorded_lap: the time trial's tracker driving a recorded lap (stack::driveTrajectory).
+// roar_core.follow_recorded_lap: the time trial's tracker driving a recorded lap (harness::driveTrajectory).
 #include "world_binding.h"
 
 #include <pybind11/eigen.h>
@@ -11,9 +11,9 @@
 #include <cmath>
 #include <string>
 
+#include "roar/harness/time_trial.h"
 #include "roar/planning/trajectory.h"
 #include "roar/sim/world.h"
-#include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
@@ -29,7 +29,7 @@ class PyWorld {
 
   void spawn(const std::string& name, const std::string& model, const std::string& urdf_dir,
              const std::string& config_dir, double x, double y, double z, double yaw, bool on_ground) {
-    sim::Pose pose;
+    track::Pose pose;
     pose.position = Eigen::Vector3d(x, y, z);
     pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
     world_.spawnVehicle(name, vehicle::loadVehicleModel(model, urdf_dir, config_dir), pose,
@@ -37,7 +37,7 @@ class PyWorld {
   }
 
   void reset(const std::string& name, double x, double y, double z, double yaw) {
-    sim::Pose pose;
+    track::Pose pose;
     pose.position = Eigen::Vector3d(x, y, z);
     pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
     world_.resetVehicle(name, pose);
@@ -75,10 +75,10 @@ class PyWorld {
   }
 
   py::dict state(const std::string& name) const {
-    const sim::VehicleState s = world_.vehicleState(name);
+    const vehicle::VehicleState s = world_.vehicleState(name);
     py::dict d;
     d["position"] = s.pose.position;
-    d["yaw"] = sim::yawOf(s.pose.orientation);
+    d["yaw"] = track::yawOf(s.pose.orientation);
     d["linear_velocity"] = s.linear_velocity;
     d["angular_velocity"] = s.angular_velocity;
     d["body_linear_velocity"] = s.body_linear_velocity;
@@ -137,17 +137,17 @@ py::dict followRecordedLap(const std::string& map, const std::string& maps_dir, 
   } catch (const planning::TrajectoryError& e) {
     throw py::value_error(std::string("follow_recorded_lap: ") + e.what());
   }
-  stack::TimeTrialOptions options;
+  harness::TimeTrialOptions options;
   options.laps = laps;
   std::vector<std::array<double, 7>> trace;  // time, x, y, speed, and the control applied: throttle, brake, steer
-  options.on_tick = [&trace](double time, const sim::VehicleState& s) {
+  options.on_tick = [&trace](double time, const vehicle::VehicleState& s) {
     const auto& c = s.applied_control;
     trace.push_back({time, s.pose.position.x(), s.pose.position.y(), s.speed, c.throttle, c.brake, c.steer});
   };
-  stack::TimeTrialResult r;
+  harness::TimeTrialResult r;
   {
     py::gil_scoped_release unlocked;
-    r = stack::driveTrajectory(track, vehicle, std::move(trajectory), options);
+    r = harness::driveTrajectory(track, vehicle, std::move(trajectory), options);
   }
   py::dict d;
   d["lap_times"] = r.lap_times;

@@ -29,7 +29,7 @@ RacingEnv::RacingEnv(const track::Track& track, const vehicle::VehicleParams& ve
       observer_(track_, options_.observation, options_.world.gravity),
       episode_(track_, options_.reward, options_.termination) {
   if (observer_.needsScene()) scene_ = std::make_unique<sensors::RayScene>(track_);
-  world_->spawnVehicle(kCar, vehicle_, sim::poseOnTrack(track_.gridSpawnPoints(1).front()));
+  world_->spawnVehicle(kCar, vehicle_, track::poseOnTrack(track_.gridSpawnPoints(1).front()));
 }
 
 RacingEnv::~RacingEnv() = default;
@@ -37,8 +37,8 @@ RacingEnv::~RacingEnv() = default;
 const Space& RacingEnv::observationSpace() const { return observer_.space(); }
 const sim::World& RacingEnv::world() const { return *world_; }
 
-sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng) {
-  if (options.spawn == SpawnMode::kGrid) return sim::poseOnTrack(track.gridSpawnPoints(1).front());
+track::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng) {
+  if (options.spawn == SpawnMode::kGrid) return track::poseOnTrack(track.gridSpawnPoints(1).front());
   // A course's road past its finish line is where cars stop, not where they race.
   const double spawn_to = track.closed() ? track.length() : track.finishLine();
   track::TrackPose at = track.poseAt(std::uniform_real_distribution<double>(0.0, spawn_to)(rng));
@@ -49,7 +49,7 @@ sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, st
                                      -room_right, room_left);
     at.position += offset * track::leftOf(at.heading);
   }
-  return sim::poseOnTrack(at);
+  return track::poseOnTrack(at);
 }
 
 void RacingEnv::observeInto(Value* obs) {

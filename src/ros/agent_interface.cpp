@@ -24,13 +24,13 @@ AgentInterface::AgentInterface(ros::NodeHandle& nh, const std::string& vehicle, 
   observation_space_.publish(toMessage(observer_.space()));
 }
 
-sim::Pose AgentInterface::nextSpawn(std::int64_t seed) {
+track::Pose AgentInterface::nextSpawn(std::int64_t seed) {
   if (seed >= 0) rng_.seed(static_cast<std::uint64_t>(seed));
   return rl::drawSpawnPose(*track_, options_, rng_);
 }
 
-roar_ros::Observation AgentInterface::begin(const sim::VehicleState& state, double time, const sensors::RayScene* scene,
-                                            int own) {
+roar_ros::Observation AgentInterface::begin(const vehicle::VehicleState& state, double time,
+                                            const sensors::RayScene* scene, int own) {
   episode_.begin(state, time);
   active_ = true;
   over_ = false;
@@ -40,8 +40,8 @@ roar_ros::Observation AgentInterface::begin(const sim::VehicleState& state, doub
   return msg;
 }
 
-void AgentInterface::afterTick(const sim::VehicleState& state, const std::vector<sim::Contact>& contacts, double time,
-                               const sensors::RayScene* scene, int own) {
+void AgentInterface::afterTick(const vehicle::VehicleState& state, const std::vector<sim::Contact>& contacts,
+                               double time, const sensors::RayScene* scene, int own) {
   if (!active_) return;
   const ros::Time stamp = toRosTime(time);
   if (over_) {

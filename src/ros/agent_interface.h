@@ -30,14 +30,14 @@ class AgentInterface {
   const rl::EnvOptions& options() const { return options_; }
   bool needsScene() const { return observer_.needsScene(); }
   // The next episode's spawn pose; seed < 0 goes on with the last episode's generator.
-  sim::Pose nextSpawn(std::int64_t seed);
+  track::Pose nextSpawn(std::int64_t seed);
   // Until begin(), ticks are not judged (the car is being settled).
   void pause() { active_ = false; }
   // The episode starts with the car in `state` at `time`: publishes and returns its first observation.
-  roar_ros::Observation begin(const sim::VehicleState& state, double time, const sensors::RayScene* scene, int own);
+  roar_ros::Observation begin(const vehicle::VehicleState& state, double time, const sensors::RayScene* scene, int own);
   // After a tick: judges it and publishes the observation and the step. Once the episode is over, the
   // steps keep its done flags with no reward until the next begin() (and say so, throttled).
-  void afterTick(const sim::VehicleState& state, const std::vector<sim::Contact>& contacts, double time,
+  void afterTick(const vehicle::VehicleState& state, const std::vector<sim::Contact>& contacts, double time,
                  const sensors::RayScene* scene, int own);
 
  private:

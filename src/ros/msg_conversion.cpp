@@ -31,8 +31,8 @@ roar_ros::VehicleControl toMessage(const vehicle::VehicleControl& c) {
   return msg;
 }
 
-sim::Pose fromMessage(const geometry_msgs::Pose& msg) {
-  sim::Pose pose;
+track::Pose fromMessage(const geometry_msgs::Pose& msg) {
+  track::Pose pose;
   pose.position = Eigen::Vector3d(msg.position.x, msg.position.y, msg.position.z);
   const Eigen::Quaterniond q(msg.orientation.w, msg.orientation.x, msg.orientation.y, msg.orientation.z);
   if (!q.coeffs().allFinite()) {
@@ -47,7 +47,7 @@ sim::Pose fromMessage(const geometry_msgs::Pose& msg) {
   return pose;
 }
 
-geometry_msgs::Pose toMessage(const sim::Pose& pose) {
+geometry_msgs::Pose toMessage(const track::Pose& pose) {
   geometry_msgs::Pose msg;
   msg.position.x = pose.position.x();
   msg.position.y = pose.position.y();
@@ -65,7 +65,7 @@ ros::Time toRosTime(double seconds) {
   return t;
 }
 
-nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
+nav_msgs::Odometry toOdometry(const vehicle::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
                               const std::string& base_frame) {
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;
@@ -86,8 +86,8 @@ nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& s
   return odom;
 }
 
-sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom) {
-  sim::VehicleState s;
+vehicle::VehicleState fromOdometry(const nav_msgs::Odometry& odom) {
+  vehicle::VehicleState s;
   s.pose = fromMessage(odom.pose.pose);
   const auto& v = odom.twist.twist.linear;
   const auto& w = odom.twist.twist.angular;
@@ -101,7 +101,7 @@ sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom) {
   return s;
 }
 
-roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp,
+roar_ros::VehicleStatus toStatus(const vehicle::VehicleState& state, const ros::Time& stamp,
                                  const std::string& base_frame) {
   roar_ros::VehicleStatus msg;
   msg.header.stamp = stamp;
@@ -119,7 +119,7 @@ roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time
   return msg;
 }
 
-geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
+geometry_msgs::TransformStamped toTransform(const track::Pose& pose, const ros::Time& stamp, const std::string& parent,
                                             const std::string& child) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = stamp;
@@ -133,27 +133,12 @@ geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Ti
   return t;
 }
 
-roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
-                                          const std::string& map_frame) {
-  roar_ros::CollisionEvent msg;
-  msg.header.stamp = stamp;
-  msg.header.frame_id = map_frame;
-  msg.other = contact.other;
-  msg.impulse.x = contact.impulse.x();
-  msg.impulse.y = contact.impulse.y();
-  msg.impulse.z = contact.impulse.z();
-  msg.position.x = contact.position.x();
-  msg.position.y = contact.position.y();
-  msg.position.z = contact.position.z();
-  return msg;
-}
-
 double yawOf(const geometry_msgs::Quaternion& q) {
   return std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
 }
 
 // The URDF's joints: <wheel>_joint turns about the axle, steer_<front wheel>_joint about z.
-sensor_msgs::JointState toJointState(const sim::VehicleState& state, const vehicle::VehicleParams& params,
+sensor_msgs::JointState toJointState(const vehicle::VehicleState& state, const vehicle::VehicleParams& params,
                                      const std::array<double, 4>& wheel_angles, const ros::Time& stamp) {
   sensor_msgs::JointState msg;
   msg.header.stamp = stamp;

@@ -10,9 +10,9 @@ namespace roar::ros_bridge {
 namespace {
 
 // Where the names a list of cars uses are looked up: the same parameters for every node.
-stack::ScenarioContext contextOf(const ros::NodeHandle& nh) {
+scenario::ScenarioContext contextOf(const ros::NodeHandle& nh) {
   const config::PackageLayout pkg = packageLayout();
-  stack::ScenarioContext context;
+  scenario::ScenarioContext context;
   context.maps_dir = readString(nh, "maps_dir", pkg.maps());
   context.sensors_dir = readString(nh, "sensors_dir", pkg.sensors());
   context.urdf_dir = readString(nh, "urdf_dir", pkg.urdf());
@@ -49,20 +49,21 @@ YAML::Node yamlOf(XmlRpc::XmlRpcValue& v) {
 
 }  // namespace
 
-std::optional<stack::Scenario> readScenario(const ros::NodeHandle& nh) {
+std::optional<scenario::Scenario> readScenario(const ros::NodeHandle& nh) {
   const config::PackageLayout pkg = packageLayout();
   const std::string name = readString(nh, "scenario", "");
   if (name.empty()) return std::nullopt;
   try {
-    return stack::loadScenario(stack::resolveScenario(name, readString(nh, "scenarios_dir", pkg.scenarios())),
-                               contextOf(nh));
-  } catch (const stack::ScenarioError& e) {
+    return scenario::loadScenario(scenario::resolveScenario(name, readString(nh, "scenarios_dir", pkg.scenarios())),
+                                  contextOf(nh));
+  } catch (const scenario::ScenarioError& e) {
     throw ParamError("parameter " + nh.resolveName("scenario") + ": " + e.what());
   }
 }
 
-std::vector<stack::ScenarioCar> readRaceCars(const ros::NodeHandle& nh, const std::optional<stack::Scenario>& scenario,
-                                             const std::string& default_model) {
+std::vector<scenario::ScenarioCar> readRaceCars(const ros::NodeHandle& nh,
+                                                const std::optional<scenario::Scenario>& scenario,
+                                                const std::string& default_model) {
   // The launch files always pass ~vehicles; a scenario's cars take its place.
   markParameterKnown(nh, "vehicles");
   if (scenario) return scenario->cars;
@@ -77,15 +78,15 @@ std::vector<stack::ScenarioCar> readRaceCars(const ros::NodeHandle& nh, const st
     cars.push_back("ego");
   }
   try {
-    return stack::readCars(cars, "vehicles", "parameter " + where, contextOf(nh), default_model);
-  } catch (const stack::ScenarioError& e) {
+    return scenario::readCars(cars, "vehicles", "parameter " + where, contextOf(nh), default_model);
+  } catch (const scenario::ScenarioError& e) {
     throw ParamError(e.what());
   } catch (const YAML::Exception& e) {
     throw ParamError("parameter " + where + ": " + e.what());
   }
 }
 
-std::string readMapFolder(const ros::NodeHandle& nh, const std::optional<stack::Scenario>& scenario) {
+std::string readMapFolder(const ros::NodeHandle& nh, const std::optional<scenario::Scenario>& scenario) {
   std::string map = readString(nh, "map", "");
   if (map.empty()) map = scenario ? scenario->map : config::kDefaultMap;
   try {

@@ -208,4 +208,19 @@ sensors::OccupancyFrame occupancyFromImage(const sensor_msgs::Image& image) {
   return frame;
 }
 
+roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
+                                          const std::string& map_frame) {
+  roar_ros::CollisionEvent msg;
+  msg.header.stamp = stamp;
+  msg.header.frame_id = map_frame;
+  msg.other = contact.other;
+  msg.impulse.x = contact.impulse.x();
+  msg.impulse.y = contact.impulse.y();
+  msg.impulse.z = contact.impulse.z();
+  msg.position.x = contact.position.x();
+  msg.position.y = contact.position.y();
+  msg.position.z = contact.position.z();
+  return msg;
+}
+
 }  // namespace roar::ros_bridge

@@ -16,6 +16,7 @@
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/queues.h"
+#include "roar/ros/sensor_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
 #include "roar/ros/wall_throttle.h"
 #include "roar/sensors/vehicle_looks.h"
@@ -179,17 +180,17 @@ void SimNode::publishDebugMarkers() {
   debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world_->time())));
 }
 
-sim::Pose SimNode::spawnPose(int spawn_point) const {
-  return sim::poseOnTrack(track_->gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
+track::Pose SimNode::spawnPose(int spawn_point) const {
+  return track::poseOnTrack(track_->gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
 }
 
-sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const {
+track::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const {
   if (spawn_point >= kGridSlots || spawn_point < -1) {
     throw std::invalid_argument("spawn_point " + std::to_string(spawn_point) + " does not exist (-1 for pose, 0.." +
                                 std::to_string(kGridSlots - 1) + ")");
   }
   if (spawn_point >= 0) return spawnPose(spawn_point);
-  const sim::Pose p = fromMessage(pose);
+  const track::Pose p = fromMessage(pose);
   if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) {
     throw std::invalid_argument("pose must be finite");
   }
@@ -204,7 +205,7 @@ sim::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pos
   return p;
 }
 
-void SimNode::addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
+void SimNode::addVehicle(const std::string& name, const std::string& model, const track::Pose& pose,
                          const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env,
                          int spawn_point, sim::Placement placement) {
   checkVehicleName(name);
@@ -407,7 +408,7 @@ SceneTick SimNode::sceneNow() const {
   SceneTick now;
   now.time = world_->time();
   for (const auto& [name, io] : io_) {
-    const sim::VehicleState state = world_->vehicleState(name);
+    const vehicle::VehicleState state = world_->vehicleState(name);
     now.cars[name] = {sensors::poseOf(state), state.linear_velocity, state.angular_velocity};
   }
   return now;
@@ -453,7 +454,7 @@ void SimNode::publishState() {
   clock_pub_.publish(clock);
   std::vector<geometry_msgs::TransformStamped> transforms;
   for (auto& [name, io] : io_) {
-    const sim::VehicleState state = world_->vehicleState(name);
+    const vehicle::VehicleState state = world_->vehicleState(name);
     const std::string base = baseFrame(name);
     io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
     io.status.publish(toStatus(state, stamp, base));
@@ -476,7 +477,7 @@ roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
   const bool world = isWorld(name);  // its sensors' stamps alone
   if (!world) {
     const ros::Time stamp = toRosTime(world_->time());
-    const sim::VehicleState state = world_->vehicleState(name);
+    const vehicle::VehicleState state = world_->vehicleState(name);
     out.odometry = toOdometry(state, stamp, options_.map_frame, baseFrame(name));
     out.status = toStatus(state, stamp, baseFrame(name));
   }

@@ -89,7 +89,7 @@ class SimNode {
 
   // Spawns a car with its topics, sensors and agent, all or nothing: on any error nothing is left behind
   // (no car in the physics world, no topic) and the error says why. A negative colour: the next of the palette.
-  void addVehicle(const std::string& name, const std::string& model, const sim::Pose& pose,
+  void addVehicle(const std::string& name, const std::string& model, const track::Pose& pose,
                   const std::string& sensor_set, const Eigen::Vector3f& colour = Eigen::Vector3f(-1, -1, -1),
                   const std::string& agent_env = "", int spawn_point = -1,
                   sim::Placement placement = sim::Placement::kOnGround);
@@ -128,10 +128,10 @@ class SimNode {
   // returns their poses (none when nothing casts).
   std::map<std::string, Eigen::Isometry3d> updateRayScene();
   void sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses);
-  sim::Pose spawnPose(int spawn_point) const;
+  track::Pose spawnPose(int spawn_point) const;
   // A service's spawn point (>= 0) or, for -1, its pose, which must lie on the track or its run-off;
   // throws std::invalid_argument saying why not.
-  sim::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
+  track::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
   void onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg);
   bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
   void tick();

@@ -46,7 +46,7 @@ SimNodeOptions readSimParameters(const ros::NodeHandle& nh) {
     spawn.sensor_set = car.sensors.empty() ? o.default_sensor_set : car.sensors;
     spawn.colour = car.colour;
     spawn.driven = car.driven;
-    if (!car.agent.empty()) spawn.agent = stack::resolveAgentEnv(car.agent, o.rl_dir);
+    if (!car.agent.empty()) spawn.agent = scenario::resolveAgentEnv(car.agent, o.rl_dir);
     o.vehicles.push_back(spawn);
   }
   return o;

@@ -81,7 +81,7 @@ nav_msgs::Path toPath(const track::Track& track, const std::string& frame) {
     const std::size_t k = i % track.size();
     geometry_msgs::PoseStamped pose;
     pose.header.frame_id = frame;
-    sim::Pose p;
+    track::Pose p;
     p.position = Eigen::Vector3d(track.position(k).x(), track.position(k).y(), 0.0);
     p.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(track.heading(k), Eigen::Vector3d::UnitZ()));
     pose.pose = toMessage(p);

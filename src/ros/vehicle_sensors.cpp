@@ -16,7 +16,7 @@ namespace {
 
 geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& t, const std::string& parent,
                                              const std::string& child) {
-  sim::Pose pose;
+  track::Pose pose;
   pose.position = t.translation();
   pose.orientation = Eigen::Quaterniond(t.linear());
   return toTransform(pose, ros::Time(0), parent, child);

@@ -7,7 +7,7 @@
 
 namespace roar::sim {
 
-vehicle::VehicleControl safeStopControl(const track::Track& track, const VehicleState& state,
+vehicle::VehicleControl safeStopControl(const track::Track& track, const vehicle::VehicleState& state,
                                         const vehicle::VehicleParams& params, const SafeStopOptions& options) {
   if (std::abs(state.forward_speed) < options.stopped_speed) return vehicle::parkedControl();
   const Eigen::Vector2d position = state.pose.position.head<2>();
@@ -20,7 +20,7 @@ vehicle::VehicleControl safeStopControl(const track::Track& track, const Vehicle
       left + right > 0 ? std::clamp(here.lateral, -right, left) : 0.5 * (ahead.width_left - ahead.width_right);
   const Eigen::Vector2d target = ahead.position + lateral * track::leftOf(ahead.heading);
   // Pure pursuit from the rear axle's direction of travel (base_link's heading).
-  const double heading = yawOf(state.pose.orientation);
+  const double heading = track::yawOf(state.pose.orientation);
   const Eigen::Vector2d to = target - position;
   double alpha = std::atan2(to.y(), to.x()) - heading;
   alpha = std::atan2(std::sin(alpha), std::cos(alpha));

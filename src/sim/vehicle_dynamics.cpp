@@ -135,7 +135,7 @@ void VehicleDynamics::reset(const btTransform& base_link_pose) {
   for (auto& w : wheels_) {
     w.omega = 0.0;
     w.steer = 0.0;
-    w.state = WheelState();
+    w.state = vehicle::WheelState();
     w.road_object = nullptr;
   }
   steering_ = 0.0;
@@ -228,7 +228,7 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
   // Anti-roll bars from the last substep's compressions (one substep of lag, far below the roll mode).
   const double bars[2] = {params_.suspension.anti_roll_front, params_.suspension.anti_roll_rear};
   for (int axle = 0; axle < 2; ++axle) {
-    const WheelState &l = wheels_[2 * axle].state, &r = wheels_[2 * axle + 1].state;
+    const vehicle::WheelState &l = wheels_[2 * axle].state, &r = wheels_[2 * axle + 1].state;
     const double twist = (l.in_contact && r.in_contact) ? l.compression - r.compression : 0.0;
     anti_roll_load_[2 * axle] = bars[axle] * twist;
     anti_roll_load_[2 * axle + 1] = -bars[axle] * twist;
@@ -262,7 +262,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const double reach = susp.travel + susp.droop + wp.radius;
   const btVector3 to = from - up * reach;
   const GroundHit ray = castWheelRay(wheel, from, to);
-  WheelState& st = wheel.state;
+  vehicle::WheelState& st = wheel.state;
   st.steer_angle = wheel.steer;
   const double r = wp.radius;
   const double inertia = params_.tyre.wheel_inertia;
@@ -271,7 +271,7 @@ void VehicleDynamics::updateWheel(int index, double drive_torque, double dt, con
   const double hand_brake_torque = (rear && control_.hand_brake) ? params_.brakes.hand_brake_torque : 0.0;
 
   if (!ray.hit) {
-    st = WheelState();
+    st = vehicle::WheelState();
     st.steer_angle = wheel.steer;
     // Airborne: the wheel spins up under drive and down under the brakes.
     double omega = wheel.omega + dt * drive_torque / inertia;
@@ -425,8 +425,8 @@ void VehicleDynamics::endSubstep(double dt) {
   last_acceleration_ = (body_->getLinearVelocity() - substep_start_velocity_) / dt;
 }
 
-VehicleState VehicleDynamics::state() const {
-  VehicleState s;
+vehicle::VehicleState VehicleDynamics::state() const {
+  vehicle::VehicleState s;
   const btTransform base = baseLinkPose();
   const btQuaternion q = base.getRotation();
   s.pose.position = toEigen(base.getOrigin());

@@ -46,7 +46,7 @@ class VehicleDynamics {
   // its wheels' spin scaled with the speed; steering, brakes and drivetrain keep their states.
   void moveTo(const btTransform& base_link_pose, double speed);
   btTransform baseLinkPose() const;
-  VehicleState state() const;
+  vehicle::VehicleState state() const;
 
  private:
   struct Wheel {
@@ -54,7 +54,7 @@ class VehicleDynamics {
     double static_load = 0.0;  // N at rest, the spring preload
     double omega = 0.0;        // rad/s
     double steer = 0.0;        // rad
-    WheelState state;
+    vehicle::WheelState state;
     const btCollisionObject* road_object = nullptr;  // the road, when the last ray met one of its triangles
     std::array<btVector3, 3> road_triangle;          // that triangle's corners, world frame
   };

@@ -57,17 +57,6 @@ bool footprintsOverlap(const std::array<Eigen::Vector2d, 4>& a, const std::array
 
 }  // namespace
 
-double yawOf(const Eigen::Quaterniond& q) {
-  return std::atan2(2.0 * (q.w() * q.z() + q.x() * q.y()), 1.0 - 2.0 * (q.y() * q.y() + q.z() * q.z()));
-}
-
-Pose poseOnTrack(const track::TrackPose& track_pose) {
-  Pose pose;
-  pose.position = Eigen::Vector3d(track_pose.position.x(), track_pose.position.y(), track_pose.height);
-  pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(track_pose.heading, Eigen::Vector3d::UnitZ()));
-  return pose;
-}
-
 struct World::Impl {
   Impl(const track::Track& t, const WorldOptions& o) : track(t), options(o) {}
 
@@ -140,7 +129,7 @@ struct World::Impl {
     std::vector<vehicle::WakeCar> cars;
     cars.reserve(vehicles.size());
     for (auto& [name, slot] : vehicles) {
-      const VehicleState s = slot.dynamics->state();
+      const vehicle::VehicleState s = slot.dynamics->state();
       const auto& box = slot.dynamics->params().chassis.box_size;
       cars.push_back({s.pose.position.head<2>(), s.linear_velocity.head<2>(), box.x(), box.y()});
     }
@@ -225,16 +214,16 @@ struct World::Impl {
     return std::isfinite(road) ? road : top;
   }
 
-  btTransform placement(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
+  btTransform placement(const std::string& name, const vehicle::VehicleParams& params, const track::Pose& pose,
                         Placement how) const {
-    const double yaw = yawOf(pose.orientation);
+    const double yaw = track::yawOf(pose.orientation);
     const auto mine = footprint(params, pose.position.head<2>(), yaw, 0.3);
     for (const auto& [other, s] : vehicles) {
       if (other == name) continue;
       const btTransform t = s.dynamics->baseLinkPose();
       const btVector3 o = t.getOrigin();
-      const double other_yaw =
-          yawOf(Eigen::Quaterniond(t.getRotation().w(), t.getRotation().x(), t.getRotation().y(), t.getRotation().z()));
+      const double other_yaw = track::yawOf(
+          Eigen::Quaterniond(t.getRotation().w(), t.getRotation().x(), t.getRotation().y(), t.getRotation().z()));
       if (footprintsOverlap(mine, footprint(s.dynamics->params(), Eigen::Vector2d(o.x(), o.y()), other_yaw, 0.3))) {
         throw SpawnError("cannot place '" + name + "' at (" + std::to_string(pose.position.x()) + ", " +
                          std::to_string(pose.position.y()) + "): it would overlap vehicle '" + other + "'");
@@ -342,7 +331,7 @@ World::~World() {
 const track::Track& World::track() const { return impl_->track; }
 const WorldOptions& World::options() const { return impl_->options; }
 
-void World::spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
+void World::spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const track::Pose& pose,
                          Placement placement) {
   auto& w = *impl_;
   if (name.empty()) throw SpawnError("a vehicle needs a name");
@@ -359,7 +348,7 @@ void World::destroyVehicle(const std::string& name) {
   impl_->vehicles.erase(name);
 }
 
-void World::resetVehicle(const std::string& name, const Pose& pose, Placement placement) {
+void World::resetVehicle(const std::string& name, const track::Pose& pose, Placement placement) {
   auto& w = *impl_;
   Impl::Slot& slot = w.slot(name);
   slot.dynamics->reset(w.placement(name, slot.dynamics->params(), pose, placement));
@@ -463,7 +452,7 @@ void World::setTiming(double control_dt, double physics_dt) {
   w.options.physics_dt = physics_dt;
 }
 
-VehicleState World::vehicleState(const std::string& name) const { return impl_->slot(name).dynamics->state(); }
+vehicle::VehicleState World::vehicleState(const std::string& name) const { return impl_->slot(name).dynamics->state(); }
 
 const std::vector<Contact>& World::contacts(const std::string& name) const { return impl_->slot(name).contacts; }
 

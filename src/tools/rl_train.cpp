@@ -20,10 +20,10 @@
 
 #include "roar/config/number.h"
 #include "roar/config/package_layout.h"
+#include "roar/harness/time_trial.h"
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
 #include "roar/rl/evolution.h"
-#include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
@@ -183,11 +183,11 @@ int main(int argc, char** argv) {
     std::ofstream csv(args.out + "/learning_curve.csv");
     csv << "generation,minutes,env_steps,mean_return,best_return,mean_progress_m,eval_progress_m,eval_best_lap_s,eval_"
            "clean\n";
-    std::optional<stack::TimeTrialResult> stack_lap;
+    std::optional<harness::TimeTrialResult> stack_lap;
     if (args.compare) {
-      stack::TimeTrialOptions trial;
+      harness::TimeTrialOptions trial;
       trial.laps = 1;
-      stack_lap = stack::runTimeTrial(track, car, trial);
+      stack_lap = harness::runTimeTrial(track, car, trial);
       std::printf("rl_train: the planner + controller stack laps %s in %.2f s (its profile promises %.2f s)\n",
                   track.info().name.c_str(), stack_lap->best_lap(), stack_lap->promised_lap);
     }

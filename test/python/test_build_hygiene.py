@@ -96,6 +96,32 @@ def test_the_stack_libraries_neither_link_nor_include_the_simulator():
                 assert not included, f"{os.path.relpath(path, REPO)} includes the simulator's headers"
 
 
+# The racing stack's programs, as a real car would run them: none links the simulator, its sensors, the RL
+# environment or Bullet, nor compiles a header that reaches them.
+STACK_PROGRAMS = ("planner", "controller", "race_control", "waypoint_server")
+SIMULATOR_LIBRARIES = re.compile(r"lib(roar_sim_core|roar_sensors|roar_rl|roar_harness|roar_ros_sim_bridge|Bullet[\w-]*|"
+                                 r"LinearMath[\w-]*|embree\d*)\.so")
+SIMULATOR_HEADERS = re.compile(r"include/roar/(sim/world|sim/vehicle_dynamics|sensors/ray_scene|rl/racing_env|stack/\w+)\.h"
+                               r"|/bullet/|/embree\d*/")
+
+
+def test_the_stack_programs_neither_link_nor_compile_the_simulator():
+    for program in STACK_PROGRAMS:
+        path = os.path.join(REPO, "devel", "lib", "roar_ros", program)
+        assert os.path.exists(path), f"{program} is not built: build first (make build)"
+        ldd = subprocess.run(["ldd", path], capture_output=True, text=True).stdout
+        linked = {m.group(0) for m in SIMULATOR_LIBRARIES.finditer(ldd)}
+        assert not linked, f"{program} links {sorted(linked)}"
+        objects = glob.glob(os.path.join(REPO, "build", "CMakeFiles", f"{program}.dir", "**", "*.o.d"), recursive=True)
+        assert objects, f"no compiler dependency files for {program}"
+        for depfile in objects:
+            with open(depfile) as f:
+                reached = {m.group(0) for m in SIMULATOR_HEADERS.finditer(f.read())}
+            assert not reached, f"{program} compiles the simulator's headers: {sorted(reached)}"
+    # The bridge those programs link is the stack's part alone.
+    assert not {"roar_sim_core", "roar_sensors", "roar_rl", "roar_harness"} & cmake_links("roar_ros_bridge")
+
+
 def test_the_roar_py_modules_do_not_pull_in_the_rl_extension():
     # roar_py_ros found the package through roar_rl; roar_paths is the one answer of where it is.
     out = subprocess.run([sys.executable, "-c", "import sys, roar_py_ros, roar_py_remote; "

@@ -138,7 +138,7 @@ def test_every_tool_and_script_says_its_usage_on_help_and_exits_0():
 
 
 def test_race_rviz_reads_a_scenarios_cars_as_the_nodes_do(tmp_path):
-    # Bare names are cars as stack::readCars reads them (race_rviz once read c["name"] itself and failed).
+    # Bare names are cars as scenario::readCars reads them (race_rviz once read c["name"] itself and failed).
     scenario = tmp_path / "bare.yaml"
     scenario.write_text("map: roar_ring\nlaps: 1\ncars: [ego, {name: rival, sensors: default}]\n")
     out = tmp_path / "bare.rviz"

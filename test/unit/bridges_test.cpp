@@ -153,7 +153,7 @@ TEST(Bridges, ACarStoppedUnderTheBridgeKeepsToItsOwnRoad) {
   for (const double height : {0.0, track::kBridgeRise}) {
     SCOPED_TRACE(height);
     const auto road = track.projectAtHeight(Eigen::Vector3d(0.0, 0.0, height + 0.3));
-    sim::VehicleState state;
+    vehicle::VehicleState state;
     state.pose.position = Eigen::Vector3d(0.0, 0.0, height + 0.3);
     state.pose.orientation = Eigen::AngleAxisd(road.heading, Eigen::Vector3d::UnitZ());
     state.forward_speed = state.speed = 20.0;
@@ -177,7 +177,7 @@ TEST(Bridges, ACarDrivesUnderTheBridgeAndOverIt) {
     // 60 m before the crossing on that road, at the height the track gives there.
     const auto start = track.poseAt(road.s - 60.0);
     sim::World world(track, {});
-    world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
+    world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(start));
     EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), start.height, 0.5);
     vehicle::VehicleControl go;
     go.throttle = 0.5;
@@ -201,7 +201,7 @@ TEST(Bridges, ASpawnAtTheCrossingGoesOnTheRoadAtTheHeightAskedFor) {
   const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
   for (const double height : {0.0, track::kBridgeRise}) {
     sim::World world(track, {});
-    sim::Pose pose;
+    track::Pose pose;
     pose.position = Eigen::Vector3d(0.0, 0.0, height);
     world.spawnVehicle("ego", test::sedan(), pose);
     EXPECT_NEAR(world.vehicleState("ego").pose.position.z(), height, 0.5);

@@ -7,8 +7,8 @@
 #include "roar/config/text_file.h"
 #include "roar/config/yaml_section.h"
 #include "roar/rl/env_options.h"
+#include "roar/scenario/scenario.h"
 #include "roar/sensors/sensor_spec.h"
-#include "roar/stack/scenario.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 #include "test_support.h"
@@ -69,7 +69,7 @@ TEST(TextFile, EveryReaderRefusesAnEndlessStream) {
   vehicle::VehicleParams params;
   EXPECT_TRUE(contains(errorOf([&] { vehicle::readVehicleYaml(zero, &params); }), refused));
   EXPECT_TRUE(contains(errorOf([&] { vehicle::readVehicleUrdf(zero, &params); }), refused));
-  EXPECT_TRUE(contains(errorOf([&] { stack::loadScenario(zero, stack::ScenarioContext{}); }), refused));
+  EXPECT_TRUE(contains(errorOf([&] { scenario::loadScenario(zero, scenario::ScenarioContext{}); }), refused));
 }
 
 TEST(YamlKeys, AKeyGivenTwiceIsRefusedWhereverItIs) {

@@ -289,7 +289,7 @@ TEST(Course, AnEpisodeEndsAtTheFinishLine) {
   const track::Track course(lShapedRoad(), courseInfo());
   rl::Episode episode(course, {}, {});
   auto stateAt = [&](double s) {
-    sim::VehicleState state;
+    vehicle::VehicleState state;
     const auto pose = course.poseAt(s);
     state.pose.position = {pose.position.x(), pose.position.y(), 0.0};
     state.speed = 20.0;

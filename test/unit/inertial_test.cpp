@@ -12,7 +12,7 @@ using namespace roar;
 TEST(Imu, ParkedCarReadsGravityUpAndNoRotation) {
   const auto track = test::openGround();
   sim::World world(track, {});
-  world.spawnVehicle("ego", test::sedan(), sim::Pose());
+  world.spawnVehicle("ego", test::sedan(), track::Pose());
   for (int i = 0; i < 40; ++i) world.step();  // settle
   sensors::Mount mount;
   mount.position = {-0.086, 0.0, 0.5};

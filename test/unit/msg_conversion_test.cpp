@@ -41,7 +41,7 @@ TEST(MsgConversion, ControlRoundTrip) {
 }
 
 TEST(MsgConversion, PoseRoundTripAndZeroQuaternion) {
-  sim::Pose p;
+  track::Pose p;
   p.position = {1.5, -2.5, 0.25};
   p.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
   const auto back = ros_bridge::fromMessage(ros_bridge::toMessage(p));
@@ -67,7 +67,7 @@ TEST(MsgConversion, PoseRoundTripAndZeroQuaternion) {
 }
 
 TEST(MsgConversion, OdometryUsesBodyTwistAndFrames) {
-  sim::VehicleState s;
+  vehicle::VehicleState s;
   s.pose.position = {10, 20, 0};
   s.body_linear_velocity = {5, 0.5, 0};
   s.body_angular_velocity = {0, 0, 0.2};
@@ -82,7 +82,7 @@ TEST(MsgConversion, OdometryUsesBodyTwistAndFrames) {
 
 TEST(MsgConversion, JointStatesNameTheUrdfsJoints) {
   const vehicle::VehicleParams sedan = test::sedan();
-  sim::VehicleState s;
+  vehicle::VehicleState s;
   for (std::size_t i = 0; i < 4; ++i) {
     s.wheels[i].angular_velocity = 10.0 + i;
     s.wheels[i].steer_angle = sedan.wheels[i].front ? 0.1 * (i + 1) : 0.0;
@@ -105,12 +105,12 @@ TEST(MsgConversion, JointStatesNameTheUrdfsJoints) {
 }
 
 TEST(MsgConversion, OdometryGivesBackPoseAndVelocities) {
-  sim::VehicleState s;
+  vehicle::VehicleState s;
   s.pose.position = {10, 20, 0.5};
   s.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   s.body_linear_velocity = {5, 0.5, 0};
   s.body_angular_velocity = {0, 0, 0.2};
-  const sim::VehicleState back =
+  const vehicle::VehicleState back =
       ros_bridge::fromOdometry(ros_bridge::toOdometry(s, ros_bridge::toRosTime(1.0), "map", "b"));
   EXPECT_EQ(back.pose.position, s.pose.position);
   EXPECT_EQ(back.body_linear_velocity, s.body_linear_velocity);
@@ -122,7 +122,7 @@ TEST(MsgConversion, OdometryGivesBackPoseAndVelocities) {
 }
 
 TEST(MsgConversion, StatusCarriesTheDrivetrainAndTheSlipstream) {
-  sim::VehicleState state;
+  vehicle::VehicleState state;
   state.speed = 31.5;
   state.forward_speed = 31.0;
   state.gear = 4;

@@ -1,13 +1,13 @@
 // Where a pass was won: on a straight, in a braking zone (on the inside of the corner braked for or the
-// outside) or through a corner (stack::passPlace), on a made-up line whose every stretch is known.
+// outside) or through a corner (harness::passPlace), on a made-up line whose every stretch is known.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "roar/stack/pass_place.h"
+#include "roar/harness/pass_place.h"
 
 using namespace roar;
-using stack::PassPlace;
+using harness::PassPlace;
 
 namespace {
 
@@ -32,43 +32,43 @@ planning::Trajectory straightBrakingLeftTurnStraight() {
 
 TEST(PassPlace, EachStretchOfTheLineIsToldApartAndTheInsideIsTheCornersInside) {
   const auto line = straightBrakingLeftTurnStraight();
-  EXPECT_EQ(stack::passPlace(line, 100.0, +1).place, PassPlace::kStraight);
-  EXPECT_FALSE(stack::passPlace(line, 100.0, +1).inside);
-  EXPECT_EQ(stack::passPlace(line, 500.0, -1).place, PassPlace::kStraight);
+  EXPECT_EQ(harness::passPlace(line, 100.0, +1).place, PassPlace::kStraight);
+  EXPECT_FALSE(harness::passPlace(line, 100.0, +1).inside);
+  EXPECT_EQ(harness::passPlace(line, 500.0, -1).place, PassPlace::kStraight);
 
   // Braking for a left turn: the left is the inside, though the line does not turn yet where it brakes.
-  const auto braking_left = stack::passPlace(line, 250.0, +1);
+  const auto braking_left = harness::passPlace(line, 250.0, +1);
   EXPECT_EQ(braking_left.place, PassPlace::kBrakingZone);
   EXPECT_TRUE(braking_left.inside);
-  const auto braking_right = stack::passPlace(line, 250.0, -1);
+  const auto braking_right = harness::passPlace(line, 250.0, -1);
   EXPECT_EQ(braking_right.place, PassPlace::kBrakingZone);
   EXPECT_FALSE(braking_right.inside);
 
-  const auto corner_right = stack::passPlace(line, 350.0, -1);
+  const auto corner_right = harness::passPlace(line, 350.0, -1);
   EXPECT_EQ(corner_right.place, PassPlace::kCorner);
   EXPECT_FALSE(corner_right.inside);
-  EXPECT_TRUE(stack::passPlace(line, 350.0, +1).inside);
+  EXPECT_TRUE(harness::passPlace(line, 350.0, +1).inside);
 }
 
 TEST(PassPlace, ACornerIsATurnTighterThanTheCornerRadius) {
   auto line = straightBrakingLeftTurnStraight();
   for (auto& p : line.points) p.curvature = p.curvature != 0.0 ? -1.0 / 200.0 : 0.0;  // a gentle right
-  EXPECT_EQ(stack::passPlace(line, 350.0, -1).place, PassPlace::kStraight);
-  stack::PassPlaceOptions wide;
+  EXPECT_EQ(harness::passPlace(line, 350.0, -1).place, PassPlace::kStraight);
+  harness::PassPlaceOptions wide;
   wide.corner_radius = 250.0;
-  const auto where = stack::passPlace(line, 350.0, -1, wide);
+  const auto where = harness::passPlace(line, 350.0, -1, wide);
   EXPECT_EQ(where.place, PassPlace::kCorner);
   EXPECT_TRUE(where.inside);
 }
 
 TEST(PassPlace, RefusesASideThatIsNeitherLeftNorRight) {
   const auto line = straightBrakingLeftTurnStraight();
-  EXPECT_THROW(stack::passPlace(line, 100.0, 0), std::invalid_argument);
-  EXPECT_THROW(stack::passPlace(line, 100.0, 2), std::invalid_argument);
+  EXPECT_THROW(harness::passPlace(line, 100.0, 0), std::invalid_argument);
+  EXPECT_THROW(harness::passPlace(line, 100.0, 2), std::invalid_argument);
 }
 
 TEST(PassPlace, DescribesEachPlace) {
-  EXPECT_EQ(stack::describe(PassPlace::kStraight), "straight");
-  EXPECT_EQ(stack::describe(PassPlace::kBrakingZone), "braking zone");
-  EXPECT_EQ(stack::describe(PassPlace::kCorner), "corner");
+  EXPECT_EQ(harness::describe(PassPlace::kStraight), "straight");
+  EXPECT_EQ(harness::describe(PassPlace::kBrakingZone), "braking zone");
+  EXPECT_EQ(harness::describe(PassPlace::kCorner), "corner");
 }

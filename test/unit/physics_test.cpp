@@ -16,7 +16,7 @@ constexpr double kG = 9.81;
 struct Drive {
   explicit Drive(double mu = 1.0, const std::string& model = "sedan")
       : track(test::openGround(mu)), world(track, options()) {
-    world.spawnVehicle("ego", test::vehicle(model), sim::Pose());
+    world.spawnVehicle("ego", test::vehicle(model), track::Pose());
     for (int i = 0; i < 20; ++i) world.step();  // settle on the springs
   }
   static sim::WorldOptions options() {
@@ -30,7 +30,7 @@ struct Drive {
       world.step();
     }
   }
-  sim::VehicleState state() const { return world.vehicleState("ego"); }
+  vehicle::VehicleState state() const { return world.vehicleState("ego"); }
   track::Track track;
   sim::World world;
 };
@@ -107,7 +107,7 @@ double skidpadG(const std::string& model, double kRadius = 40.0) {
     for (int tick = 0; tick < 100; ++tick) {
       const auto s = d.state();
       const Eigen::Vector2d pos = s.pose.position.head<2>();
-      const double yaw = sim::yawOf(s.pose.orientation);
+      const double yaw = track::yawOf(s.pose.orientation);
       const double lookahead = std::max(6.0, 0.6 * s.forward_speed);
       const double angle_now = std::atan2(pos.y() - centre.y(), pos.x() - centre.x());
       const Eigen::Vector2d aim = centre + kRadius * Eigen::Vector2d(std::cos(angle_now + lookahead / kRadius),
@@ -250,7 +250,7 @@ TEST(Physics, ASpunUpWheelLandsWithoutThrowingTheCarBack) {
     o.physics_dt = 0.005;
     track::Track track = test::circleTrack(300.0);  // on the road's mesh, as on a map
     sim::World world(track, o);
-    sim::Pose above;
+    track::Pose above;
     above.position = Eigen::Vector3d(300.0, 0.0, 1.0);
     above.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
     world.spawnVehicle("ego", test::vehicle(model), above, sim::Placement::kAsGiven);
@@ -290,7 +290,7 @@ TEST(Physics, ARateLimitedBrakePedalRampsTheBrakingUp) {
     car.brakes.rise_time = 0.0;
     const auto ground = test::openGround();
     sim::World world(ground, Drive::options());
-    world.spawnVehicle("ego", car, sim::Pose());
+    world.spawnVehicle("ego", car, track::Pose());
     for (int i = 0; i < 20; ++i) world.step();
     world.setControl("ego", vehicle::VehicleControl());
     world.setVehicleVelocity("ego", {25, 0, 0}, {0, 0, 0});

@@ -1,5 +1,5 @@
 // Racing in a field: who is at fault in a contact, the planner's choice of the car to follow, and whole
-// races of the stack's cars in one process (stack::runRace), with and without overtaking.
+// races of the stack's cars in one process (harness::runRace), with and without overtaking.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,11 +7,11 @@
 #include <map>
 #include <vector>
 
+#include "roar/harness/race.h"
 #include "roar/planning/field_planner.h"
 #include "roar/planning/speed_profile.h"
 #include "roar/race/contact_fault.h"
 #include "roar/sim/world.h"
-#include "roar/stack/race.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
 
@@ -199,9 +199,9 @@ TEST(FieldPlanner, ACarGainingSpeedGentlyIsPredictedAtThePaceItDrives) {
 TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   planning::FieldOptions field;
   field.overtaking = true;
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.field = field;
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const auto r = harness::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "ego");
   EXPECT_TRUE(r.contacts.empty()) << r.contacts.size() << " contacts, the first at t = " << r.contacts.at(0).time;
@@ -222,14 +222,14 @@ TEST(Race, TheStackPassesAPaceCarCleanlyWithinALapOfCatchingIt) {
   EXPECT_GT(r.car("ego").time_in_traffic, 0.0);
 }
 
-// Where a pass was won (PassAttempt::level_s, which stack::passPlace reads) is where the passer first drew
+// Where a pass was won (PassAttempt::level_s, which harness::passPlace reads) is where the passer first drew
 // level with the car it passes: behind it at the tick before, level or ahead at that tick.
 TEST(Race, APassRecordsWhereThePasserFirstDrewLevel) {
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.field.overtaking = true;
   std::map<std::string, std::vector<double>> s_of;  // each car's line s, every tick
-  options.on_tick = [&](const stack::RaceTick& tick) { s_of[*tick.car].push_back(tick.on_line.s); };
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  options.on_tick = [&](const harness::RaceTick& tick) { s_of[*tick.car].push_back(tick.on_line.s); };
+  const auto r = harness::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   int checked = 0;
   for (const auto& pass : r.passes) {
     if (!pass.completed) continue;
@@ -251,13 +251,13 @@ TEST(Race, APassRecordsWhereThePasserFirstDrewLevel) {
 // Only cars still racing pass each other: after the flag the winner drives on and laps the slow car still
 // racing, which is no pass of the race (the traffic benchmark counted such passes, and their aborts).
 TEST(Race, NoPassIsCountedOnceEitherCarHasFinished) {
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.field.overtaking = true;
   options.laps = 1;
   // At 35% of the planned speeds the pace car is still on its lap when ego, done with its own, comes round
   // to it again (at about 134 s here, ego finished at 78 s).
   const auto eight = track::loadMapFolder(test::sourceDir() + "/maps/roar_eight");
-  const auto r = stack::runRace(eight, sprint().vehicle, {{"pace", 0, 0.35}, {"ego", 1}}, options);
+  const auto r = harness::runRace(eight, sprint().vehicle, {{"pace", 0, 0.35}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   const double ego_done = r.car("ego").race_time, pace_done = r.car("pace").race_time;
   ASSERT_LT(ego_done + 40.0, pace_done) << "ego finished long before the pace car";
@@ -275,14 +275,14 @@ TEST(Race, NoPassIsCountedOnceEitherCarHasFinished) {
 // benchmark's aborted attempts (Monza, cars 5% of pace apart, at 14 s).
 TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
   const auto monza = track::loadMapFolder(test::sourceDir() + "/maps/monza");
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.field.overtaking = true;
   options.laps = 1;
   options.time_limit = 30.0;
   std::map<std::string, double> s_of;
   std::map<std::string, RaceMode> mode_of;
   int passes_begun = 0;
-  options.on_tick = [&](const stack::RaceTick& tick) {
+  options.on_tick = [&](const harness::RaceTick& tick) {
     const std::string& car = *tick.car;
     s_of[car] = tick.on_line.s;
     const auto& d = tick.decision;
@@ -295,8 +295,8 @@ TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
     }
     mode_of[car] = d.mode;
   };
-  stack::runRace(monza, sprint().vehicle, {{"p0", 0, 0.75}, {"p1", 1, 0.80}, {"p2", 2, 0.85}, {"p3", 3, 0.90}},
-                 options);
+  harness::runRace(monza, sprint().vehicle, {{"p0", 0, 0.75}, {"p1", 1, 0.80}, {"p2", 2, 0.85}, {"p3", 3, 0.90}},
+                   options);
   EXPECT_GT(passes_begun, 0);
 }
 
@@ -305,7 +305,7 @@ TEST(Race, EveryPassBeginsFromBehindTheCarPassed) {
 // a run of pass decisions; every run in which the passer stayed well behind the car (by more than a car's
 // length and a metre) is one.
 TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.field.overtaking = true;
   options.laps = 1;
   struct Run {
@@ -317,7 +317,7 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
   std::map<std::string, long> open;  // the run under way per car (index into runs)
   std::map<std::string, double> s_of;
   const double L = sprint().track.length();
-  options.on_tick = [&](const stack::RaceTick& tick) {
+  options.on_tick = [&](const harness::RaceTick& tick) {
     const std::string& car = *tick.car;
     s_of[car] = tick.on_line.s;
     const auto& d = tick.decision;
@@ -338,7 +338,7 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
   };
   // A car 5% faster behind another on Roar Sprint: passes begun there are given up (the road too narrow
   // beside a line that swings across it) before the passer is beside the car it passes.
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"slow", 0, 0.75}, {"fast", 1, 0.8}}, options);
+  const auto r = harness::runRace(sprint().track, sprint().vehicle, {{"slow", 0, 0.75}, {"fast", 1, 0.8}}, options);
   // Once either car has finished, a pass under way is given up with the race, whatever the decision
   // (NoPassIsCountedOnceEitherCarHasFinished): only what was given up before that is matched here.
   double first_flag = std::numeric_limits<double>::infinity();
@@ -371,10 +371,10 @@ TEST(Race, PassesGivenUpBeforeDrawingAlongsideAreRecordedApart) {
 }
 
 TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.laps = 1;
   options.field.overtaking = false;
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
+  const auto r = harness::runRace(sprint().track, sprint().vehicle, {{"pace", 0, 1.0, 15.0}, {"ego", 1}}, options);
   ASSERT_TRUE(r.finished);
   EXPECT_EQ(r.cars.at(0).name, "pace");
   EXPECT_TRUE(r.overtakes.empty());
@@ -389,17 +389,17 @@ TEST(Race, WithoutOvertakingTheFieldIsAProcession) {
 TEST(Race, PassingSpeedIsAgainstFreeAirOnTheSameRound) {
   const double bin = 2.0;
   const std::vector<std::vector<double>> free_air{{20.0, 20.0, std::nan("")}, {40.0, 40.0, 40.0}};
-  stack::PassAttempt pass;
+  harness::PassAttempt pass;
   pass.samples = {{0, 1.0, 18.0}, {1, 1.0, 36.0}};  // 90% of the grid lap's 20, 90% of the flying lap's 40
-  EXPECT_NEAR(stack::passingSpeedShare(pass, free_air, bin), 0.9, 1e-12);
+  EXPECT_NEAR(harness::passingSpeedShare(pass, free_air, bin), 0.9, 1e-12);
   pass.samples = {{3, 3.0, 30.0}};  // a round past those run alone: the last one's
-  EXPECT_NEAR(stack::passingSpeedShare(pass, free_air, bin), 0.75, 1e-12);
+  EXPECT_NEAR(harness::passingSpeedShare(pass, free_air, bin), 0.75, 1e-12);
   pass.samples = {{0, 5.0, 30.0}};  // no free-air speed there
-  EXPECT_TRUE(std::isnan(stack::passingSpeedShare(pass, free_air, bin)));
+  EXPECT_TRUE(std::isnan(harness::passingSpeedShare(pass, free_air, bin)));
   // And a race records its cars' speeds round by round: two laps from the grid are at least two rounds.
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.laps = 2;
-  const auto alone = stack::runRace(sprint().track, sprint().vehicle, {{"alone", 1}}, options).car("alone");
+  const auto alone = harness::runRace(sprint().track, sprint().vehicle, {{"alone", 1}}, options).car("alone");
   ASSERT_GE(alone.round_speeds.size(), 2u);
   std::size_t seen = 0;
   for (double v : alone.round_speeds[1]) seen += std::isfinite(v);
@@ -407,47 +407,47 @@ TEST(Race, PassingSpeedIsAgainstFreeAirOnTheSameRound) {
 }
 
 TEST(Race, LapTimeLossIsTheTimeTrafficCostsAgainstTheSameCarAlone) {
-  stack::RaceOptions options;
+  harness::RaceOptions options;
   options.laps = 1;
   options.field.overtaking = false;
-  const stack::RaceCar pace{"pace", 0, 1.0, 15.0}, ego{"ego", 1};
-  const auto r = stack::runRace(sprint().track, sprint().vehicle, {pace, ego}, options);
-  const auto pace_alone = stack::runRace(sprint().track, sprint().vehicle, {pace}, options).car("pace");
-  const auto ego_alone = stack::runRace(sprint().track, sprint().vehicle, {ego}, options).car("ego");
+  const harness::RaceCar pace{"pace", 0, 1.0, 15.0}, ego{"ego", 1};
+  const auto r = harness::runRace(sprint().track, sprint().vehicle, {pace, ego}, options);
+  const auto pace_alone = harness::runRace(sprint().track, sprint().vehicle, {pace}, options).car("pace");
+  const auto ego_alone = harness::runRace(sprint().track, sprint().vehicle, {ego}, options).car("ego");
   ASSERT_TRUE(r.finished);
-  EXPECT_GT(stack::lapTimeLoss(r.car("ego"), ego_alone), 20.0);
-  EXPECT_NEAR(stack::lapTimeLoss(r.car("pace"), pace_alone), 0.0, 0.05);
-  stack::RaceCarResult unfinished = r.car("ego");
+  EXPECT_GT(harness::lapTimeLoss(r.car("ego"), ego_alone), 20.0);
+  EXPECT_NEAR(harness::lapTimeLoss(r.car("pace"), pace_alone), 0.0, 0.05);
+  harness::RaceCarResult unfinished = r.car("ego");
   unfinished.finished = false;
-  EXPECT_TRUE(std::isnan(stack::lapTimeLoss(unfinished, ego_alone)));
+  EXPECT_TRUE(std::isnan(harness::lapTimeLoss(unfinished, ego_alone)));
 }
 
 // How far a reverse grid finished from pace order: the pairs that finished the other way round.
 TEST(Race, PairsOutOfOrderCountsThePairsFinishedTheOtherWayRound) {
-  stack::RaceResult race;
+  harness::RaceResult race;
   for (const char* name : {"c", "a", "b"}) {
     race.cars.emplace_back();
     race.cars.back().name = name;
   }
-  EXPECT_EQ(stack::pairsOutOfOrder(race, {"a", "b", "c"}), 2);  // c ahead of a and of b
-  EXPECT_EQ(stack::pairsOutOfOrder(race, {"c", "a", "b"}), 0);
-  EXPECT_EQ(stack::pairsOutOfOrder(race, {"b", "a", "c"}), 3);
-  EXPECT_NE(test::errorOf([&] { stack::pairsOutOfOrder(race, {"a", "d"}); }).find("'d'"), std::string::npos);
+  EXPECT_EQ(harness::pairsOutOfOrder(race, {"a", "b", "c"}), 2);  // c ahead of a and of b
+  EXPECT_EQ(harness::pairsOutOfOrder(race, {"c", "a", "b"}), 0);
+  EXPECT_EQ(harness::pairsOutOfOrder(race, {"b", "a", "c"}), 3);
+  EXPECT_NE(test::errorOf([&] { harness::pairsOutOfOrder(race, {"a", "d"}); }).find("'d'"), std::string::npos);
 }
 
 TEST(Race, RefusesBadFields) {
-  EXPECT_NE(test::errorOf([] { stack::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"),
+  EXPECT_NE(test::errorOf([] { harness::runRace(sprint().track, sprint().vehicle, {}, {}); }).find("no cars"),
             std::string::npos);
   EXPECT_NE(test::errorOf([] {
-              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"a", 1}}, {});
+              harness::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"a", 1}}, {});
             }).find("twice"),
             std::string::npos);
   EXPECT_NE(test::errorOf([] {
-              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"b", 0}}, {});
+              harness::runRace(sprint().track, sprint().vehicle, {{"a", 0}, {"b", 0}}, {});
             }).find("grid slot 0"),
             std::string::npos);
   EXPECT_NE(test::errorOf([] {
-              stack::runRace(sprint().track, sprint().vehicle, {{"a", 0, 0.0}}, {});
+              harness::runRace(sprint().track, sprint().vehicle, {{"a", 0, 0.0}}, {});
             }).find("pace"),
             std::string::npos);
 }
@@ -464,7 +464,7 @@ TEST(SafeStop, ACarLeftAtRacingSpeedStopsAndMostlyClearOfTheBarrier) {
     o.control_timeout = 0.5;
     sim::World world(sprint().track, o);
     const auto p = planning::sampleAt(line, s);
-    sim::Pose pose;
+    track::Pose pose;
     pose.position = onLineAt(s);
     pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()));
     world.spawnVehicle("ego", sprint().vehicle, pose);

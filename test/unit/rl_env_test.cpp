@@ -160,7 +160,7 @@ TEST(RlEnv, ResetPutsTheCarAtRestOnItsSpawnAndClearsTheEpisode) {
   EXPECT_NEAR(again.info.track_s, first.info.track_s, 1e-9) << "the same spawn point";
   EXPECT_EQ(again.observation.at("lidar").numbers, first.observation.at("lidar").numbers)
       << "the sensors see the spawn";
-  const sim::VehicleState state = env.world().vehicleState(rl::RacingEnv::kCar);
+  const vehicle::VehicleState state = env.world().vehicleState(rl::RacingEnv::kCar);
   EXPECT_LT(state.speed, 0.05);
   const rl::StepResult step = env.step(rl::zeros(env.actionSpace()));
   EXPECT_EQ(step.info.episode_steps, 1) << "the step count starts again";

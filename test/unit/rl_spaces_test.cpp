@@ -7,6 +7,7 @@
 
 #include "roar/rl/action.h"
 #include "roar/rl/env_options.h"
+#include "roar/rl/observation.h"
 #include "roar/rl/space.h"
 #include "test_support.h"
 

@@ -1,4 +1,4 @@
-#include "roar/stack/scenario.h"
+#include "roar/scenario/scenario.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-stack::ScenarioContext shipped() {
+scenario::ScenarioContext shipped() {
   const std::string src = test::sourceDir();
   return {src + "/maps", src + "/config/sensors", src + "/urdf", src + "/config/vehicles", src + "/config/rl"};
 }
@@ -27,7 +27,7 @@ stack::ScenarioContext shipped() {
 std::string errorLoading(const std::string& text) {
   const fs::path path = fs::temp_directory_path() / ("roar_scenario_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << text;
-  const std::string error = test::errorOf([&] { stack::loadScenario(path.string(), shipped()); });
+  const std::string error = test::errorOf([&] { scenario::loadScenario(path.string(), shipped()); });
   fs::remove(path);
   return error;
 }
@@ -39,19 +39,19 @@ TEST(Scenario, EveryShippedScenarioLoads) {
   int count = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     SCOPED_TRACE(entry.path().string());
-    const auto scenario = stack::loadScenario(entry.path().string(), shipped());
+    const auto scenario = scenario::loadScenario(entry.path().string(), shipped());
     EXPECT_FALSE(scenario.cars.empty());
     EXPECT_FALSE(scenario.description.empty());
     ++count;
   }
   EXPECT_GE(count, 3);
-  const auto race = stack::loadScenario(stack::resolveScenario("multi_car", dir), shipped());
+  const auto race = scenario::loadScenario(scenario::resolveScenario("multi_car", dir), shipped());
   EXPECT_GE(race.cars.size(), 3u);
   EXPECT_GT(race.cars[0].max_speed, 0.0) << "a slower car in front";
-  const auto rl = stack::loadScenario(stack::resolveScenario("rl_headless", dir), shipped());
+  const auto rl = scenario::loadScenario(scenario::resolveScenario("rl_headless", dir), shipped());
   EXPECT_FALSE(rl.cars[0].driven);
   EXPECT_EQ(rl.cars[0].sensors, "default");
-  EXPECT_NE(test::errorOf([&] { stack::resolveScenario("nascar", dir); }).find("time_trial"), std::string::npos)
+  EXPECT_NE(test::errorOf([&] { scenario::resolveScenario("nascar", dir); }).find("time_trial"), std::string::npos)
       << "an unknown scenario lists the known ones";
 }
 
@@ -184,7 +184,7 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
       const fs::path path = fs::temp_directory_path() / ("roar_scenario_x_" + std::to_string(::getpid()) + ".yaml");
       std::ofstream(path) << text;
       try {
-        const auto s = stack::loadScenario(path.string(), shipped());
+        const auto s = scenario::loadScenario(path.string(), shipped());
         EXPECT_GE(s.laps, 1) << key << " = " << extreme;
         for (const auto& car : s.cars) {
           EXPECT_TRUE(std::isfinite(car.max_speed) && car.max_speed >= 0 && car.max_speed <= 150)
@@ -209,16 +209,16 @@ TEST(Scenario, EveryNumberAtEveryExtremeIsRefusedByNameOrLoadsInRange) {
 // a scenario car's keys, checked the same way, errors naming the source, the car and the key.
 TEST(RaceCars, NamesOrCarsReadAndCheckedAsAScenariosAre) {
   const auto names =
-      stack::readCars(YAML::Load("[ego, rival]"), "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
+      scenario::readCars(YAML::Load("[ego, rival]"), "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
   ASSERT_EQ(names.size(), 2u);
   EXPECT_EQ(names[0].name, "ego");
   EXPECT_EQ(names[1].name, "rival");
   EXPECT_EQ(names[1].model, "hatchback") << "the default model for a car that names none";
   EXPECT_EQ(names[1].spawn_point, 1) << "its place in the list";
   EXPECT_EQ(names[1].pace, 1.0);
-  const auto cars = stack::readCars(YAML::Load("[{name: ego, pace: 0.9, spawn_point: 3}, {name: slow, model: sedan, "
-                                               "max_speed: 15, driven: false}]"),
-                                    "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
+  const auto cars = scenario::readCars(YAML::Load("[{name: ego, pace: 0.9, spawn_point: 3}, {name: slow, model: sedan, "
+                                                  "max_speed: 15, driven: false}]"),
+                                       "vehicles", "parameter /planner/vehicles", shipped(), "hatchback");
   ASSERT_EQ(cars.size(), 2u);
   EXPECT_EQ(cars[0].pace, 0.9);
   EXPECT_EQ(cars[0].spawn_point, 3);
@@ -226,10 +226,10 @@ TEST(RaceCars, NamesOrCarsReadAndCheckedAsAScenariosAre) {
   EXPECT_EQ(cars[1].model, "sedan");
   EXPECT_EQ(cars[1].max_speed, 15.0);
   EXPECT_FALSE(cars[1].driven);
-  EXPECT_TRUE(stack::readCars(YAML::Load("[]"), "vehicles", "p", shipped()).empty()) << "roar_sim with no car";
+  EXPECT_TRUE(scenario::readCars(YAML::Load("[]"), "vehicles", "p", shipped()).empty()) << "roar_sim with no car";
   auto error = [](const std::string& yaml) {
     return test::errorOf(
-        [&] { stack::readCars(YAML::Load(yaml), "vehicles", "parameter /planner/vehicles", shipped()); });
+        [&] { scenario::readCars(YAML::Load(yaml), "vehicles", "parameter /planner/vehicles", shipped()); });
   };
   EXPECT_EQ(error("[{name: ego, modle: sedan}]")
                 .rfind("parameter /planner/vehicles: vehicles[0].modle: is not a known key (did you mean 'model'?)", 0),

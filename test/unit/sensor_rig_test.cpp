@@ -48,7 +48,7 @@ struct Counter : sensors::SensorSink {
 TEST(SensorRig, EverySensorReportsAtItsRateAndCamerasShareACast) {
   const auto track = test::stadiumTrack();
   sim::World world(track, {});
-  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
+  world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(track.poseAt(100)));
   sensors::RayScene scene(track);
   const int id = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
   auto specs = sensors::readSensorSet(test::sourceDir() + "/config/sensors/default.yaml");
@@ -172,8 +172,8 @@ TEST(SensorRig, TimingChangesAreRefusedWhenASensorCannotKeepItsRate) {
 TEST(SensorRig, OneVectorSensorsAndTheOccupancyMapReport) {
   const auto track = test::stadiumTrack();
   sim::World world(track, {});
-  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
-  world.spawnVehicle("rival", test::sedan(), sim::poseOnTrack(track.poseAt(110)));
+  world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(track.poseAt(100)));
+  world.spawnVehicle("rival", test::sedan(), track::poseOnTrack(track.poseAt(110)));
   sensors::RayScene scene(track);
   const int ego = scene.addVehicle(test::sedanLooks(), {1, 0, 0});
   const int rival = scene.addVehicle(test::sedanLooks(), {0, 0, 1});
@@ -296,7 +296,7 @@ TEST(SensorRig, EveryNumberOfEverySensorAtEveryExtremeIsRefusedByNameOrReadsFini
           }
           ++loaded;
           sim::World world(track, {});
-          world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.poseAt(100)));
+          world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(track.poseAt(100)));
           vehicle::VehicleControl go;
           go.throttle = 1.0;
           go.steer = 0.2;

@@ -4,8 +4,9 @@
 
 #include <cmath>
 
+#include "roar/control/tracker_sizing.h"
+#include "roar/harness/time_trial.h"
 #include "roar/sim/world.h"
-#include "roar/stack/time_trial.h"
 #include "roar/track/map_folder.h"
 #include "test_support.h"
 
@@ -35,9 +36,9 @@ struct Tracking {
 };
 
 // Drives the sedan on open ground from `start` for `seconds`, measuring the error after `settle` seconds.
-Tracking drive(const planning::Trajectory& trajectory, const sim::Pose& start, double seconds, double settle) {
+Tracking drive(const planning::Trajectory& trajectory, const track::Pose& start, double seconds, double settle) {
   const auto car = test::sedan();
-  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  control::TrajectoryTracker tracker(control::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
   tracker.setTrajectory(trajectory);
   sim::World world(test::openGround(), {});
   world.spawnVehicle("ego", car, start);
@@ -62,7 +63,7 @@ TEST(TrajectoryTracker, HoldsAStraightLineFromAnOffsetStart) {
   const auto line = constantSpeed(2000.0, 25.0, false, [](double s, planning::TrajectoryPoint* p) {
     p->position = {s - 100.0, 0.0};
   });
-  sim::Pose start;
+  track::Pose start;
   start.position = Eigen::Vector3d(-95.0, 1.5, 0.0);  // 1.5 m left of the line
   const auto r = drive(line, start, 30.0, 12.0);
   EXPECT_LT(r.max_error_after_settling, 0.1);
@@ -84,7 +85,7 @@ TEST(TrajectoryTracker, HoldsAConstantRadiusCircle) {
 
 TEST(TrajectoryTracker, BrakesWithoutATrajectoryAndKeepsTheOldOneOnBadInput) {
   const auto car = test::sedan();
-  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  control::TrajectoryTracker tracker(control::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
   const auto none = tracker.update({{0, 0}, 0, 10.0, 0});
   EXPECT_EQ(none.brake, 1.0);
   EXPECT_EQ(none.throttle, 0.0);
@@ -106,7 +107,7 @@ TEST(TrajectoryTracker, BrakesWithoutATrajectoryAndKeepsTheOldOneOnBadInput) {
 // A trajectory somewhere else (a window of the map before a switch) is not steered at: the car brakes.
 TEST(TrajectoryTracker, BrakesRatherThanSteerAtATrajectoryFarFromTheCar) {
   const auto car = test::sedan();
-  control::TrajectoryTracker tracker(stack::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
+  control::TrajectoryTracker tracker(control::trackerFor(car), planning::vehicleLimits(car, 1.0, 1.0));
   tracker.setTrajectory(constantSpeed(200.0, 20.0, false, [](double s, planning::TrajectoryPoint* p) {
     p->position = {s, 0.0};
   }));
@@ -142,7 +143,7 @@ TEST(TrajectoryTracker, RecordedPedalsAreFedForward) {
     return Eigen::Vector2d(radius * std::sin(s / radius), radius * (1 - std::cos(s / radius)));
   };
   const auto car = test::sedan();
-  const control::TrackerOptions options = stack::trackerFor(car);
+  const control::TrackerOptions options = control::trackerFor(car);
   // A tracker of its own for each place: the car jumps between them.
   auto control = [&](double s, double speed) {
     control::TrajectoryTracker tracker(options, planning::vehicleLimits(car, 1.0, 1.0));
@@ -174,10 +175,10 @@ TEST(TimeTrial, EveryShippedCircuitIsRacedCleanCloseToThePromisedLap) {
     for (const auto& name : maps) {
       SCOPED_TRACE(name + (stanley ? " with Stanley" : " with pure pursuit"));
       const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
-      stack::TimeTrialOptions options;
+      harness::TimeTrialOptions options;
       options.laps = 1;
       options.tracker.lateral = lateral;
-      const auto r = stack::runTimeTrial(track, test::sedan(), options);
+      const auto r = harness::runTimeTrial(track, test::sedan(), options);
       ASSERT_TRUE(r.finished);
       ASSERT_EQ(r.lap_times.size(), 1u);
       EXPECT_EQ(r.barrier_contacts, 0);
@@ -203,9 +204,9 @@ TEST(TimeTrial, EveryBlueprintRacesEveryShippedCircuitClean) {
     for (const auto& name : maps) {
       SCOPED_TRACE(model + " on " + name);
       const auto track = track::loadMapFolder(test::sourceDir() + "/maps/" + name);
-      stack::TimeTrialOptions options;
+      harness::TimeTrialOptions options;
       options.laps = 1;
-      const auto r = stack::runTimeTrial(track, car, options);
+      const auto r = harness::runTimeTrial(track, car, options);
       ASSERT_TRUE(r.finished);
       EXPECT_EQ(r.barrier_contacts, 0);
       EXPECT_LT(r.worst_offroad, 0.0) << "base_link stays on the road";

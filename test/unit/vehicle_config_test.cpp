@@ -213,7 +213,7 @@ TEST(VehicleConfig, EveryNumericFieldAtEveryExtremeIsRefusedByNameOrDrivesFinite
         continue;
       }
       sim::World world(track, {});
-      sim::Pose pose;
+      track::Pose pose;
       pose.position = {0, 0, 0};
       world.spawnVehicle("ego", params, pose);
       bool finite = true;

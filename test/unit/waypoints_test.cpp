@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "roar/harness/time_trial.h"
 #include "roar/sim/world.h"
-#include "roar/stack/time_trial.h"
 #include "roar/track/circuit_builder.h"
 #include "roar/track/map_folder.h"
 #include "roar/track/npz.h"
@@ -212,7 +212,7 @@ TEST(Waypoints, RoarPyMonzaImportsAsARaceableMap) {
   const auto monza = track::trackFromWaypoints(waypoints, info);
   EXPECT_NEAR(monza.length(), 5600, 300);
   track::checkEdges(monza, dir + "/Monza_waypoints.npz", {});
-  const auto race = stack::runTimeTrial(monza, test::sedan(), {});
+  const auto race = harness::runTimeTrial(monza, test::sedan(), {});
   ASSERT_TRUE(race.finished);
   EXPECT_EQ(race.barrier_contacts, 0);
   EXPECT_LT(race.worst_offroad, 0.0);
@@ -264,7 +264,7 @@ TEST(Waypoints, ElevationAndBankingSurviveCsvAndNpz) {
   // A car set down on the raised, banked road rests on it.
   sim::World world(track, {});
   const auto pose = track.gridSpawnPoints(1)[0];
-  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(pose));
+  world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(pose));
   for (int i = 0; i < 40; ++i) world.step();
   const auto s = world.vehicleState("ego");
   const auto pr = track.project(s.pose.position.head<2>());

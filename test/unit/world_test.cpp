@@ -5,9 +5,9 @@
 #include "test_support.h"
 
 using namespace roar;
-using sim::Pose;
 using sim::World;
 using test::errorOf;
+using track::Pose;
 
 namespace {
 
@@ -177,13 +177,13 @@ TEST(World, AMovedCarKeepsItsSlipYawRateAndInnerStates) {
   for (int i = 0; i < 20; ++i) world.step();
   const auto before = world.vehicleState("ego");
   ASSERT_GT(before.body_angular_velocity.z(), 0.2) << "turning left";
-  const double yaw = sim::yawOf(before.pose.orientation) + M_PI / 2;
+  const double yaw = track::yawOf(before.pose.orientation) + M_PI / 2;
   world.moveVehicle("ego", {50.0, 80.0}, yaw, 0.5 * before.speed);
   const auto after = world.vehicleState("ego");
   EXPECT_NEAR(after.pose.position.x(), 50.0, 1e-6);
   EXPECT_NEAR(after.pose.position.y(), 80.0, 1e-6);
   EXPECT_NEAR(after.pose.position.z(), before.pose.position.z(), 1e-6) << "its height kept";
-  EXPECT_NEAR(sim::yawOf(after.pose.orientation), std::remainder(yaw, 2 * M_PI), 1e-6);
+  EXPECT_NEAR(track::yawOf(after.pose.orientation), std::remainder(yaw, 2 * M_PI), 1e-6);
   EXPECT_NEAR(after.speed, 0.5 * before.speed, 1e-6);
   EXPECT_NEAR(after.body_linear_velocity.y() / after.body_linear_velocity.x(),
               before.body_linear_velocity.y() / before.body_linear_velocity.x(), 1e-6)
@@ -221,7 +221,7 @@ TEST(World, ACarWhoseDriverFallsSilentStopsOnTheRoad) {
   o.control_timeout = 0.5;
   World world(track, o);
   const auto start = track.poseAt(0.0);
-  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(start));
+  world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(start));
   vehicle::VehicleControl cruise;
   cruise.throttle = 0.3;
   world.setControl("ego", cruise);
@@ -318,7 +318,7 @@ TEST(World, BarriersHoldACarAtAnySpeed) {
         World world(track, {});
         track::TrackPose start = on;
         start.heading += angle_deg * M_PI / 180.0;  // towards the left barrier
-        world.spawnVehicle("ego", test::vehicle(model), sim::poseOnTrack(start));
+        world.spawnVehicle("ego", test::vehicle(model), track::poseOnTrack(start));
         const Eigen::Vector2d forward(std::cos(start.heading), std::sin(start.heading));
         world.setVehicleVelocity("ego", Eigen::Vector3d(forward.x(), forward.y(), 0) * speed, Eigen::Vector3d::Zero());
         vehicle::VehicleControl go;
@@ -344,7 +344,7 @@ TEST(World, BarriersHoldACarAtAnySpeed) {
 TEST(World, TheBarrierHoldsACarDrivenStraightOffTheMainStraight) {
   const auto track = track::loadMapFolder(test::sourceDir() + "/maps/roar_ring");
   World world(track, {});
-  world.spawnVehicle("ego", test::sedan(), sim::poseOnTrack(track.gridSpawnPoints(20).at(0)));
+  world.spawnVehicle("ego", test::sedan(), track::poseOnTrack(track.gridSpawnPoints(20).at(0)));
   vehicle::VehicleControl go;
   go.throttle = 1.0;
   double widest = 0.0, near = track.info().start_finish_s;
@@ -370,7 +370,7 @@ TEST(World, ACarThrownClearStaysInTheWorld) {
   }
   for (const char* model : {"sedan", "carla_model3"}) {
     World world(track, {});
-    world.spawnVehicle("ego", test::vehicle(model), sim::poseOnTrack(track.gridSpawnPoints(20).at(0)));
+    world.spawnVehicle("ego", test::vehicle(model), track::poseOnTrack(track.gridSpawnPoints(20).at(0)));
     vehicle::VehicleControl go;
     go.throttle = 1.0;
     double farthest = 0.0;
@@ -418,7 +418,7 @@ TEST(World, TheRunOffCarriesAWheelOverTheEdgeWithoutACollision) {
   const Eigen::Vector2d left(-std::sin(pose.heading), std::cos(pose.heading));
   pose.position -= left * (pose.width_right + 1.0 - half_track);  // the right wheels 1 m beyond the edge
   World world(track, {});
-  world.spawnVehicle("ego", car, sim::poseOnTrack(pose));
+  world.spawnVehicle("ego", car, track::poseOnTrack(pose));
   vehicle::VehicleControl hold;
   hold.throttle = 0.6;
   world.setControl("ego", hold);  // before the velocity: a car set moving has its pedals settled at its control
@@ -430,7 +430,7 @@ TEST(World, TheRunOffCarriesAWheelOverTheEdgeWithoutACollision) {
   for (int i = 0; i < 40; ++i) {  // 2 s, 83 m, held at that offset from the centre line
     const auto now = world.vehicleState("ego");
     const auto where = track.projectNear(now.pose.position.head<2>(), s0, 200.0);
-    const double heading_error = track::wrapAngle(sim::yawOf(now.pose.orientation) - where.heading);
+    const double heading_error = track::wrapAngle(track::yawOf(now.pose.orientation) - where.heading);
     hold.steer = std::clamp(0.02 * (lane - where.lateral) - 0.3 * heading_error, -0.1, 0.1);
     world.setControl("ego", hold);
     world.step();

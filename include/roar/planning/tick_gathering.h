@@ -1,6 +1,6 @@
 #pragma once
 // Which cars' odometry the planner node plans a tick from. Every car's window of tick t is planned from
-// every car's place at t, as stack::runRace plans (locate them all, then plan each in the race's order):
+// every car's place at t, as harness::runRace plans (locate them all, then plan each in the race's order):
 // planned as each message came, a car's window saw the others at t or t - 1 by which message the node
 // happened to take first, and two lockstep runs of one race differed (lap times by up to 23 ms). A tick is
 // planned once every car expected has sent its odometry of it, once a later tick begins (a car that

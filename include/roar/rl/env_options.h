@@ -23,9 +23,9 @@
 #include <string>
 
 #include "roar/rl/action.h"
-#include "roar/rl/episode.h"
-#include "roar/rl/observation.h"
-#include "roar/sim/world.h"
+#include "roar/rl/episode_options.h"
+#include "roar/rl/observation_options.h"
+#include "roar/sim/world_options.h"
 
 namespace roar::rl {
 

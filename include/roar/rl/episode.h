@@ -9,33 +9,12 @@
 #include <vector>
 
 #include "roar/race/lap_timer.h"
+#include "roar/rl/episode_options.h"
 #include "roar/rl/track_progress.h"
 #include "roar/sim/world.h"
 #include "roar/track/track.h"
 
 namespace roar::rl {
-
-struct RewardOptions {
-  double progress_weight = 20.0;   // per metre forwards along the centre line
-  double centre_weight = 0.2;      // 1/m: forward progress is divided by 1 + centre_weight * |lateral|
-  double backwards_weight = 20.0;  // per metre backwards (a negative reward)
-  double step_penalty = 0.0;       // every step
-  double collision_penalty_scale = 1.0;
-  double collision_penalty_cap = 100.0;  // the most one collision costs
-  double off_track_penalty = 10.0;
-};
-
-struct TerminationOptions {
-  double collision_threshold = 30.0;  // N s of impulse in one step (ROAR_PY_RL's 30) that ends the episode; 0: never
-  double off_track_margin = 1.0;      // m of base_link beyond the road edge that ends it (all four wheels are
-                                      // off at 0.93 m for the sedan); negative: never
-  double time_limit = 120.0;          // s of simulated time, then truncated; 0: none
-  double stall_time = 10.0;           // s without 5 m of progress, then truncated; 0: never
-  double max_backwards = 50.0;        // m driven backwards from the start that end it (wrong way); 0: never
-};
-
-void validate(const RewardOptions& options);
-void validate(const TerminationOptions& options);
 
 struct StepInfo {
   double progress = 0.0;           // m along the centre line since the episode began (negative: backwards)
@@ -67,9 +46,9 @@ class Episode {
   Episode(const track::Track& track, const RewardOptions& reward, const TerminationOptions& termination);
 
   // The episode's first observation is of `state` at `time` (s).
-  StepInfo begin(const sim::VehicleState& state, double time);
+  StepInfo begin(const vehicle::VehicleState& state, double time);
   // After a step: the car's state, the contacts of the step and the time at its end.
-  StepOutcome step(const sim::VehicleState& state, const std::vector<sim::Contact>& contacts, double time);
+  StepOutcome step(const vehicle::VehicleState& state, const std::vector<sim::Contact>& contacts, double time);
 
   const track::Projection& where() const { return progress_.projection(); }
   const StepInfo& info() const { return info_; }

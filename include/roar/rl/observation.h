@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "roar/rl/observation_options.h"
 #include "roar/rl/space.h"
 #include "roar/sensors/sensor_spec.h"
 #include "roar/sim/world.h"
@@ -25,40 +26,6 @@ class CameraRenderer;
 }  // namespace roar::sensors
 
 namespace roar::rl {
-
-struct LidarObservation {
-  int beams = 0;            // 0: no lidar key
-  double max_range = 50.0;  // m: a beam that hits nothing nearer reads this
-  double fov_deg = 180.0;   // horizontal, centred straight ahead
-  double height = 0.6;      // m above base_link
-};
-
-struct CameraObservation {
-  int width = 0, height = 0;  // 0: no camera keys
-  double fov_deg = 90.0;      // horizontal
-  bool rgb = true;
-  bool depth = false;
-  double max_depth = 100.0;  // m: farther (and sky) reads this
-  sensors::Mount mount = defaultMount();
-  static sensors::Mount defaultMount();  // the default sensor set's front camera: 0.6 m ahead, 1.55 m up, 5 deg down
-};
-
-struct ObservationOptions {
-  bool speed = true;
-  bool velocity = true;
-  bool angular_velocity = true;
-  bool imu = false;
-  std::vector<double> waypoint_distances = {5.0, 10.0, 20.0, 40.0, 60.0, 80.0};  // m; empty: no waypoints
-  LidarObservation lidar;
-  CameraObservation camera;
-};
-
-// Throws std::invalid_argument naming the option that cannot work (nothing observed, a negative distance,
-// a camera of zero width, ...).
-void validate(const ObservationOptions& options);
-
-// The key of the waypoint d metres ahead: "waypoint_10", "waypoint_2.5".
-std::string waypointKey(double distance);
 
 // The Dict these options observe (validated first).
 Space observationSpace(const ObservationOptions& options);
@@ -76,11 +43,11 @@ class ObservationBuilder {
 
   // The observation of a car in `state`, `where` its projection on the track (TrackProgress). `scene` (in
   // which the car is `own_vehicle`, -1 when it is not in it) is used when needsScene().
-  Value observe(const sim::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
+  Value observe(const vehicle::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
                 int own_vehicle);
   // The same into `obs`, reusing its memory when it holds an earlier observation of this builder: a step
   // then allocates nothing.
-  void observeInto(const sim::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
+  void observeInto(const vehicle::VehicleState& state, const track::Projection& where, const sensors::RayScene* scene,
                    int own_vehicle, Value* obs);
 
  private:

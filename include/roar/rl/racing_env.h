@@ -33,7 +33,7 @@ struct StepResult {
 // Where a new episode starts: the pole position (SpawnMode::kGrid) or anywhere round the lap drawn from
 // `rng` (up to spawn_lateral either side of the centre line, the car kept on the road), facing the way of
 // the track.
-sim::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng);
+track::Pose drawSpawnPose(const track::Track& track, const EnvOptions& options, std::mt19937_64& rng);
 
 class RacingEnv {
  public:

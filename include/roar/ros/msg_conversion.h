@@ -4,40 +4,40 @@
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
-#include <roar_ros/CollisionEvent.h>
 #include <roar_ros/VehicleControl.h>
 #include <roar_ros/VehicleStatus.h>
 #include <ros/time.h>
 #include <sensor_msgs/JointState.h>
 
-#include "roar/sim/world.h"
+#include "roar/track/pose.h"
+#include "roar/vehicle/vehicle_params.h"
+#include "roar/vehicle/vehicle_state.h"
 
 namespace roar::ros_bridge {
 
 vehicle::VehicleControl fromMessage(const roar_ros::VehicleControl& msg);
 roar_ros::VehicleControl toMessage(const vehicle::VehicleControl& control);
 
-sim::Pose fromMessage(const geometry_msgs::Pose& msg);
-geometry_msgs::Pose toMessage(const sim::Pose& pose);
+track::Pose fromMessage(const geometry_msgs::Pose& msg);
+geometry_msgs::Pose toMessage(const track::Pose& pose);
 
 // Simulated seconds since the start <-> ROS time (the simulator's /clock starts at zero).
 ros::Time toRosTime(double seconds);
 
 // Pose of base_link in `map_frame`; twist in base_link (nav_msgs/Odometry convention).
-nav_msgs::Odometry toOdometry(const sim::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
+nav_msgs::Odometry toOdometry(const vehicle::VehicleState& state, const ros::Time& stamp, const std::string& map_frame,
                               const std::string& base_frame);
 // What odometry tells of a car's state: pose, body and map-frame velocities, speed (not its wheels,
 // drivetrain or acceleration).
-sim::VehicleState fromOdometry(const nav_msgs::Odometry& odom);
-roar_ros::VehicleStatus toStatus(const sim::VehicleState& state, const ros::Time& stamp, const std::string& base_frame);
+vehicle::VehicleState fromOdometry(const nav_msgs::Odometry& odom);
+roar_ros::VehicleStatus toStatus(const vehicle::VehicleState& state, const ros::Time& stamp,
+                                 const std::string& base_frame);
 // The URDF's joints for robot_state_publisher: <wheel>_joint (rotation angle, rad; wheel_angles in the
 // order of params.wheels) and steer_<front wheel>_joint (steering angle).
-sensor_msgs::JointState toJointState(const sim::VehicleState& state, const vehicle::VehicleParams& params,
+sensor_msgs::JointState toJointState(const vehicle::VehicleState& state, const vehicle::VehicleParams& params,
                                      const std::array<double, 4>& wheel_angles, const ros::Time& stamp);
-geometry_msgs::TransformStamped toTransform(const sim::Pose& pose, const ros::Time& stamp, const std::string& parent,
+geometry_msgs::TransformStamped toTransform(const track::Pose& pose, const ros::Time& stamp, const std::string& parent,
                                             const std::string& child);
-roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
-                                          const std::string& map_frame);
 
 // Yaw (rad) of a quaternion message, for planar drivers.
 double yawOf(const geometry_msgs::Quaternion& q);

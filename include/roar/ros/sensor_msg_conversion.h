@@ -1,8 +1,9 @@
 #pragma once
-// Sensor readings (ROS-free core types) -> standard ROS messages.
+// Sensor readings and the simulator's contacts (ROS-free core types) -> standard ROS messages.
 #include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <geometry_msgs/Vector3Stamped.h>
+#include <roar_ros/CollisionEvent.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
@@ -14,6 +15,7 @@
 #include "roar/sensors/lidar.h"
 #include "roar/sensors/occupancy_map.h"
 #include "roar/sensors/radar.h"
+#include "roar/sim/world.h"
 
 namespace roar::ros_bridge {
 
@@ -43,5 +45,8 @@ Eigen::Vector3d fromMessage(const geometry_msgs::PointStamped& msg);
 // The occupancy map as a mono8 image, row 0 the farthest ahead.
 sensor_msgs::Image toImage(const sensors::OccupancyFrame& frame, const ros::Time& stamp, const std::string& frame_id);
 sensors::OccupancyFrame occupancyFromImage(const sensor_msgs::Image& image);  // throws for another encoding
+// A contact of the car's body as CARLA's collision sensor reports it.
+roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
+                                          const std::string& map_frame);
 
 }  // namespace roar::ros_bridge

@@ -6,7 +6,7 @@ namespace roar::sensors {
 
 // The sensors' view of a simulated car's motion. The acceleration is the centre of mass's over the last
 // physics substep; the difference to base_link's (a rotational term over half a metre) is neglected.
-inline BodyMotion motionOf(const sim::VehicleState& state) {
+inline BodyMotion motionOf(const vehicle::VehicleState& state) {
   BodyMotion m;
   m.pose.linear() = state.pose.orientation.toRotationMatrix();
   m.pose.translation() = state.pose.position;
@@ -16,7 +16,7 @@ inline BodyMotion motionOf(const sim::VehicleState& state) {
   return m;
 }
 
-inline Eigen::Isometry3d poseOf(const sim::VehicleState& state) {
+inline Eigen::Isometry3d poseOf(const vehicle::VehicleState& state) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = state.pose.orientation.toRotationMatrix();
   t.translation() = state.pose.position;

@@ -17,7 +17,7 @@ struct SafeStopOptions {
   double stopped_speed = 0.5;   // m/s below which the car is parked
 };
 
-vehicle::VehicleControl safeStopControl(const track::Track& track, const VehicleState& state,
+vehicle::VehicleControl safeStopControl(const track::Track& track, const vehicle::VehicleState& state,
                                         const vehicle::VehicleParams& params, const SafeStopOptions& options = {});
 
 }  // namespace roar::sim

@@ -11,60 +11,19 @@
 #include <string>
 #include <vector>
 
+#include "roar/sim/world_options.h"
+#include "roar/track/pose.h"
 #include "roar/track/track.h"
-#include "roar/vehicle/slipstream.h"
 #include "roar/vehicle/vehicle_control.h"
 #include "roar/vehicle/vehicle_params.h"
+#include "roar/vehicle/vehicle_state.h"
 
 namespace roar::sim {
-
-struct WorldOptions {
-  double control_dt = 0.05;               // s, one tick: controls are applied and states reported once per tick
-  double physics_dt = 0.005;              // s, Bullet substep; control_dt must be a whole multiple of it
-  double gravity = 9.81;                  // m/s^2
-  double control_timeout = 0.5;           // s of simulated time without a new control before the car brakes (0: never)
-  vehicle::SlipstreamOptions slipstream;  // less drag in another car's wake, from the cars' places at each tick's start
-};
-
-struct Pose {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
-};
 
 // How a car is put at a pose. kOnGround: at its x, y and yaw, set on the ground (z, roll and pitch from
 // it). kAsGiven: at the whole pose (never below the ground), as CARLA spawns and teleports actors: a car
 // above the road falls onto it (world_test SpawnedAsGivenAboveTheRoadFallsOntoIt).
 enum class Placement { kOnGround, kAsGiven };
-
-struct WheelState {
-  double angular_velocity = 0.0;  // rad/s about the axle, positive rolling forward
-  double steer_angle = 0.0;       // rad
-  double load = 0.0;              // N
-  double slip_ratio = 0.0;
-  double slip_angle = 0.0;   // rad
-  double compression = 0.0;  // m from static ride height, positive compressed
-  bool in_contact = false;
-  bool on_road = false;
-};
-
-struct VehicleState {
-  Pose pose;                              // base_link in the map frame
-  Eigen::Vector3d linear_velocity;        // m/s of base_link, map frame
-  Eigen::Vector3d angular_velocity;       // rad/s, map frame
-  Eigen::Vector3d body_linear_velocity;   // m/s, base_link frame
-  Eigen::Vector3d body_angular_velocity;  // rad/s, base_link frame
-  Eigen::Vector3d body_acceleration;      // m/s^2 of the centre of mass over the last physics substep,
-                                          // base_link frame (gravity not included)
-  double speed = 0.0;
-  double forward_speed = 0.0;
-  int gear = 0;
-  double engine_rpm = 0.0;
-  double steering_angle = 0.0;  // rad, mean of the front wheels
-  std::array<WheelState, 4> wheels;
-  bool on_track = false;    // every wheel on the road surface
-  double drag_share = 1.0;  // of the free-air drag, this tick (below 1 in another car's slipstream)
-  vehicle::VehicleControl applied_control;
-};
 
 // A collision of a vehicle's body during the last tick, summed per other body: other cars and the barriers
 // (the world's edge among them), not the road or the run-off the car drives on, as CARLA's collision sensor
@@ -100,10 +59,10 @@ class World {
 
   // Places the car at rest at the pose (see Placement). Throws SpawnError with the reason: a taken name,
   // overlap with another car, no ground.
-  void spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const Pose& pose,
+  void spawnVehicle(const std::string& name, const vehicle::VehicleParams& params, const track::Pose& pose,
                     Placement placement = Placement::kOnGround);
   void destroyVehicle(const std::string& name);  // throws SpawnError for an unknown name
-  void resetVehicle(const std::string& name, const Pose& pose, Placement placement = Placement::kOnGround);
+  void resetVehicle(const std::string& name, const track::Pose& pose, Placement placement = Placement::kOnGround);
   // Sets base_link's velocities (m/s and rad/s, map frame), the wheels rolling with the road; throws
   // std::invalid_argument for velocities that are not finite or beyond 150 m/s and 20 rad/s.
   void setVehicleVelocity(const std::string& name, const Eigen::Vector3d& linear, const Eigen::Vector3d& angular);
@@ -130,18 +89,12 @@ class World {
   // when control_dt is not a whole multiple of physics_dt.
   void setTiming(double control_dt, double physics_dt);
 
-  VehicleState vehicleState(const std::string& name) const;
+  vehicle::VehicleState vehicleState(const std::string& name) const;
   const std::vector<Contact>& contacts(const std::string& name) const;  // during the last tick
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// A spawn pose on the track surface at a track pose (heading along the driving direction).
-Pose poseOnTrack(const track::TrackPose& track_pose);
-
-// Heading (rad, about z, from x towards y) of an orientation.
-double yawOf(const Eigen::Quaterniond& q);
 
 }  // namespace roar::sim

@@ -1,4 +1,4 @@
-#include "roar/stack/race.h"
+#include "roar/harness/race.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,10 +7,12 @@
 #include <set>
 #include <stdexcept>
 
+#include "roar/control/tracker_sizing.h"
+#include "roar/harness/time_trial.h"
+#include "roar/planning/field_planner_sizing.h"
 #include "roar/sim/world.h"
-#include "roar/stack/time_trial.h"
 
-namespace roar::stack {
+namespace roar::harness {
 
 namespace {
 
@@ -88,21 +90,12 @@ int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& orde
   return out;
 }
 
-planning::FieldPlanner fieldPlannerFor(const track::Track& track, const vehicle::VehicleParams& vehicle,
-                                       double grip_use, planning::PlannerOptions planner,
-                                       planning::FieldOptions field) {
-  const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, grip_use);
-  planner.line.vehicle_width = vehicle.chassis.box_size.y();
-  field.overtake.car.length = vehicle.chassis.box_size.x();
-  field.overtake.car.width = vehicle.chassis.box_size.y();
-  return planning::FieldPlanner(track, planning::planRacingTrajectory(track, limits, planner), limits, field);
-}
-
 RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options) {
   checkCars(cars);
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
-  planning::FieldPlanner field = fieldPlannerFor(track, vehicle, options.grip_use, options.planner, options.field);
+  planning::FieldPlanner field =
+      planning::fieldPlannerFor(track, vehicle, options.grip_use, options.planner, options.field);
   const planning::Trajectory& line = field.line();
 
   sim::World world(track, {});
@@ -111,13 +104,13 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
   std::vector<std::string> names;
   double slowest_lap = line.lap_time;
   for (const auto& c : cars) {
-    control::TrackerOptions tracker_options = trackerFor(vehicle, options.tracker);
+    control::TrackerOptions tracker_options = control::trackerFor(vehicle, options.tracker);
     if (c.max_speed > 0) tracker_options.max_speed = c.max_speed;
     entrants.push_back({c, control::TrajectoryTracker(tracker_options, limits), {}, -1, "", 0.0, {}});
     entrants.back().result.name = c.name;
     entrants.back().result.pace = c.pace;
     field.setPace(c.name, c.pace);
-    world.spawnVehicle(c.name, vehicle, sim::poseOnTrack(grid.at(static_cast<std::size_t>(c.grid_slot))));
+    world.spawnVehicle(c.name, vehicle, track::poseOnTrack(grid.at(static_cast<std::size_t>(c.grid_slot))));
     names.push_back(c.name);
     slowest_lap = std::max({slowest_lap, line.lap_time / c.pace, c.max_speed > 0 ? line.length / c.max_speed : 0.0});
   }
@@ -149,9 +142,9 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
   };
 
   while (world.time() < time_limit && !control.finished()) {
-    std::map<std::string, sim::VehicleState> states;
+    std::map<std::string, vehicle::VehicleState> states;
     for (auto& e : entrants) {
-      const sim::VehicleState state = world.vehicleState(e.spec.name);
+      const vehicle::VehicleState state = world.vehicleState(e.spec.name);
       field.locate(e.spec.name, state.pose.position, state.forward_speed, world.time(),
                    Eigen::Vector2d(state.linear_velocity.head<2>()));
       states[e.spec.name] = state;
@@ -167,7 +160,7 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
     };
     for (auto& e : entrants) {
       const std::string& name = e.spec.name;
-      const sim::VehicleState& state = states[name];
+      const vehicle::VehicleState& state = states[name];
       e.tracker.setTrajectory(field.window(name));
       const planning::RaceDecision d = field.decision(name);
       // The bookkeeping of passes: when one began, whether it was completed or aborted.
@@ -229,14 +222,14 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
       const auto bin = static_cast<std::size_t>(std::max(0.0, s_line) / options.speed_bin);
       if (bin < speeds.size()) speeds[bin] = state.forward_speed;
 
-      world.setControl(name, e.tracker.update(trackerInputOf(state)));
+      world.setControl(name, e.tracker.update(control::trackerInputOf(state)));
     }
     world.step();
     const double time = world.time();
     for (auto& e : entrants) {
-      const sim::VehicleState state = world.vehicleState(e.spec.name);
+      const vehicle::VehicleState state = world.vehicleState(e.spec.name);
       control.updatePosition(e.spec.name, time, state.pose.position);
-      control.updateMotion(e.spec.name, state.pose.position.head<2>(), sim::yawOf(state.pose.orientation),
+      control.updateMotion(e.spec.name, state.pose.position.head<2>(), track::yawOf(state.pose.orientation),
                            state.linear_velocity.head<2>());
     }
     for (auto& e : entrants) {
@@ -273,4 +266,4 @@ RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehi
   return result;
 }
 
-}  // namespace roar::stack
+}  // namespace roar::harness

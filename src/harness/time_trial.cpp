@@ -1,36 +1,16 @@
-#include "roar/stack/time_trial.h"
+#include "roar/harness/time_trial.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "roar/control/tracker_sizing.h"
 #include "roar/race/lap_timer.h"
 #include "roar/sim/world.h"
 
-namespace roar::stack {
+namespace roar::harness {
 
 double TimeTrialResult::best_lap() const {
   return lap_times.empty() ? 0.0 : *std::min_element(lap_times.begin(), lap_times.end());
-}
-
-control::TrackerOptions trackerFor(const vehicle::VehicleParams& vehicle, control::TrackerOptions base) {
-  base.wheelbase = vehicle.wheelbase();
-  base.max_steer_angle = vehicle.steering.max_angle;
-  base.steering_curve = vehicle.steering.speed_curve;
-  base.front_axle = vehicle.wheels[0].position.x();
-  // The speed profile is read at least as far ahead as the pedals take to act (CARLA's Model 3: 0.28 s for
-  // its torque, 0.26 s to build its brakes): read later, a car brakes late and runs wide.
-  base.speed_preview = std::max(base.speed_preview, vehicle.pedalResponseTime());
-  return base;
-}
-
-control::TrackerInput trackerInputOf(const sim::VehicleState& state) {
-  const Eigen::Vector3d forward = state.pose.orientation * Eigen::Vector3d::UnitX();
-  control::TrackerInput in;
-  in.position = state.pose.position.head<2>();
-  in.yaw = std::atan2(forward.y(), forward.x());
-  in.speed = state.forward_speed;
-  in.yaw_rate = state.body_angular_velocity.z();
-  return in;
 }
 
 TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehicleParams& vehicle,
@@ -42,7 +22,7 @@ TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehiclePa
 TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::VehicleParams& vehicle,
                                 planning::Trajectory trajectory, const TimeTrialOptions& options) {
   const planning::VehicleLimits limits = planning::vehicleLimits(vehicle, track.info().friction, options.grip_use);
-  control::TrajectoryTracker tracker(trackerFor(vehicle, options.tracker), limits);
+  control::TrajectoryTracker tracker(control::trackerFor(vehicle, options.tracker), limits);
   tracker.setTrajectory(std::move(trajectory));
 
   TimeTrialResult result;
@@ -51,7 +31,7 @@ TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::Vehicl
       options.time_limit > 0 ? options.time_limit : 3.0 * result.promised_lap * (options.laps + 1) + 60.0;
 
   sim::World world(track, {});
-  world.spawnVehicle("ego", vehicle, sim::poseOnTrack(track.gridSpawnPoints(1)[0]));
+  world.spawnVehicle("ego", vehicle, track::poseOnTrack(track.gridSpawnPoints(1)[0]));
   race::LapTimer timer(track);
   double squared_error = 0.0;
   long samples = 0;
@@ -63,7 +43,7 @@ TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::Vehicl
     return timer.lapsCompleted() >= runs && (track.closed() || world.vehicleState("ego").speed < 0.1);
   };
   while (world.time() < time_limit && !done()) {
-    world.setControl("ego", tracker.update(trackerInputOf(world.vehicleState("ego"))));
+    world.setControl("ego", tracker.update(control::trackerInputOf(world.vehicleState("ego"))));
     world.step();
     if (options.on_tick) options.on_tick(world.time(), world.vehicleState("ego"));
     const bool timed = track.closed() ? timer.lapsCompleted() >= 1 : timer.started() && timer.lapsCompleted() < 1;
@@ -96,4 +76,4 @@ TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::Vehicl
   return result;
 }
 
-}  // namespace roar::stack
+}  // namespace roar::harness

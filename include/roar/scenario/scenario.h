@@ -13,7 +13,7 @@ namespace YAML {
 class Node;
 }
 
-namespace roar::stack {
+namespace roar::scenario {
 
 struct ScenarioCar {
   std::string name;
@@ -66,4 +66,4 @@ std::string resolveScenario(const std::string& name_or_path, const std::string& 
 // An RL environment file: a path, or a name in `rl_dir` (without .yaml). Throws ScenarioError.
 std::string resolveAgentEnv(const std::string& name_or_path, const std::string& rl_dir);
 
-}  // namespace roar::stack
+}  // namespace roar::scenario

@@ -1,4 +1,4 @@
-#include "roar/stack/scenario.h"
+#include "roar/scenario/scenario.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -12,7 +12,7 @@
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
-namespace roar::stack {
+namespace roar::scenario {
 
 ScenarioContext contextOf(const config::PackageLayout& layout) {
   ScenarioContext context;
@@ -164,4 +164,4 @@ std::string resolveAgentEnv(const std::string& name_or_path, const std::string& 
   return file;
 }
 
-}  // namespace roar::stack
+}  // namespace roar::scenario

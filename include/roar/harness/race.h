@@ -14,7 +14,7 @@
 #include "roar/track/track.h"
 #include "roar/vehicle/vehicle_params.h"
 
-namespace roar::stack {
+namespace roar::harness {
 
 struct RaceCar {
   std::string name;
@@ -65,7 +65,7 @@ struct PassAttempt {
   double end_time = 0.0;     // s it was complete or aborted
   bool completed = false;
   // Line s (m) where the passer first drew level with the car it passes (its place on the line at or past
-  // the other's); NaN if it never did. stack::passPlace tells what kind of place that is.
+  // the other's); NaN if it never did. harness::passPlace tells what kind of place that is.
   double level_s = std::numeric_limits<double>::quiet_NaN();
   // The passer's speed during the pass, sampled each tick.
   std::vector<SpeedSample> samples;
@@ -107,12 +107,6 @@ struct RaceResult {
   const RaceCarResult& car(const std::string& name) const;
 };
 
-// The field planner for cars of one model: the racing line and its profile from the model's limits
-// (`grip_use` of the road's friction), the line's margins and the overtaking geometry sized to its body.
-// The planner node builds one per model in the race; runRace, one for its cars' model.
-planning::FieldPlanner fieldPlannerFor(const track::Track& track, const vehicle::VehicleParams& vehicle,
-                                       double grip_use, planning::PlannerOptions planner, planning::FieldOptions field);
-
 // Throws std::invalid_argument for no cars, repeated names or grid slots, or a pace outside (0, 1].
 RaceResult runRace(const track::Track& track, const vehicle::VehicleParams& vehicle, const std::vector<RaceCar>& cars,
                    const RaceOptions& options);
@@ -131,4 +125,4 @@ double lapTimeLoss(const RaceCarResult& in_traffic, const RaceCarResult& alone);
 // way round. A car of the order not in the race is refused (RaceResult::car's std::out_of_range naming it).
 int pairsOutOfOrder(const RaceResult& race, const std::vector<std::string>& order);
 
-}  // namespace roar::stack
+}  // namespace roar::harness

@@ -1,9 +1,9 @@
-#include "roar/stack/pass_place.h"
+#include "roar/harness/pass_place.h"
 
 #include <cmath>
 #include <stdexcept>
 
-namespace roar::stack {
+namespace roar::harness {
 
 PassWhere passPlace(const planning::Trajectory& line, double s, int side, const PassPlaceOptions& options) {
   if (side != 1 && side != -1) throw std::invalid_argument("passPlace: side must be +1 (left) or -1 (right)");
@@ -39,4 +39,4 @@ std::string describe(PassPlace place) {
   return "?";
 }
 
-}  // namespace roar::stack
+}  // namespace roar::harness

@@ -6,7 +6,7 @@
 
 #include "roar/planning/trajectory.h"
 
-namespace roar::stack {
+namespace roar::harness {
 
 enum class PassPlace { kStraight, kBrakingZone, kCorner };
 
@@ -29,4 +29,4 @@ PassWhere passPlace(const planning::Trajectory& line, double s, int side, const 
 
 std::string describe(PassPlace place);  // "straight", "braking zone", "corner"
 
-}  // namespace roar::stack
+}  // namespace roar::harness

@@ -11,7 +11,7 @@
 #include "roar/track/track.h"
 #include "roar/vehicle/vehicle_params.h"
 
-namespace roar::stack {
+namespace roar::harness {
 
 struct TimeTrialOptions {
   int laps = 1;  // timed flying laps after an untimed out-lap from the grid (a point-to-point course: its one run)
@@ -20,7 +20,7 @@ struct TimeTrialOptions {
   planning::PlannerOptions planner;
   control::TrackerOptions tracker;  // wheelbase and steering angle are taken from the vehicle
   // Called after every tick with the simulated time and the car's state (a trace for a report or a plot).
-  std::function<void(double, const sim::VehicleState&)> on_tick;
+  std::function<void(double, const vehicle::VehicleState&)> on_tick;
 };
 
 struct TimeTrialResult {
@@ -45,10 +45,4 @@ TimeTrialResult runTimeTrial(const track::Track& track, const vehicle::VehiclePa
 TimeTrialResult driveTrajectory(const track::Track& track, const vehicle::VehicleParams& vehicle,
                                 planning::Trajectory trajectory, const TimeTrialOptions& options);
 
-// The tracker options the vehicle implies: its wheelbase and maximum steering angle over `base`.
-control::TrackerOptions trackerFor(const vehicle::VehicleParams& vehicle, control::TrackerOptions base = {});
-
-// What the tracker needs of a car's simulated state: base_link's position, heading, forward speed, yaw rate.
-control::TrackerInput trackerInputOf(const sim::VehicleState& state);
-
-}  // namespace roar::stack
+}  // namespace roar::harness
