@@ -9,8 +9,8 @@ over 100 N s puts the car back where it started and restarts the count, as the r
     rosrun roar_ros roar_py_competition.py --entry competition --laps 3
 
 Entries: `competition`, a controller of the kind ROAR's entries are (tuned to CARLA's car: corners at
-2.2 g, braking at 12 m/s^2 and pure pursuit on the waypoints); `example`, ROAR_PY's documented
-waypoint follower at 20 m/s. Without a running roar_sim it starts its own (roar_py_ros). Prints a line per
+2.2 g, braking at 12 m/s^2 and pure pursuit on the waypoints); `cautious`, the same at 1.6 g and 9 m/s^2;
+`example`, ROAR_PY's documented waypoint follower at 20 m/s. Without a running roar_sim it starts its own (roar_py_ros). Prints a line per
 lap and a summary; --output writes the result as YAML."""
 import argparse
 import asyncio
@@ -200,7 +200,15 @@ class CompetitionEntry(Entry):
                                          "reverse": 0, "target_gear": 0})
 
 
-ENTRIES = {"competition": CompetitionEntry, "example": ExampleEntry}
+class CautiousEntry(CompetitionEntry):
+    """The competition entry tuned for safety over pace, as a student's first tuning is: corners at 1.6 g,
+    braking at 9 m/s^2."""
+
+    CORNER_G = 1.6
+    BRAKING = 9.0
+
+
+ENTRIES = {"competition": CompetitionEntry, "cautious": CautiousEntry, "example": ExampleEntry}
 
 
 async def evaluate_solution(world, solution_constructor, max_seconds: float, laps: int, log,

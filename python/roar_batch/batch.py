@@ -8,12 +8,15 @@ import os
 import statistics
 import sys
 import tempfile
+import textwrap
 import typing
 
 from .jobs import run_cell
 from .matrix import Matrix, cell_key
 
-FIGURES = {"time_trial": "best_lap", "race": "winning_time"}  # the figure a summary groups
+# The figure a summary groups: a time trial's best lap, a race's winning time, a ROAR_PY run's score (the
+# official runner's: the time to finish every lap).
+FIGURES = {"time_trial": "best_lap", "race": "winning_time", "roar_py": "elapsed_time"}
 
 
 class BatchInterrupted(RuntimeError):
@@ -123,9 +126,31 @@ def write_table(rows: typing.List[dict], path: str) -> None:
         pass
 
 
+def describe(cell: dict) -> str:
+    """A group's cell as a line: its map, then each field that was swept ("roar_sprint sedan laps 2 grip 0.85
+    field 4x0.06 overtake passing.stall_time=2")."""
+    parts = []
+    order = ["map", "model", "entry", "laps", "grip_use", "field", "overtaking", "overtake", "camera", "max_seconds"]
+    for k in sorted(cell, key=lambda k: order.index(k) if k in order else len(order)):
+        v = cell[k]
+        if k in ("kind", "seed"):
+            continue
+        if k == "field":
+            parts.append(f"field {v['cars']}x{v['pace_spread']}")
+        elif k == "overtake":
+            parts.append("overtake " + ",".join(f"{n}={x}" for n, x in v.items()))
+        elif k == "overtaking":
+            parts.append("overtaking " + ("on" if v else "off"))
+        elif k in ("map", "model", "entry"):
+            parts.append(str(v))
+        else:
+            parts.append(f"{k.replace('_use', '').replace('max_seconds', 'max_s')} {v}")
+    return " ".join(parts)
+
+
 def summary(rows: typing.List[dict]) -> typing.List[dict]:
     """Per group (every cell field but the seed): how many cells, how many failed, and the group's figure
-    (a time trial's best lap, a race's winning time) as mean, spread (standard deviation) and range."""
+    (FIGURES) as mean, spread (standard deviation) and range."""
     groups: typing.Dict[str, dict] = {}
     for row in rows:
         cell = {k: v for k, v in row["cell"].items() if k != "seed"}
@@ -140,22 +165,21 @@ def summary(rows: typing.List[dict]) -> typing.List[dict]:
     out = []
     for g in groups.values():
         v = g["values"]
-        out.append({**{k: g["cell"][k] for k in ("kind", "map", "model", "laps", "grip_use")},
-                    "field": g["cell"].get("field"), "cells": g["cells"], "failed": g["failed"],
-                    "figure": FIGURES[g["cell"]["kind"]], "mean": statistics.fmean(v) if v else None,
+        out.append({"kind": g["cell"]["kind"], "group": describe(g["cell"]), "cell": g["cell"], "cells": g["cells"],
+                    "failed": g["failed"], "figure": FIGURES[g["cell"]["kind"]],
+                    "mean": statistics.fmean(v) if v else None,
                     "spread": statistics.pstdev(v) if len(v) > 1 else 0.0 if v else None,
                     "low": min(v) if v else None, "high": max(v) if v else None})
     return out
 
 
 def print_summary(groups: typing.List[dict]) -> None:
-    print(f"{'map':16} {'model':22} {'laps':>4} {'grip':>5} {'field':>10} {'cells':>5} {'failed':>6}  figure")
+    width = max([len(g["group"]) for g in groups] + [5])
+    print(f"{'group':{width}} {'cells':>5} {'failed':>6}  figure")
     for g in groups:
-        field = f"{g['field']['cars']}x{g['field']['pace_spread']}" if g["field"] else "-"
         figure = (f"{g['figure']} {g['mean']:.2f} s +- {g['spread']:.2f} ({g['low']:.2f}-{g['high']:.2f})"
                   if g["mean"] is not None else f"{g['figure']}: none")
-        print(f"{g['map']:16} {g['model']:22} {g['laps']:4d} {g['grip_use']:5.2f} {field:>10} {g['cells']:5d} "
-              f"{g['failed']:6d}  {figure}")
+        print(f"{g['group']:{width}} {g['cells']:5d} {g['failed']:6d}  {figure}")
 
 
 def plot(groups: typing.List[dict], path: str) -> None:
@@ -167,7 +191,7 @@ def plot(groups: typing.List[dict], path: str) -> None:
     if not shown:
         return
     fig, ax = plt.subplots(figsize=(max(6, 0.6 * len(shown) + 2), 4.5))
-    labels = [f"{g['map']}\n{g['model']}\nlaps {g['laps']} grip {g['grip_use']:.2f}" for g in shown]
+    labels = [textwrap.fill(g["group"], 22) for g in shown]
     means = [g["mean"] for g in shown]
     errors = [[g["mean"] - g["low"] for g in shown], [g["high"] - g["mean"] for g in shown]]
     ax.bar(range(len(shown)), means, yerr=errors, capsize=4, color="tab:blue")

@@ -1,11 +1,19 @@
-"""One cell of a batch, run through the C++ stack in the worker's process (no ROS master): a row of figures,
-or of why it failed."""
+"""One cell of a batch: a time trial or race run through the C++ stack in the worker's process (no ROS master),
+or a ROAR_PY program run by the official runner's rules against a private roar_sim of its own; a row of
+figures, or of why it failed."""
+import ctypes
 import os
 import random
+import signal
 import socket
+import subprocess
+import sys
+import tempfile
 import time
 import traceback
 import typing
+
+import yaml
 
 import roar_paths
 
@@ -35,7 +43,8 @@ def _time_trial(cell: dict, folders: dict) -> dict:
 def _race(cell: dict, folders: dict) -> dict:
     import roar_core
     r = roar_core.run_race(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
-                           race_field(cell), laps=cell["laps"], grip_use=cell["grip_use"])
+                           race_field(cell), laps=cell["laps"], grip_use=cell["grip_use"],
+                           overtaking=cell.get("overtaking", True), overtake=cell.get("overtake", {}))
     cars = r["cars"]
     finishers = [c for c in cars if c["finished"]]
     return {"finished": r["finished"], "winner": cars[0]["name"] if cars else None,
@@ -49,13 +58,51 @@ def _race(cell: dict, folders: dict) -> dict:
             "time_in_traffic": sum(c["time_in_traffic"] for c in cars) / len(cars), "sim_time": r["sim_time"]}
 
 
+class RoarPyRunFailed(RuntimeError):
+    """The runner ended without a result: the message is its own last words."""
+
+
+def _die_with_parent():
+    # The runner (and through its watchdog its private roar_sim) goes when the worker running it goes, killed
+    # or not: PR_SET_PDEATHSIG.
+    ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+
+
+def _roar_py(cell: dict, folders: dict) -> dict:
+    """The competition entry driven by scripts/roar_py_competition.py (the official runner's calls and rules)
+    in a process of its own, which starts a private ROS master and roar_sim (no ROS_MASTER_URI): cells run
+    side by side on one machine without meeting."""
+    import roar_paths
+    script = roar_paths.package_root() / "scripts" / "roar_py_competition.py"
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    with tempfile.TemporaryDirectory(prefix="roar_batch_") as folder:
+        out = os.path.join(folder, "result.yaml")
+        cmd = [sys.executable, str(script), "--entry", cell["entry"], "--map", cell["map"], "--laps", str(cell["laps"]),
+               "--camera", cell["camera"], "--max-seconds", str(cell["max_seconds"]), "--output", out]
+        run = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, preexec_fn=_die_with_parent)
+        if not os.path.exists(out):
+            said = (run.stderr.strip() or run.stdout.strip()).splitlines()[-5:]
+            raise RoarPyRunFailed(f"the runner ended ({run.returncode}) without a result: " + " / ".join(said))
+        with open(out) as f:
+            r = yaml.safe_load(f)
+    laps = r["laps"]
+    return {"finished": r["finished"], "elapsed_time": r["elapsed_time"] if r["finished"] else None,
+            "laps_done": len(laps), "best_lap": min(laps) if laps else None,
+            "lap_times": " ".join(f"{t:.2f}" for t in laps), "respawns": len(r["respawns"]),
+            "sim_time": r["elapsed_time"], "real_time_factor": r["real_time_factor"]}
+
+
+JOBS = {"time_trial": _time_trial, "race": _race, "roar_py": _roar_py}
+
+
 def run_cell(cell: dict) -> dict:
     """The cell's row: its figures, or its error (a bad map or model is a row saying why, not the batch's end)."""
     started = time.time()
     row = {"status": "done", "error": ""}
     try:
         folders = {k: str(v) for k, v in roar_paths.layout().items()}
-        row.update(_time_trial(cell, folders) if cell["kind"] == "time_trial" else _race(cell, folders))
+        row.update(JOBS[cell["kind"]](cell, folders))
     except Exception as e:  # every failure of a cell is its row's, the batch goes on
         row.update(status="failed", error=f"{type(e).__name__}: {e}".strip()[:2000],
                    trace=traceback.format_exc(limit=3)[-2000:])

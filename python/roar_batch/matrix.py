@@ -1,5 +1,6 @@
-"""A batch's matrix: a YAML file of what to vary (maps, car models, laps, grip use, seeds, a race's field) and
-the cells it expands to, each keyed by its content."""
+"""A batch's matrix: a YAML file of what to vary (time trials and races of the stack: maps, car models, laps,
+grip use, seeds, a race's field, the overtaking planner's options; ROAR_PY programs: competition entries,
+maps, laps) and the cells it expands to, each keyed by its content."""
 import hashlib
 import itertools
 import json
@@ -8,10 +9,14 @@ import typing
 
 import yaml
 
-KINDS = ("time_trial", "race")
-KEYS = {"name", "kind", "maps", "models", "laps", "grip_use", "seeds", "field"}
+KINDS = ("time_trial", "race", "roar_py")
+# The fields each kind takes (besides name and kind).
+KEYS = {"time_trial": {"maps", "models", "laps", "grip_use"},
+        "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake"},
+        "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"}}
 FIELD_KEYS = {"cars", "pace_spread"}
 MAX_CELLS = 100000
+RUNNER_CAMERA = "1024x768"  # the official runner's chase camera
 
 
 class MatrixError(ValueError):
@@ -52,49 +57,133 @@ def read_matrix(path: str) -> Matrix:
     except yaml.YAMLError as e:
         raise MatrixError(f"{path}: not YAML: {e}") from None
     if not isinstance(raw, dict):
-        raise MatrixError(f"{path}: expected a mapping of name, kind, maps, models, laps, grip_use, seeds, field")
-    unknown = sorted(set(raw) - KEYS)
-    if unknown:
-        raise MatrixError(f"{path}: unknown field(s) {unknown} (known: {sorted(KEYS)})")
+        raise MatrixError(f"{path}: expected a mapping of name, kind and what to sweep")
     kind = raw.get("kind", "time_trial")
     if kind not in KINDS:
-        raise MatrixError(f"{path}: kind: {kind!r} is neither time_trial nor race")
-    for required in ("maps", "models"):
-        if required not in raw:
-            raise MatrixError(f"{path}: {required} is missing")
-    maps = _as_list(raw["maps"], path, "maps", str)
-    models = _as_list(raw["models"], path, "models", str)
-    laps = _as_list(raw.get("laps", 1), path, "laps", int, 1, 100)
-    grip = _as_list(raw.get("grip_use", 0.85), path, "grip_use", float, 0.05, 1.0)
-    field = raw.get("field")
-    if kind == "time_trial":
-        if "seeds" in raw or field is not None:
-            raise MatrixError(f"{path}: a time trial is deterministic: seeds and field are a race's")
-        seeds, fields = [None], [None]
-    else:
-        seeds_raw = raw.get("seeds", 1)
-        if isinstance(seeds_raw, int) and not isinstance(seeds_raw, bool):
-            if not 1 <= seeds_raw <= 10000:
-                raise MatrixError(f"{path}: seeds: {seeds_raw} is outside [1, 10000]")
-            seeds = list(range(seeds_raw))
-        else:
-            seeds = _as_list(seeds_raw, path, "seeds", int, 0, 2 ** 31 - 1)
-        field = field or {}
-        if not isinstance(field, dict) or set(field) - FIELD_KEYS:
-            raise MatrixError(f"{path}: field: expected a mapping of {sorted(FIELD_KEYS)}")
-        cars = _as_list(field.get("cars", 4), path, "field.cars", int, 1, 20)
-        spreads = _as_list(field.get("pace_spread", 0.05), path, "field.pace_spread", float, 0.0, 0.5)
-        fields = [{"cars": c, "pace_spread": p} for c, p in itertools.product(cars, spreads)]
-    count = len(maps) * len(models) * len(laps) * len(grip) * len(seeds) * len(fields)
-    if count > MAX_CELLS:
-        raise MatrixError(f"{path}: {count} cells, more than {MAX_CELLS}")
-    cells = []
-    for m, model, lap, g, seed, f in itertools.product(maps, models, laps, grip, seeds, fields):
-        cell = {"kind": kind, "map": m, "model": model, "laps": lap, "grip_use": g}
-        if kind == "race":
-            cell.update(seed=seed, field=f)
-        cells.append(cell)
+        raise MatrixError(f"{path}: kind: {kind!r} is not one of {', '.join(KINDS)}")
+    fields = {k: v for k, v in raw.items() if k not in ("name", "kind")}
+    unknown = sorted(set(fields) - KEYS[kind])
+    if unknown:
+        hint = (": a time trial is deterministic: seeds and field are a race's"
+                if kind == "time_trial" and set(unknown) & {"seeds", "field"} else
+                ": a ROAR_PY run is the official runner's, deterministic here (no seeds), in its own car"
+                if kind == "roar_py" and set(unknown) & {"seeds", "models"} else "")
+        raise MatrixError(f"{path}: unknown field(s) {unknown} for a {kind} (known: {sorted(KEYS[kind])}){hint}")
+    cells = {"time_trial": _time_trial_cells, "race": _race_cells, "roar_py": _roar_py_cells}[kind](fields, path)
+    if len(cells) > MAX_CELLS:
+        raise MatrixError(f"{path}: {len(cells)} cells, more than {MAX_CELLS}")
     name = raw.get("name", os.path.splitext(os.path.basename(path))[0])
     if not isinstance(name, str) or not name:
         raise MatrixError(f"{path}: name must be a non-empty string")
-    return Matrix(name, cells)
+    return Matrix(name, [{"kind": kind, **c} for c in cells])
+
+
+def _required(fields: dict, key: str, path: str):
+    if key not in fields:
+        raise MatrixError(f"{path}: {key} is missing")
+    return fields[key]
+
+
+def _product(lists: typing.Dict[str, list]) -> typing.List[dict]:
+    """The cells of every combination of the lists, in their order (the first the slowest to change)."""
+    if any(len(v) > MAX_CELLS for v in lists.values()):
+        raise MatrixError("more values than a batch takes")
+    return [dict(zip(lists, values)) for values in itertools.product(*lists.values())]
+
+
+def _stack_lists(fields: dict, path: str) -> typing.Dict[str, list]:
+    return {"map": _as_list(_required(fields, "maps", path), path, "maps", str),
+            "model": _as_list(_required(fields, "models", path), path, "models", str),
+            "laps": _as_list(fields.get("laps", 1), path, "laps", int, 1, 100),
+            "grip_use": _as_list(fields.get("grip_use", 0.85), path, "grip_use", float, 0.05, 1.0)}
+
+
+def _time_trial_cells(fields: dict, path: str) -> typing.List[dict]:
+    return _product(_stack_lists(fields, path))
+
+
+def _seeds(fields: dict, path: str) -> list:
+    seeds_raw = fields.get("seeds", 1)
+    if isinstance(seeds_raw, int) and not isinstance(seeds_raw, bool):
+        if not 1 <= seeds_raw <= 10000:
+            raise MatrixError(f"{path}: seeds: {seeds_raw} is outside [1, 10000]")
+        return list(range(seeds_raw))
+    return _as_list(seeds_raw, path, "seeds", int, 0, 2 ** 31 - 1)
+
+
+def _fields(fields: dict, path: str) -> typing.List[dict]:
+    field = fields.get("field") or {}
+    if not isinstance(field, dict) or set(field) - FIELD_KEYS:
+        raise MatrixError(f"{path}: field: expected a mapping of {sorted(FIELD_KEYS)}")
+    cars = _as_list(field.get("cars", 4), path, "field.cars", int, 1, 20)
+    spreads = _as_list(field.get("pace_spread", 0.05), path, "field.pace_spread", float, 0.0, 0.5)
+    return [{"cars": c, "pace_spread": p} for c, p in itertools.product(cars, spreads)]
+
+
+def _overtake_settings(fields: dict, path: str) -> typing.List[dict]:
+    """The overtaking planner's settings to sweep ({"passing.stall_time": [1, 2]}: each a value or a list),
+    each checked by the planner's own table (roar_core.overtake_options)."""
+    overtake = fields.get("overtake") or {}
+    if not isinstance(overtake, dict):
+        raise MatrixError(f"{path}: overtake: expected a mapping of the planner's options (passing.stall_time: 2)")
+    import roar_core
+    lists = {}
+    for name, values in overtake.items():
+        lists[str(name)] = values if isinstance(values, list) and values else [values]
+        for v in lists[str(name)]:
+            if isinstance(v, (dict, list, str)) or v is None:
+                raise MatrixError(f"{path}: overtake.{name}: {v!r} is not a number or flag")
+            try:
+                roar_core.overtake_options({str(name): v})
+            except ValueError as e:
+                raise MatrixError(f"{path}: overtake.{name}: {e}") from None
+    return _product(lists)
+
+
+def _race_cells(fields: dict, path: str) -> typing.List[dict]:
+    lists = _stack_lists(fields, path)
+    lists.update(seed=_seeds(fields, path), field=_fields(fields, path))
+    overtaking = fields.get("overtaking", True)
+    overtaking = overtaking if isinstance(overtaking, list) and overtaking else [overtaking]
+    for v in overtaking:
+        if not isinstance(v, bool):
+            raise MatrixError(f"{path}: overtaking: {v!r} is not true or false")
+    settings = _overtake_settings(fields, path)
+    cells = []
+    for cell in _product(lists):
+        for on, setting in itertools.product(overtaking, settings):
+            # Only what differs from the defaults is in the cell, so that a cell's key stays what it was.
+            extra = ({} if on else {"overtaking": False}) | ({"overtake": setting} if setting else {})
+            cells.append({**cell, **extra})
+    return cells
+
+
+def roar_py_entries() -> typing.List[str]:
+    """The competition entries written here: scripts/roar_py_competition.py's, the one list of them."""
+    import importlib.util
+    import roar_paths
+    script = roar_paths.package_root() / "scripts" / "roar_py_competition.py"
+    spec = importlib.util.spec_from_file_location("roar_py_competition", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return sorted(module.ENTRIES)
+
+
+def _roar_py_cells(fields: dict, path: str) -> typing.List[dict]:
+    entries = _as_list(_required(fields, "entries", path), path, "entries", str)
+    known = roar_py_entries()
+    for e in entries:
+        if e not in known:
+            raise MatrixError(f"{path}: entries: {e!r} is not an entry (scripts/roar_py_competition.py has "
+                              f"{', '.join(known)})")
+    cameras = _as_list(fields.get("camera", RUNNER_CAMERA), path, "camera", str)
+    for c in cameras:
+        size = c.split("x")
+        if len(size) != 2 or not all(v.isdigit() and 0 < int(v) <= 8192 for v in size):
+            raise MatrixError(f"{path}: camera: {c!r} is not WIDTHxHEIGHT")
+    return _product({"entry": entries,
+                     "map": _as_list(_required(fields, "maps", path), path, "maps", str),
+                     "laps": _as_list(fields.get("laps", 3), path, "laps", int, 1, 100),
+                     "camera": cameras,
+                     "max_seconds": _as_list(fields.get("max_seconds", 1200.0), path, "max_seconds", float, 1.0,
+                                             86400.0)})

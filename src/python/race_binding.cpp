@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "roar/harness/race.h"
 #include "roar/harness/time_trial.h"
+#include "roar/planning/overtaking/option_table.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
@@ -85,9 +87,33 @@ harness::RaceCar raceCar(const py::dict& car, std::size_t index) {
   return c;
 }
 
+// Settings of planning::overtakeOptionTable by name ({"passing.stall_time": 2.0}) applied to `options`: a
+// ValueError naming the option for an unknown name or a value out of its range. Flags take True or False.
+void setOvertakeOptions(planning::OvertakeOptions* options, const py::dict& settings) {
+  for (const auto& [key, value] : settings) {
+    const std::string text =
+        py::isinstance<py::bool_>(value) ? (value.cast<bool>() ? "1" : "0") : std::string(py::str(value));
+    try {
+      planning::setOvertakeOption(options, py::str(key), text, "overtake");
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+  }
+}
+
+py::dict overtakeOptions(const py::dict& settings) {
+  planning::OvertakeOptions options;
+  setOvertakeOptions(&options, settings);
+  py::dict d;
+  for (const auto& entry : planning::overtakeOptionTable(&options)) {
+    std::visit([&](auto* field) { d[py::str(entry.name)] = *field; }, entry.field);
+  }
+  return d;
+}
+
 py::dict runRace(const std::string& map, const std::string& maps_dir, const std::string& model,
                  const std::string& urdf_dir, const std::string& config_dir, const std::vector<py::dict>& car_dicts,
-                 int laps, double grip_use) {
+                 int laps, double grip_use, bool overtaking, const py::dict& overtake) {
   checkRace(laps, grip_use);
   if (car_dicts.empty() || car_dicts.size() > 20) throw py::value_error("a race needs 1 to 20 cars");
   std::vector<harness::RaceCar> cars;
@@ -96,6 +122,8 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
   harness::RaceOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
+  options.field.overtaking = overtaking;
+  setOvertakeOptions(&options.field.overtake, overtake);
   harness::RaceResult r;
   {
     py::gil_scoped_release unlocked;
@@ -135,8 +163,14 @@ void bindRaces(py::module_& m) {
         "lap_times, best_lap, promised_lap, barrier_contacts, worst_offroad, max_ and rms_lateral_error, sim_time");
   m.def("run_race", &runRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
         py::arg("config_dir"), py::arg("cars"), py::arg("laps") = 2, py::arg("grip_use") = 0.85,
-        "The stack's race of cars of a model (each a dict of name, grid_slot, pace, max_speed), overtaking on: a "
+        py::arg("overtaking") = true, py::arg("overtake") = py::dict(),
+        "The stack's race of cars of a model (each a dict of name, grid_slot, pace, max_speed), overtaking on "
+        "unless overtaking is False, the overtaking planner's options set by name (overtake_options): a "
         "dict of finished, cars (in finishing order: name, position, finished, race_time, lap_times, "
         "car_contacts, barrier_contacts, track_limit_violations, time_in_traffic), overtakes, passes_completed, "
         "contacts, sim_time");
+  m.def("overtake_options", &overtakeOptions, py::arg("settings") = py::dict(),
+        "Every option of the overtaking planner by name (passing.stall_time, ...) with its value once `settings` "
+        "(a dict of name: value) are applied to the defaults; ValueError naming an unknown option or a value out of "
+        "its range.");
 }

@@ -1,7 +1,8 @@
 """Batches on Dask (python/roar_batch): a matrix read and refused naming the field; cells keyed by content; a
 batch on a real `dask-scheduler` with two `dask-worker` processes on loopback that loses a worker to
 SIGKILL mid-batch and still runs every cell once, keeps a failing cell as a row, resumes, and ends with what is
-done when its scheduler goes."""
+done when its scheduler goes; the overtaking planner's options swept; a ROAR tournament of competition
+entries, each against a private roar_sim."""
 import csv
 import json
 import os
@@ -23,12 +24,23 @@ def write(tmp_path, matrix, name="m.yaml"):
 
 
 @pytest.mark.parametrize("matrix, message", [
-    ({"kind": "rally", "maps": ["roar_sprint"], "models": ["sedan"]}, "kind: 'rally' is neither"),
+    ({"kind": "rally", "maps": ["roar_sprint"], "models": ["sedan"]}, "kind: 'rally' is not one of"),
     ({"maps": ["roar_sprint"], "models": ["sedan"], "lapz": 2}, "unknown field(s) ['lapz']"),
     ({"maps": ["roar_sprint"], "models": ["sedan"], "seeds": 3}, "a time trial is deterministic"),
     ({"maps": ["roar_sprint"], "models": ["sedan"], "laps": 0}, "laps: 0 is outside [1, 100]"),
     ({"maps": ["roar_sprint"]}, "models is missing"),
     ({"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "field": {"cars": 40}}, "field.cars: 40"),
+    ({"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "overtake": {"passing.stal_time": 2}},
+     "overtake.passing.stal_time: overtake: no option 'passing.stal_time' (did you mean 'passing.stall_time'?)"),
+    ({"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "overtake": {"passing.stall_time": [2, 100]}},
+     "overtake passing.stall_time 100 is outside [0.1, 60]"),
+    ({"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "overtaking": "yes"}, "overtaking: 'yes'"),
+    ({"maps": ["roar_sprint"], "models": ["sedan"], "overtake": {"passing.stall_time": 2}}, "for a time_trial"),
+    ({"kind": "roar_py", "entries": ["competition"], "maps": ["monza"], "seeds": 3}, "deterministic here"),
+    ({"kind": "roar_py", "entries": ["competition"], "maps": ["monza"], "models": ["sedan"]}, "in its own car"),
+    ({"kind": "roar_py", "entries": ["fastest"], "maps": ["monza"]}, "'fastest' is not an entry"),
+    ({"kind": "roar_py", "entries": ["example"], "maps": ["monza"], "camera": "big"}, "camera: 'big'"),
+    ({"kind": "roar_py", "maps": ["monza"]}, "entries is missing"),
 ])
 def test_a_matrix_is_refused_naming_the_file_and_field(tmp_path, matrix, message):
     path = write(tmp_path, matrix)
@@ -49,6 +61,66 @@ def test_a_matrix_expands_to_cells_keyed_by_their_content(tmp_path):
     field = race_field(m.cells[0])
     assert race_field(m.cells[0]) == field and sorted(c["grid_slot"] for c in field) == [0, 1, 2]
     assert field[0]["pace"] == 1.0 and all(0.95 <= c["pace"] <= 1.0 for c in field)
+
+
+def test_a_race_matrix_sweeps_the_overtaking_planners_options(tmp_path):
+    plain = read_matrix(write(tmp_path, {"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "seeds": 2}))
+    swept = read_matrix(write(tmp_path, {"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "seeds": 2,
+                                         "overtaking": [True, False], "overtake": {"passing.min_gain": [2, 4],
+                                                                                   "guard.predicted": False}}, "s.yaml"))
+    assert len(swept.cells) == 2 * 2 * 2
+    assert {c.get("overtaking", True) for c in swept.cells} == {True, False}
+    assert {c["overtake"]["passing.min_gain"] for c in swept.cells} == {2, 4}
+    assert all(c["overtake"]["guard.predicted"] is False for c in swept.cells)
+    # A cell with the defaults keeps the key it had before options could be swept.
+    assert "overtake" not in plain.cells[0] and "overtaking" not in plain.cells[0]
+    assert cell_key(plain.cells[0]) == cell_key({"kind": "race", "map": "roar_sprint", "model": "sedan", "laps": 1,
+                                                 "grip_use": 0.85, "seed": 0, "field": {"cars": 4,
+                                                                                        "pace_spread": 0.05}})
+
+
+def test_a_race_cell_takes_its_overtaking_settings():
+    from roar_batch import run_cell
+    cell = {"kind": "race", "map": "roar_sprint", "model": "sedan", "laps": 2, "grip_use": 0.85, "seed": 0,
+            "field": {"cars": 2, "pace_spread": 0.0}}
+    # Seed 0's grid puts car0 (full pace) behind; slowed to 80 %, car1 is passed only with overtaking on.
+    import roar_batch.jobs as jobs
+    original = jobs.race_field
+    jobs.race_field = lambda c: [{"name": "slow", "grid_slot": 0, "pace": 0.8}, {"name": "fast", "grid_slot": 1,
+                                                                                  "pace": 1.0}]
+    try:
+        on = run_cell(cell)
+        off = run_cell({**cell, "overtaking": False})
+        reluctant = run_cell({**cell, "overtake": {"passing.min_gain": 100}})
+    finally:
+        jobs.race_field = original
+    assert on["status"] == off["status"] == reluctant["status"] == "done", (on, off, reluctant)
+    assert on["passes_completed"] >= 1 and on["winner"] == "fast"
+    assert off["passes_completed"] == 0 and off["winner"] == "slow"
+    assert reluctant["passes_completed"] == 0 and reluctant["winner"] == "slow"
+
+
+def test_a_roar_tournament_runs_each_entry_against_a_private_roar_sim(tmp_path):
+    # Two entries on a short circuit for a lap, a small camera (the runner's 1024x768 costs minutes), and a map
+    # that does not exist: two ROAR_PY programs side by side on two workers, each with its own master.
+    matrix = write(tmp_path, {"name": "tournament", "kind": "roar_py", "entries": ["competition", "example"],
+                              "maps": ["roar_ring", "no_such_map"], "laps": 1, "camera": "64x48",
+                              "max_seconds": 400})
+    out = str(tmp_path / "out")
+    env = {k: v for k, v in os.environ.items() if k != "ROS_MASTER_URI"}
+    done = subprocess.run([sys.executable, "-m", "roar_batch", matrix, "--out", out, "--workers", "2",
+                           "--no-progress"], capture_output=True, text=True, timeout=900, env=env)
+    assert done.returncode == 0, done.stdout + done.stderr
+    table = {(r["entry"], r["map"]): r for r in rows(out)}
+    assert len(table) == 4
+    for entry in ("competition", "example"):
+        ran, missing = table[(entry, "roar_ring")], table[(entry, "no_such_map")]
+        assert ran["status"] == "done" and ran["finished"] == "True" and ran["respawns"] == "0", ran
+        assert float(ran["elapsed_time"]) == pytest.approx(float(ran["lap_times"]), abs=0.01)
+        assert missing["status"] == "failed" and "no_such_map" in missing["error"], missing
+    assert float(table[("competition", "roar_ring")]["elapsed_time"]) < \
+        float(table[("example", "roar_ring")]["elapsed_time"]), "the competition entry outruns ROAR_PY's example"
+    assert "elapsed_time" in done.stdout and os.path.exists(os.path.join(out, "summary.png"))
 
 
 def start(cmd, env, log):
