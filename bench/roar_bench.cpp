@@ -373,6 +373,18 @@ int main(int argc, char** argv) {
         scaling_options.repeats = static_cast<int>(config::wholeNumberArgument("--repeats", argv[i] + 10, 1));
       } else if (std::strcmp(argv[i], "--verbose") == 0) {
         traffic_options.verbose = true;
+      } else if (std::strcmp(argv[i], "--batch") == 0) {
+        traffic_options.batch.enabled = true;
+      } else if (std::strncmp(argv[i], "--batch-workers=", 16) == 0) {
+        traffic_options.batch.enabled = true;
+        traffic_options.batch.workers =
+            static_cast<int>(config::wholeNumberArgument("--batch-workers", argv[i] + 16, 1, 256));
+      } else if (std::strncmp(argv[i], "--scheduler=", 12) == 0) {
+        traffic_options.batch.enabled = true;
+        traffic_options.batch.scheduler = argv[i] + 12;
+        if (traffic_options.batch.scheduler.rfind("tcp://", 0) != 0) {
+          throw std::invalid_argument("--scheduler=" + traffic_options.batch.scheduler + ": expected tcp://HOST:PORT");
+        }
       } else {
         rest.push_back(argv[i]);
       }
@@ -401,6 +413,9 @@ int main(int argc, char** argv) {
     } catch (const std::invalid_argument& e) {  // a bad field or pace step, refused before any race
       std::fprintf(stderr, "roar_bench: %s\n", e.what());
       return 2;
+    } catch (const std::runtime_error& e) {  // the batch failed
+      std::fprintf(stderr, "roar_bench: --traffic as a batch: %s\n", e.what());
+      return 1;
     }
   }
   return 0;

@@ -14,9 +14,10 @@ import typing
 from .jobs import run_cell
 from .matrix import Matrix, cell_key
 
-# The figure a summary groups: a time trial's best lap, a race's winning time, a ROAR_PY run's score (the
-# official runner's: the time to finish every lap).
-FIGURES = {"time_trial": "best_lap", "race": "winning_time", "roar_py": "elapsed_time"}
+# The figure a summary groups: a time trial's best lap, a race's winning time, a traffic race's seconds a lap
+# lost in traffic (the mean of its cars), a ROAR_PY run's score (the official runner's: the time to finish
+# every lap).
+FIGURES = {"time_trial": "best_lap", "race": "winning_time", "traffic": "mean_lap_loss", "roar_py": "elapsed_time"}
 
 
 class BatchInterrupted(RuntimeError):
@@ -95,6 +96,7 @@ def run_batch(matrix: Matrix, out: str, scheduler: typing.Optional[str] = None, 
     rows = [_read_row(os.path.join(cells_dir, k + ".json")) or {"cell": c, "key": k, "status": "missing"}
             for k, c in keyed]
     write_table(rows, os.path.join(out, "results.csv"))
+    _write_json(os.path.join(out, "results.json"), rows)
     return rows
 
 
@@ -136,7 +138,7 @@ def describe(cell: dict) -> str:
         if k in ("kind", "seed"):
             continue
         if k == "field":
-            parts.append(f"field {v['cars']}x{v['pace_spread']}")
+            parts.append(f"field {v['cars']}x{v['pace_spread']}" if isinstance(v, dict) else str(v))
         elif k == "overtake":
             parts.append("overtake " + ",".join(f"{n}={x}" for n, x in v.items()))
         elif k == "overtaking":

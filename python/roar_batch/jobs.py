@@ -58,6 +58,15 @@ def _race(cell: dict, folders: dict) -> dict:
             "time_in_traffic": sum(c["time_in_traffic"] for c in cars) / len(cars), "sim_time": r["sim_time"]}
 
 
+def _traffic(cell: dict, folders: dict) -> dict:
+    import roar_core
+    t = roar_core.traffic_race(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
+                               cell["field"], cell["seed"], laps=cell["laps"], pace_step=cell["pace_step"],
+                               overtake=cell.get("overtake", {}))
+    loss = t["lap_loss"]
+    return {**t, "mean_lap_loss": sum(loss) / len(loss) if loss else None, "sim_time": t["race_seconds"]}
+
+
 class RoarPyRunFailed(RuntimeError):
     """The runner ended without a result: the message is its own last words."""
 
@@ -93,7 +102,7 @@ def _roar_py(cell: dict, folders: dict) -> dict:
             "sim_time": r["elapsed_time"], "real_time_factor": r["real_time_factor"]}
 
 
-JOBS = {"time_trial": _time_trial, "race": _race, "roar_py": _roar_py}
+JOBS = {"time_trial": _time_trial, "race": _race, "traffic": _traffic, "roar_py": _roar_py}
 
 
 def run_cell(cell: dict) -> dict:

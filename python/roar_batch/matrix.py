@@ -9,10 +9,11 @@ import typing
 
 import yaml
 
-KINDS = ("time_trial", "race", "roar_py")
+KINDS = ("time_trial", "race", "traffic", "roar_py")
 # The fields each kind takes (besides name and kind).
 KEYS = {"time_trial": {"maps", "models", "laps", "grip_use"},
         "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake"},
+        "traffic": {"maps", "models", "fields", "seeds", "laps", "pace_step", "overtake"},
         "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"}}
 FIELD_KEYS = {"cars", "pace_spread"}
 MAX_CELLS = 100000
@@ -69,7 +70,8 @@ def read_matrix(path: str) -> Matrix:
                 ": a ROAR_PY run is the official runner's, deterministic here (no seeds), in its own car"
                 if kind == "roar_py" and set(unknown) & {"seeds", "models"} else "")
         raise MatrixError(f"{path}: unknown field(s) {unknown} for a {kind} (known: {sorted(KEYS[kind])}){hint}")
-    cells = {"time_trial": _time_trial_cells, "race": _race_cells, "roar_py": _roar_py_cells}[kind](fields, path)
+    cells = {"time_trial": _time_trial_cells, "race": _race_cells, "traffic": _traffic_cells,
+             "roar_py": _roar_py_cells}[kind](fields, path)
     if len(cells) > MAX_CELLS:
         raise MatrixError(f"{path}: {len(cells)} cells, more than {MAX_CELLS}")
     name = raw.get("name", os.path.splitext(os.path.basename(path))[0])
@@ -155,6 +157,27 @@ def _race_cells(fields: dict, path: str) -> typing.List[dict]:
             # Only what differs from the defaults is in the cell, so that a cell's key stays what it was.
             extra = ({} if on else {"overtaking": False}) | ({"overtake": setting} if setting else {})
             cells.append({**cell, **extra})
+    return cells
+
+
+def _traffic_cells(fields: dict, path: str) -> typing.List[dict]:
+    """roar_bench --traffic's races: each a field of the benchmark's drawn from its seed on a circuit."""
+    import roar_core
+    import roar_paths
+    known = list(roar_core.TRAFFIC_FIELDS)
+    kinds = _as_list(fields.get("fields", known), path, "fields", str)
+    for k in kinds:
+        if k not in known:
+            raise MatrixError(f"{path}: fields: {k!r} is not one of {', '.join(known)}")
+    lists = {"map": _as_list(_required(fields, "maps", path), path, "maps", str),
+             "model": _as_list(fields.get("models", roar_paths.default_model()), path, "models", str),
+             "field": kinds, "seed": _seeds(fields, path),
+             "laps": _as_list(fields.get("laps", 3), path, "laps", int, 1, 100),
+             "pace_step": _as_list(fields.get("pace_step", 0.05), path, "pace_step", float, 0.01, 0.15)}
+    cells = []
+    for cell in _product(lists):
+        for setting in _overtake_settings(fields, path):
+            cells.append({**cell, **({"overtake": setting} if setting else {})})
     return cells
 
 

@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <variant>
@@ -12,6 +13,7 @@
 
 #include "roar/harness/race.h"
 #include "roar/harness/time_trial.h"
+#include "roar/harness/traffic.h"
 #include "roar/planning/overtaking/option_table.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
@@ -154,6 +156,36 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
   return d;
 }
 
+// One race of roar_bench --traffic's table (harness::TrafficCircuit::race) as the dict of its totals, by
+// harness::trafficFigures' names.
+py::dict trafficRace(const std::string& map, const std::string& maps_dir, const std::string& model,
+                     const std::string& urdf_dir, const std::string& config_dir, const std::string& field, int seed,
+                     int laps, double pace_step, const py::dict& overtake) {
+  checkRace(laps, 0.85);
+  if (seed < 0) throw py::value_error("seed must not be negative, got " + std::to_string(seed));
+  harness::TrafficField cars;
+  try {
+    cars = harness::trafficField(field, seed, pace_step);
+  } catch (const std::invalid_argument& e) {
+    throw py::value_error(e.what());
+  }
+  planning::OvertakeOptions options;
+  setOvertakeOptions(&options, overtake);
+  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
+  harness::TrafficTotals totals;
+  {
+    py::gil_scoped_release unlocked;
+    harness::TrafficCircuit circuit(map, setup.track, setup.vehicle, laps, options);
+    totals = circuit.race(cars, seed);
+  }
+  std::array<int, 12> won{};
+  py::dict d;
+  for (auto& [name, figure] : harness::trafficFigures(&totals, &won)) {
+    std::visit([&](auto* value) { d[py::str(name)] = *value; }, figure);
+  }
+  return d;
+}
+
 }  // namespace
 
 void bindRaces(py::module_& m) {
@@ -169,6 +201,13 @@ void bindRaces(py::module_& m) {
         "dict of finished, cars (in finishing order: name, position, finished, race_time, lap_times, "
         "car_contacts, barrier_contacts, track_limit_violations, time_in_traffic), overtakes, passes_completed, "
         "contacts, sim_time");
+  m.attr("TRAFFIC_FIELDS") = harness::trafficFieldKinds();
+  m.def("traffic_race", &trafficRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
+        py::arg("config_dir"), py::arg("field"), py::arg("seed"), py::arg("laps") = 3, py::arg("pace_step") = 0.05,
+        py::arg("overtake") = py::dict(),
+        "One race of roar_bench --traffic's table: the field (pace_car, reverse_grid, five_percent) drawn from the "
+        "seed on the map, and what the table counts of it (races, attempts, completed, ..., catch_to_pass, "
+        "passing_share, lap_loss, won: the completed passes by place, side and inside).");
   m.def("overtake_options", &overtakeOptions, py::arg("settings") = py::dict(),
         "Every option of the overtaking planner by name (passing.stall_time, ...) with its value once `settings` "
         "(a dict of name: value) are applied to the defaults; ValueError naming an unknown option or a value out of "

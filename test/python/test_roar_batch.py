@@ -41,6 +41,8 @@ def write(tmp_path, matrix, name="m.yaml"):
     ({"kind": "roar_py", "entries": ["fastest"], "maps": ["monza"]}, "'fastest' is not an entry"),
     ({"kind": "roar_py", "entries": ["example"], "maps": ["monza"], "camera": "big"}, "camera: 'big'"),
     ({"kind": "roar_py", "maps": ["monza"]}, "entries is missing"),
+    ({"kind": "traffic", "maps": ["roar_sprint"], "fields": ["grid"]}, "fields: 'grid' is not one of pace_car"),
+    ({"kind": "traffic", "maps": ["roar_sprint"], "pace_step": 0.5}, "pace_step: 0.5 is outside [0.01, 0.15]"),
 ])
 def test_a_matrix_is_refused_naming_the_file_and_field(tmp_path, matrix, message):
     path = write(tmp_path, matrix)
@@ -98,6 +100,30 @@ def test_a_race_cell_takes_its_overtaking_settings():
     assert on["passes_completed"] >= 1 and on["winner"] == "fast"
     assert off["passes_completed"] == 0 and off["winner"] == "slow"
     assert reluctant["passes_completed"] == 0 and reluctant["winner"] == "slow"
+
+
+BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "devel", "lib",
+                     "roar_ros", "roar_bench")
+
+
+def test_roar_bench_traffic_as_a_batch_prints_the_table_its_loop_prints():
+    table = ["--traffic", "--map=roar_sprint", "--field=pace_car", "--seeds=2", "--traffic-laps=1"]
+    here = subprocess.run([BENCH] + table, capture_output=True, text=True, timeout=600)
+    batch = subprocess.run([BENCH] + table + ["--batch-workers=2"], capture_output=True, text=True, timeout=600)
+    assert here.returncode == 0 and batch.returncode == 0, here.stderr + batch.stderr
+
+    def figures(out):  # every line but the header's way of running and the wall time
+        return [line for line in out.splitlines() if "lockstep," not in line and " s wall;" not in line]
+    assert "as a batch on Dask" in batch.stdout and "in one process" in here.stdout
+    assert figures(batch.stdout) == figures(here.stdout)
+    row = next(line for line in here.stdout.splitlines() if line.startswith("roar_sprint"))
+    assert int(row.split()[3]) > 0, "the pace car is passed: the table counts something"
+    assert "batch roar_bench_traffic: 2 cells" in batch.stderr, batch.stderr
+    refused = subprocess.run([BENCH] + table + ["--batch", "--verbose"], capture_output=True, text=True, timeout=60)
+    assert refused.returncode == 2 and "--verbose: the races of a batch" in refused.stderr
+    refused = subprocess.run([BENCH] + table + ["--scheduler=10.0.0.5:8786"], capture_output=True, text=True,
+                             timeout=60)
+    assert refused.returncode == 2 and "expected tcp://HOST:PORT" in refused.stderr
 
 
 def test_a_roar_tournament_runs_each_entry_against_a_private_roar_sim(tmp_path):
