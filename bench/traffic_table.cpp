@@ -6,18 +6,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <functional>
-#include <map>
-#include <random>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
-#include "roar/config/number.h"
 #include "roar/config/package_layout.h"
-#include "roar/config/yaml_section.h"
 #include "roar/harness/pass_place.h"
 #include "roar/harness/race.h"
+#include "roar/harness/traffic.h"
 #include "roar/planning/overtaking/planner.h"
+#include "roar/planning/vehicle_limits.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 #include "statistics.h"
@@ -105,7 +103,12 @@ std::string laneLine(const Circuit& c, const harness::TrafficCircuit& races, con
 int printTrafficTable(const std::string& maps_dir, const std::string& urdf_dir, const std::string& vehicle_config_dir,
                       const TrafficTableOptions& table) {
   const std::vector<std::string> fields = fieldsOf(table.only_field);
-  harness::trafficField(fields.front(), 0, table.pace_step);  // a pace step out of range is refused here
+  if (!(table.pace_step >= harness::kMinPaceStep && table.pace_step <= harness::kMaxPaceStep)) {
+    char said[160];
+    std::snprintf(said, sizeof said, "--pace-step=%g: expected %g to %g (of pace between the reverse grid's cars)",
+                  table.pace_step, harness::kMinPaceStep, harness::kMaxPaceStep);
+    throw std::invalid_argument(said);
+  }
   if (table.batch.enabled && table.verbose) {
     throw std::invalid_argument("--verbose: the races of a batch run elsewhere and print nothing");
   }

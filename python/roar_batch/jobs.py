@@ -81,7 +81,6 @@ def _roar_py(cell: dict, folders: dict) -> dict:
     """The competition entry driven by scripts/roar_py_competition.py (the official runner's calls and rules)
     in a process of its own, which starts a private ROS master and roar_sim (no ROS_MASTER_URI): cells run
     side by side on one machine without meeting."""
-    import roar_paths
     script = roar_paths.package_root() / "scripts" / "roar_py_competition.py"
     env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
     with tempfile.TemporaryDirectory(prefix="roar_batch_") as folder:

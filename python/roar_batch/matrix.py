@@ -4,6 +4,7 @@ maps, laps) and the cells it expands to, each keyed by its content."""
 import hashlib
 import itertools
 import json
+import math
 import os
 import typing
 
@@ -86,10 +87,12 @@ def _required(fields: dict, key: str, path: str):
     return fields[key]
 
 
-def _product(lists: typing.Dict[str, list]) -> typing.List[dict]:
-    """The cells of every combination of the lists, in their order (the first the slowest to change)."""
-    if any(len(v) > MAX_CELLS for v in lists.values()):
-        raise MatrixError("more values than a batch takes")
+def _product(lists: typing.Dict[str, list], path: str) -> typing.List[dict]:
+    """The cells of every combination of the lists, in their order (the first the slowest to change); refused
+    before they are made when there are more than a batch takes."""
+    count = math.prod(len(v) for v in lists.values())
+    if count > MAX_CELLS:
+        raise MatrixError(f"{path}: {count} cells, more than {MAX_CELLS}")
     return [dict(zip(lists, values)) for values in itertools.product(*lists.values())]
 
 
@@ -101,7 +104,7 @@ def _stack_lists(fields: dict, path: str) -> typing.Dict[str, list]:
 
 
 def _time_trial_cells(fields: dict, path: str) -> typing.List[dict]:
-    return _product(_stack_lists(fields, path))
+    return _product(_stack_lists(fields, path), path)
 
 
 def _seeds(fields: dict, path: str) -> list:
@@ -139,7 +142,7 @@ def _overtake_settings(fields: dict, path: str) -> typing.List[dict]:
                 roar_core.overtake_options({str(name): v})
             except ValueError as e:
                 raise MatrixError(f"{path}: overtake.{name}: {e}") from None
-    return _product(lists)
+    return _product(lists, path)
 
 
 def _race_cells(fields: dict, path: str) -> typing.List[dict]:
@@ -152,7 +155,7 @@ def _race_cells(fields: dict, path: str) -> typing.List[dict]:
             raise MatrixError(f"{path}: overtaking: {v!r} is not true or false")
     settings = _overtake_settings(fields, path)
     cells = []
-    for cell in _product(lists):
+    for cell in _product(lists, path):
         for on, setting in itertools.product(overtaking, settings):
             # Only what differs from the defaults is in the cell, so that a cell's key stays what it was.
             extra = ({} if on else {"overtaking": False}) | ({"overtake": setting} if setting else {})
@@ -173,12 +176,11 @@ def _traffic_cells(fields: dict, path: str) -> typing.List[dict]:
              "model": _as_list(fields.get("models", roar_paths.default_model()), path, "models", str),
              "field": kinds, "seed": _seeds(fields, path),
              "laps": _as_list(fields.get("laps", 3), path, "laps", int, 1, 100),
-             "pace_step": _as_list(fields.get("pace_step", 0.05), path, "pace_step", float, 0.01, 0.15)}
-    cells = []
-    for cell in _product(lists):
-        for setting in _overtake_settings(fields, path):
-            cells.append({**cell, **({"overtake": setting} if setting else {})})
-    return cells
+             "pace_step": _as_list(fields.get("pace_step", 0.05), path, "pace_step", float,
+                                   *roar_core.TRAFFIC_PACE_STEPS)}
+    settings = _overtake_settings(fields, path)
+    return [{**cell, **({"overtake": setting} if setting else {})}
+            for cell in _product(lists, path) for setting in settings]
 
 
 def roar_py_entries() -> typing.List[str]:
@@ -209,4 +211,4 @@ def _roar_py_cells(fields: dict, path: str) -> typing.List[dict]:
                      "laps": _as_list(fields.get("laps", 3), path, "laps", int, 1, 100),
                      "camera": cameras,
                      "max_seconds": _as_list(fields.get("max_seconds", 1200.0), path, "max_seconds", float, 1.0,
-                                             86400.0)})
+                                             86400.0)}, path)

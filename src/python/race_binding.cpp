@@ -202,6 +202,7 @@ void bindRaces(py::module_& m) {
         "car_contacts, barrier_contacts, track_limit_violations, time_in_traffic), overtakes, passes_completed, "
         "contacts, sim_time");
   m.attr("TRAFFIC_FIELDS") = harness::trafficFieldKinds();
+  m.attr("TRAFFIC_PACE_STEPS") = py::make_tuple(harness::kMinPaceStep, harness::kMaxPaceStep);
   m.def("traffic_race", &trafficRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
         py::arg("config_dir"), py::arg("field"), py::arg("seed"), py::arg("laps") = 3, py::arg("pace_step") = 0.05,
         py::arg("overtake") = py::dict(),
