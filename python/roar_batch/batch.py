@@ -132,15 +132,16 @@ def describe(cell: dict) -> str:
     """A group's cell as a line: its map, then each field that was swept ("roar_sprint sedan laps 2 grip 0.85
     field 4x0.06 overtake passing.stall_time=2")."""
     parts = []
-    order = ["map", "model", "entry", "laps", "grip_use", "field", "overtaking", "overtake", "camera", "max_seconds"]
+    order = ["map", "model", "entry", "laps", "grip_use", "field", "overtaking", "overtake", "controller", "camera",
+             "max_seconds"]
     for k in sorted(cell, key=lambda k: order.index(k) if k in order else len(order)):
         v = cell[k]
         if k in ("kind", "seed"):
             continue
         if k == "field":
             parts.append(f"field {v['cars']}x{v['pace_spread']}" if isinstance(v, dict) else str(v))
-        elif k == "overtake":
-            parts.append("overtake " + ",".join(f"{n}={x}" for n, x in v.items()))
+        elif k in ("overtake", "controller"):
+            parts.append(f"{k} " + ",".join(f"{n}={x}" for n, x in v.items()))
         elif k == "overtaking":
             parts.append("overtaking " + ("on" if v else "off"))
         elif k in ("map", "model", "entry"):

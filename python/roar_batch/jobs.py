@@ -32,7 +32,7 @@ def race_field(cell: dict) -> typing.List[dict]:
 def _time_trial(cell: dict, folders: dict) -> dict:
     import roar_core
     r = roar_core.run_time_trial(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
-                                 laps=cell["laps"], grip_use=cell["grip_use"])
+                                 laps=cell["laps"], grip_use=cell["grip_use"], controller=cell.get("controller", {}))
     laps = r["lap_times"]
     return {"finished": r["finished"], "best_lap": r["best_lap"], "mean_lap": sum(laps) / len(laps) if laps else None,
             "promised_lap": r["promised_lap"], "barrier_contacts": r["barrier_contacts"],
@@ -44,7 +44,8 @@ def _race(cell: dict, folders: dict) -> dict:
     import roar_core
     r = roar_core.run_race(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
                            race_field(cell), laps=cell["laps"], grip_use=cell["grip_use"],
-                           overtaking=cell.get("overtaking", True), overtake=cell.get("overtake", {}))
+                           overtaking=cell.get("overtaking", True), overtake=cell.get("overtake", {}),
+                           controller=cell.get("controller", {}))
     cars = r["cars"]
     finishers = [c for c in cars if c["finished"]]
     return {"finished": r["finished"], "winner": cars[0]["name"] if cars else None,

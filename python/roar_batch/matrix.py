@@ -1,5 +1,5 @@
 """A batch's matrix: a YAML file of what to vary (time trials and races of the stack: maps, car models, laps,
-grip use, seeds, a race's field, the overtaking planner's options; ROAR_PY programs: competition entries,
+grip use, seeds, a race's field, the overtaking planner's and the tracker's options; ROAR_PY programs: competition entries,
 maps, laps) and the cells it expands to, each keyed by its content."""
 import hashlib
 import itertools
@@ -12,11 +12,14 @@ import yaml
 
 KINDS = ("time_trial", "race", "traffic", "roar_py")
 # The fields each kind takes (besides name and kind).
-KEYS = {"time_trial": {"maps", "models", "laps", "grip_use"},
-        "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake"},
+KEYS = {"time_trial": {"maps", "models", "laps", "grip_use", "controller"},
+        "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake", "controller"},
         "traffic": {"maps", "models", "fields", "seeds", "laps", "pace_step", "overtake"},
         "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"}}
 FIELD_KEYS = {"cars", "pace_spread"}
+# Options set by name, each checked by the C++ side's table: its binding, an example, the values it takes.
+OPTION_TABLES = {"overtake": ("overtake_options", "passing.stall_time: 2", (int, float, bool)),
+                 "controller": ("tracker_options", "lookahead_time: [0.3, 0.4]", (int, float, str))}
 MAX_CELLS = 100000
 RUNNER_CAMERA = "1024x768"  # the official runner's chase camera
 
@@ -104,7 +107,7 @@ def _stack_lists(fields: dict, path: str) -> typing.Dict[str, list]:
 
 
 def _time_trial_cells(fields: dict, path: str) -> typing.List[dict]:
-    return _product(_stack_lists(fields, path), path)
+    return _with_settings(_product(_stack_lists(fields, path), path), fields, path, ["controller"])
 
 
 def _seeds(fields: dict, path: str) -> list:
@@ -125,24 +128,35 @@ def _fields(fields: dict, path: str) -> typing.List[dict]:
     return [{"cars": c, "pace_spread": p} for c, p in itertools.product(cars, spreads)]
 
 
-def _overtake_settings(fields: dict, path: str) -> typing.List[dict]:
-    """The overtaking planner's settings to sweep ({"passing.stall_time": [1, 2]}: each a value or a list),
-    each checked by the planner's own table (roar_core.overtake_options)."""
-    overtake = fields.get("overtake") or {}
-    if not isinstance(overtake, dict):
-        raise MatrixError(f"{path}: overtake: expected a mapping of the planner's options (passing.stall_time: 2)")
+def _option_settings(fields: dict, path: str, key: str) -> typing.List[dict]:
+    """The settings of `key`'s options to sweep (overtake: {"passing.stall_time": [1, 2]}, controller:
+    {"lateral_control": [pure_pursuit, stanley]}: each a value or a list), each checked by the C++ side's own
+    table (roar_core.overtake_options, roar_core.tracker_options)."""
     import roar_core
+    check, example, kinds = OPTION_TABLES[key]
+    options = fields.get(key) or {}
+    if not isinstance(options, dict):
+        raise MatrixError(f"{path}: {key}: expected a mapping of options by name ({example})")
     lists = {}
-    for name, values in overtake.items():
+    for name, values in options.items():
         lists[str(name)] = values if isinstance(values, list) and values else [values]
         for v in lists[str(name)]:
-            if isinstance(v, (dict, list, str)) or v is None:
-                raise MatrixError(f"{path}: overtake.{name}: {v!r} is not a number or flag")
+            if not isinstance(v, kinds) or isinstance(v, bool) and bool not in kinds:
+                raise MatrixError(f"{path}: {key}.{name}: {v!r} is not a {' or '.join(k.__name__ for k in kinds)}")
             try:
-                roar_core.overtake_options({str(name): v})
+                getattr(roar_core, check)({str(name): v})
             except ValueError as e:
-                raise MatrixError(f"{path}: overtake.{name}: {e}") from None
+                raise MatrixError(f"{path}: {key}.{name}: {e}") from None
     return _product(lists, path)
+
+
+def _with_settings(cells: typing.List[dict], fields: dict, path: str, keys: typing.Sequence[str]) -> typing.List[dict]:
+    """Each cell once per combination of the option settings of `keys`; only settings made are in a cell, so
+    that a cell without them keeps its key."""
+    for key in keys:
+        settings = _option_settings(fields, path, key)
+        cells = [{**cell, **({key: setting} if setting else {})} for cell in cells for setting in settings]
+    return cells
 
 
 def _race_cells(fields: dict, path: str) -> typing.List[dict]:
@@ -153,14 +167,9 @@ def _race_cells(fields: dict, path: str) -> typing.List[dict]:
     for v in overtaking:
         if not isinstance(v, bool):
             raise MatrixError(f"{path}: overtaking: {v!r} is not true or false")
-    settings = _overtake_settings(fields, path)
-    cells = []
-    for cell in _product(lists, path):
-        for on, setting in itertools.product(overtaking, settings):
-            # Only what differs from the defaults is in the cell, so that a cell's key stays what it was.
-            extra = ({} if on else {"overtaking": False}) | ({"overtake": setting} if setting else {})
-            cells.append({**cell, **extra})
-    return cells
+    # Only what differs from the defaults is in the cell, so that a cell's key stays what it was.
+    cells = [{**cell, **({} if on else {"overtaking": False})} for cell in _product(lists, path) for on in overtaking]
+    return _with_settings(cells, fields, path, ["overtake", "controller"])
 
 
 def _traffic_cells(fields: dict, path: str) -> typing.List[dict]:
@@ -178,9 +187,7 @@ def _traffic_cells(fields: dict, path: str) -> typing.List[dict]:
              "laps": _as_list(fields.get("laps", 3), path, "laps", int, 1, 100),
              "pace_step": _as_list(fields.get("pace_step", 0.05), path, "pace_step", float,
                                    *roar_core.TRAFFIC_PACE_STEPS)}
-    settings = _overtake_settings(fields, path)
-    return [{**cell, **({"overtake": setting} if setting else {})}
-            for cell in _product(lists, path) for setting in settings]
+    return _with_settings(_product(lists, path), fields, path, ["overtake"])
 
 
 def roar_py_entries() -> typing.List[str]:

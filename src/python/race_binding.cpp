@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "roar/control/tracker_option_table.h"
 #include "roar/harness/race.h"
 #include "roar/harness/time_trial.h"
 #include "roar/harness/traffic.h"
@@ -40,13 +41,29 @@ void checkRace(int laps, double grip_use) {
     throw py::value_error("grip_use must be in (0, 1], got " + std::to_string(grip_use));
 }
 
+// Settings of control::setTrackerOption by name ({"lookahead_time": 0.4, "lateral_control": "stanley"}) applied
+// to `options`: a ValueError naming the option.
+void setTrackerOptions(control::TrackerOptions* options, const py::dict& settings) {
+  for (const auto& [key, value] : settings) {
+    if (py::isinstance<py::bool_>(value))
+      throw py::value_error("controller " + std::string(py::str(key)) + ": True/False is not a number or a law");
+    try {
+      control::setTrackerOption(options, py::str(key), py::str(value), "controller");
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+  }
+}
+
 py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const std::string& model,
-                      const std::string& urdf_dir, const std::string& config_dir, int laps, double grip_use) {
+                      const std::string& urdf_dir, const std::string& config_dir, int laps, double grip_use,
+                      const py::dict& controller) {
   checkRace(laps, grip_use);
-  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
   harness::TimeTrialOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
+  setTrackerOptions(&options.tracker, controller);
+  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
   harness::TimeTrialResult r;
   {
     py::gil_scoped_release unlocked;
@@ -103,6 +120,16 @@ void setOvertakeOptions(planning::OvertakeOptions* options, const py::dict& sett
   }
 }
 
+py::dict trackerOptions(const py::dict& settings) {
+  control::TrackerOptions options;
+  setTrackerOptions(&options, settings);
+  py::dict d;
+  d["lateral_control"] = control::lateralMethodName(options.lateral);
+  for (const auto& entry : control::trackerOptionTable(&options))
+    d[py::str(entry.name)] = *std::get<double*>(entry.field);
+  return d;
+}
+
 py::dict overtakeOptions(const py::dict& settings) {
   planning::OvertakeOptions options;
   setOvertakeOptions(&options, settings);
@@ -115,7 +142,7 @@ py::dict overtakeOptions(const py::dict& settings) {
 
 py::dict runRace(const std::string& map, const std::string& maps_dir, const std::string& model,
                  const std::string& urdf_dir, const std::string& config_dir, const std::vector<py::dict>& car_dicts,
-                 int laps, double grip_use, bool overtaking, const py::dict& overtake) {
+                 int laps, double grip_use, bool overtaking, const py::dict& overtake, const py::dict& controller) {
   checkRace(laps, grip_use);
   if (car_dicts.empty() || car_dicts.size() > 20) throw py::value_error("a race needs 1 to 20 cars");
   std::vector<harness::RaceCar> cars;
@@ -126,6 +153,7 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
   options.grip_use = grip_use;
   options.field.overtaking = overtaking;
   setOvertakeOptions(&options.field.overtake, overtake);
+  setTrackerOptions(&options.tracker, controller);
   harness::RaceResult r;
   {
     py::gil_scoped_release unlocked;
@@ -190,14 +218,16 @@ py::dict trafficRace(const std::string& map, const std::string& maps_dir, const 
 
 void bindRaces(py::module_& m) {
   m.def("run_time_trial", &runTimeTrial, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
-        py::arg("config_dir"), py::arg("laps") = 1, py::arg("grip_use") = 0.85,
-        "The stack's time trial of a car model on a map (an out-lap, then `laps` flying laps): a dict of finished, "
+        py::arg("config_dir"), py::arg("laps") = 1, py::arg("grip_use") = 0.85, py::arg("controller") = py::dict(),
+        "The stack's time trial of a car model on a map (an out-lap, then `laps` flying laps), the tracker's options "
+        "set by name (tracker_options): a dict of finished, "
         "lap_times, best_lap, promised_lap, barrier_contacts, worst_offroad, max_ and rms_lateral_error, sim_time");
   m.def("run_race", &runRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
         py::arg("config_dir"), py::arg("cars"), py::arg("laps") = 2, py::arg("grip_use") = 0.85,
-        py::arg("overtaking") = true, py::arg("overtake") = py::dict(),
+        py::arg("overtaking") = true, py::arg("overtake") = py::dict(), py::arg("controller") = py::dict(),
         "The stack's race of cars of a model (each a dict of name, grid_slot, pace, max_speed), overtaking on "
-        "unless overtaking is False, the overtaking planner's options set by name (overtake_options): a "
+        "unless overtaking is False, the overtaking planner's and the tracker's options set by name "
+        "(overtake_options, tracker_options): a "
         "dict of finished, cars (in finishing order: name, position, finished, race_time, lap_times, "
         "car_contacts, barrier_contacts, track_limit_violations, time_in_traffic), overtakes, passes_completed, "
         "contacts, sim_time");
@@ -213,4 +243,8 @@ void bindRaces(py::module_& m) {
         "Every option of the overtaking planner by name (passing.stall_time, ...) with its value once `settings` "
         "(a dict of name: value) are applied to the defaults; ValueError naming an unknown option or a value out of "
         "its range.");
+  m.def("tracker_options", &trackerOptions, py::arg("settings") = py::dict(),
+        "Every option of the trajectory tracker by name (lateral_control, lookahead_min, ..., the controller node's "
+        "live settings) with its value once `settings` are applied to the defaults; ValueError naming an unknown "
+        "option or a value out of its range.");
 }

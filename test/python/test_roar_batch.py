@@ -43,6 +43,16 @@ def write(tmp_path, matrix, name="m.yaml"):
     ({"kind": "roar_py", "maps": ["monza"]}, "entries is missing"),
     ({"kind": "traffic", "maps": ["roar_sprint"], "fields": ["grid"]}, "fields: 'grid' is not one of pace_car"),
     ({"kind": "traffic", "maps": ["roar_sprint"], "pace_step": 0.5}, "pace_step: 0.5 is outside [0.01, 0.15]"),
+    ({"maps": ["roar_sprint"], "models": ["sedan"], "controller": {"lookahed_time": 0.4}},
+     "controller.lookahed_time: controller: no option 'lookahed_time' (did you mean 'lookahead_time'?)"),
+    ({"maps": ["roar_sprint"], "models": ["sedan"], "controller": {"stanley_gain": [2, 99]}},
+     "controller stanley_gain 99 is outside [0.01, 50]"),
+    ({"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"], "controller": {"lateral_control": "mpc"}},
+     "lateral_control 'mpc' is neither pure_pursuit nor stanley"),
+    ({"maps": ["roar_sprint"], "models": ["sedan"], "controller": {"speed_gain": True}},
+     "controller.speed_gain: True is not a int or float or str"),
+    ({"maps": ["roar_sprint"], "models": ["sedan"], "controller": ["stanley"]}, "controller: expected a mapping"),
+    ({"kind": "traffic", "maps": ["roar_sprint"], "controller": {"lookahead_time": 0.4}}, "for a traffic"),
 ])
 def test_a_matrix_is_refused_naming_the_file_and_field(tmp_path, matrix, message):
     path = write(tmp_path, matrix)
@@ -100,6 +110,31 @@ def test_a_race_cell_takes_its_overtaking_settings():
     assert on["passes_completed"] >= 1 and on["winner"] == "fast"
     assert off["passes_completed"] == 0 and off["winner"] == "slow"
     assert reluctant["passes_completed"] == 0 and reluctant["winner"] == "slow"
+
+
+def test_time_trial_and_race_cells_take_the_trackers_settings(tmp_path):
+    from roar_batch import run_cell
+    swept = read_matrix(write(tmp_path, {"maps": ["roar_sprint"], "models": ["sedan"],
+                                         "controller": {"lateral_control": ["pure_pursuit", "stanley"],
+                                                        "lookahead_time": [0.3, 0.6]}}))
+    assert len(swept.cells) == 4
+    plain = read_matrix(write(tmp_path, {"maps": ["roar_sprint"], "models": ["sedan"]}, "p.yaml")).cells[0]
+    assert "controller" not in plain
+    rows = {(c["controller"]["lateral_control"], c["controller"]["lookahead_time"]): run_cell(c)
+            for c in swept.cells}
+    default = run_cell(plain)
+    assert all(r["status"] == "done" for r in rows.values()), rows
+    # The defaults set by name are the defaults; the other settings drive another lap.
+    assert rows[("pure_pursuit", 0.3)]["best_lap"] == default["best_lap"]
+    assert rows[("stanley", 0.3)]["best_lap"] != default["best_lap"]
+    # Twice the lookahead cuts the corners: pure pursuit's tracking error grows (Stanley reads no lookahead).
+    assert rows[("pure_pursuit", 0.6)]["rms_lateral_error"] > 2 * default["rms_lateral_error"]
+    assert rows[("stanley", 0.6)]["best_lap"] == rows[("stanley", 0.3)]["best_lap"]
+    race = read_matrix(write(tmp_path, {"kind": "race", "maps": ["roar_sprint"], "models": ["sedan"],
+                                        "field": {"cars": 2, "pace_spread": 0.0},
+                                        "controller": {"max_speed": 20}}, "r.yaml")).cells[0]
+    capped = run_cell(race)
+    assert capped["status"] == "done" and capped["best_lap"] > default["best_lap"] * 1.2, capped
 
 
 BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "devel", "lib",

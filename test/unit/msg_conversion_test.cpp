@@ -9,6 +9,8 @@
 
 #include <roar_ros/ControllerConfig.h>
 
+#include "roar/control/tracker_option_table.h"
+
 #include "roar/control/trajectory_tracker.h"
 #include "roar/ros/car_label.h"
 #include "roar/ros/msg_conversion.h"
@@ -294,6 +296,31 @@ TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
   EXPECT_EQ(config.speed_gain, t.speed_gain);
   EXPECT_EQ(config.speed_preview, t.speed_preview);
   EXPECT_EQ(config.max_speed, t.max_speed);
+}
+
+// A batch's or the binding's tracker options take the names and ranges the node's live settings take.
+TEST(ControllerConfig, RangesAreTheTrackerTables) {
+  const auto low = roar_ros::ControllerConfig::__getMin__();
+  const auto high = roar_ros::ControllerConfig::__getMax__();
+  control::TrackerOptions t;
+  const auto table = control::trackerOptionTable(&t);
+  std::vector<std::string> names;
+  for (const auto& entry : table) names.push_back(entry.name);
+  std::vector<std::string> config_names;
+  for (const auto& param : roar_ros::ControllerConfig::__getParamDescriptions__()) {
+    if (param->name != "lateral_control") config_names.push_back(param->name);
+  }
+  EXPECT_EQ(names, config_names);
+  for (const auto& param : roar_ros::ControllerConfig::__getParamDescriptions__()) {
+    boost::any lo, hi;
+    param->getValue(low, lo);
+    param->getValue(high, hi);
+    for (const auto& entry : table) {
+      if (entry.name != param->name) continue;
+      EXPECT_EQ(entry.low, boost::any_cast<double>(lo)) << entry.name;
+      EXPECT_EQ(entry.high, boost::any_cast<double>(hi)) << entry.name;
+    }
+  }
 }
 
 // The timing (race_control) and the decision (planner) float above the same car from two processes with

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
+#include "roar/control/tracker_option_table.h"
 #include "roar/control/tracker_sizing.h"
 #include "roar/harness/time_trial.h"
 #include "roar/sim/world.h"
@@ -217,4 +220,25 @@ TEST(TimeTrial, EveryBlueprintRacesEveryShippedCircuitClean) {
       RecordProperty(model + "_" + name + "_lap_s", std::to_string(r.lap_times[0]));
     }
   }
+}
+
+TEST(TrackerOptionTable, SetsByNameAndRefusesWhatTheNodeRefuses) {
+  control::TrackerOptions t;
+  control::setTrackerOption(&t, "lookahead_time", "0.45", "controller");
+  control::setTrackerOption(&t, "lateral_control", "stanley", "controller");
+  EXPECT_EQ(t.lookahead_time, 0.45);
+  EXPECT_EQ(t.lateral, control::LateralMethod::kStanley);
+  auto message = [&](const std::string& name, const std::string& text) {
+    try {
+      control::setTrackerOption(&t, name, text, "controller");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("stanley_gain", "60"), "controller stanley_gain 60 is outside [0.01, 50]");
+  EXPECT_NE(message("lookahed_time", "1").find("did you mean 'lookahead_time'?"), std::string::npos);
+  EXPECT_EQ(message("lateral_control", "mpc"), "controller lateral_control 'mpc' is neither pure_pursuit nor stanley");
+  EXPECT_NE(message("speed_gain", "fast").find("speed_gain"), std::string::npos);
+  EXPECT_EQ(t.stanley_gain, control::TrackerOptions().stanley_gain);  // refused values leave the option as it was
 }

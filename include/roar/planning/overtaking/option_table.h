@@ -2,21 +2,15 @@
 // The overtaking planner's options by name: the one table roar_bench --overtake=<group>.<name>=<value> and
 // the planner node's parameters ~<group>/<name> both read, with the range each value must lie in. The car's
 // size is not in it (a race takes it from the vehicle's body), nor prediction.keep (the node keeps them).
-#include <limits>
 #include <string>
-#include <variant>
 #include <vector>
 
+#include "roar/config/option_table.h"
 #include "roar/planning/overtaking/options.h"
 
 namespace roar::planning {
 
-struct OvertakeOptionEntry {
-  std::string name;  // <group>.<name>, e.g. passing.stall_time
-  std::variant<double*, int*, bool*> field;
-  double low = -std::numeric_limits<double>::infinity();  // the range a value must lie in (flags: 0 or 1)
-  double high = std::numeric_limits<double>::infinity();
-};
+using OvertakeOptionEntry = config::OptionEntry;
 
 // Every settable option of `options`, in its groups' order.
 std::vector<OvertakeOptionEntry> overtakeOptionTable(OvertakeOptions* options);
