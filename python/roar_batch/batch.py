@@ -17,7 +17,8 @@ from .matrix import Matrix, cell_key
 # The figure a summary groups: a time trial's best lap, a race's winning time, a traffic race's seconds a lap
 # lost in traffic (the mean of its cars), a ROAR_PY run's score (the official runner's: the time to finish
 # every lap).
-FIGURES = {"time_trial": "best_lap", "race": "winning_time", "traffic": "mean_lap_loss", "roar_py": "elapsed_time"}
+FIGURES = {"time_trial": "best_lap", "race": "winning_time", "traffic": "mean_lap_loss", "roar_py": "elapsed_time",
+           "policy": "best_lap"}
 
 
 class BatchInterrupted(RuntimeError):
@@ -132,8 +133,8 @@ def describe(cell: dict) -> str:
     """A group's cell as a line: its map, then each field that was swept ("roar_sprint sedan laps 2 grip 0.85
     field 4x0.06 overtake passing.stall_time=2")."""
     parts = []
-    order = ["map", "model", "entry", "laps", "grip_use", "field", "overtaking", "overtake", "controller", "camera",
-             "max_seconds"]
+    order = ["map", "model", "entry", "policy", "laps", "grip_use", "field", "overtaking", "overtake", "controller",
+             "camera", "max_seconds"]
     for k in sorted(cell, key=lambda k: order.index(k) if k in order else len(order)):
         v = cell[k]
         if k in ("kind", "seed"):
@@ -144,7 +145,7 @@ def describe(cell: dict) -> str:
             parts.append(f"{k} " + ",".join(f"{n}={x}" for n, x in v.items()))
         elif k == "overtaking":
             parts.append("overtaking " + ("on" if v else "off"))
-        elif k in ("map", "model", "entry"):
+        elif k in ("map", "model", "entry", "policy"):
             parts.append(str(v))
         else:
             parts.append(f"{k.replace('_use', '').replace('max_seconds', 'max_s')} {v}")

@@ -1,6 +1,6 @@
 """One cell of a batch: a time trial or race run through the C++ stack in the worker's process (no ROS master),
-or a ROAR_PY program run by the official runner's rules against a private roar_sim of its own; a row of
-figures, or of why it failed."""
+a trained policy's laps, or a ROAR_PY program run by the official runner's rules against a private roar_sim
+of its own; a row of figures, or of why it failed."""
 import ctypes
 import os
 import random
@@ -102,7 +102,22 @@ def _roar_py(cell: dict, folders: dict) -> dict:
             "sim_time": r["elapsed_time"], "real_time_factor": r["real_time_factor"]}
 
 
-JOBS = {"time_trial": _time_trial, "race": _race, "traffic": _traffic, "roar_py": _roar_py}
+def _policy(cell: dict, folders: dict) -> dict:
+    """The policy file's laps from the pole position (roar_rl_core.policy_laps: rl_train's test, judged as race
+    control judges a car)."""
+    import roar_core
+    import roar_rl_core
+    from .matrix import env_file, policy_file
+    r = roar_rl_core.policy_laps(policy_file(cell["policy"]), roar_core.resolve_map_folder(cell["map"], folders["maps"]),
+                                 env_file(cell["env"]), cell["model"], folders["urdf"], folders["vehicles"],
+                                 laps=cell["laps"], time_limit=cell["max_seconds"])
+    laps = r["lap_times"]
+    return {"finished": len(laps) >= cell["laps"], "clean": r["clean"], "ended": r["ended"], "laps_done": len(laps),
+            "best_lap": r["best_lap"], "lap_times": " ".join(f"{t:.2f}" for t in laps), "progress": r["progress"],
+            "sim_time": r["sim_time"]}
+
+
+JOBS = {"time_trial": _time_trial, "race": _race, "traffic": _traffic, "roar_py": _roar_py, "policy": _policy}
 
 
 def run_cell(cell: dict) -> dict:

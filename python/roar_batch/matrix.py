@@ -1,6 +1,7 @@
 """A batch's matrix: a YAML file of what to vary (time trials and races of the stack: maps, car models, laps,
-grip use, seeds, a race's field, the overtaking planner's and the tracker's options; ROAR_PY programs: competition entries,
-maps, laps) and the cells it expands to, each keyed by its content."""
+grip use, seeds, a race's field, the overtaking planner's and the tracker's options; ROAR_PY programs:
+competition entries, maps, laps; trained policies: policy files, maps, car models, laps) and the cells it
+expands to, each keyed by its content."""
 import hashlib
 import itertools
 import json
@@ -10,12 +11,13 @@ import typing
 
 import yaml
 
-KINDS = ("time_trial", "race", "traffic", "roar_py")
+KINDS = ("time_trial", "race", "traffic", "roar_py", "policy")
 # The fields each kind takes (besides name and kind).
 KEYS = {"time_trial": {"maps", "models", "laps", "grip_use", "controller"},
         "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake", "controller"},
         "traffic": {"maps", "models", "fields", "seeds", "laps", "pace_step", "overtake"},
-        "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"}}
+        "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"},
+        "policy": {"policies", "maps", "models", "laps", "env", "max_seconds"}}
 FIELD_KEYS = {"cars", "pace_spread"}
 # Options set by name, each checked by the C++ side's table: its binding, an example, the values it takes.
 OPTION_TABLES = {"overtake": ("overtake_options", "passing.stall_time: 2", (int, float, bool)),
@@ -72,10 +74,12 @@ def read_matrix(path: str) -> Matrix:
         hint = (": a time trial is deterministic: seeds and field are a race's"
                 if kind == "time_trial" and set(unknown) & {"seeds", "field"} else
                 ": a ROAR_PY run is the official runner's, deterministic here (no seeds), in its own car"
-                if kind == "roar_py" and set(unknown) & {"seeds", "models"} else "")
+                if kind == "roar_py" and set(unknown) & {"seeds", "models"} else
+                ": a policy drives from the pole position without noise, deterministic (no seeds)"
+                if kind == "policy" and "seeds" in unknown else "")
         raise MatrixError(f"{path}: unknown field(s) {unknown} for a {kind} (known: {sorted(KEYS[kind])}){hint}")
     cells = {"time_trial": _time_trial_cells, "race": _race_cells, "traffic": _traffic_cells,
-             "roar_py": _roar_py_cells}[kind](fields, path)
+             "roar_py": _roar_py_cells, "policy": _policy_cells}[kind](fields, path)
     if len(cells) > MAX_CELLS:
         raise MatrixError(f"{path}: {len(cells)} cells, more than {MAX_CELLS}")
     name = raw.get("name", os.path.splitext(os.path.basename(path))[0])
@@ -219,3 +223,45 @@ def _roar_py_cells(fields: dict, path: str) -> typing.List[dict]:
                      "camera": cameras,
                      "max_seconds": _as_list(fields.get("max_seconds", 1200.0), path, "max_seconds", float, 1.0,
                                              86400.0)}, path)
+
+
+def _shipped_or_file(name: str, folder: str, what: str) -> str:
+    """`name` as a file, or the name of one in the package's `folder` (roar_paths.layout); FileNotFoundError."""
+    import roar_paths
+    if os.path.isfile(name):
+        return os.path.abspath(name)
+    shipped = roar_paths.layout()[folder] / f"{name}.yaml"
+    if shipped.is_file():
+        return str(shipped)
+    raise FileNotFoundError(f"{what} {name!r} is neither a file nor one of config/{folder}")
+
+
+def policy_file(name: str) -> str:
+    """A policy as a matrix names it: a file (rl_train's or roar_rl_ppo.py's policy.yaml), or the name of one
+    in the package's config/policies."""
+    return _shipped_or_file(name, "policies", "policy")
+
+
+def env_file(name: str) -> str:
+    """An environment options file, or the name of one in the package's config/rl (state)."""
+    return _shipped_or_file(name, "rl", "env")
+
+
+def _policy_cells(fields: dict, path: str) -> typing.List[dict]:
+    """Trained policies' laps from the pole position: each policy file on each map in each car."""
+    import roar_paths
+    policies = _as_list(_required(fields, "policies", path), path, "policies", str)
+    envs = _as_list(fields.get("env", "state"), path, "env", str)
+    for field, names, find in (("policies", policies, policy_file), ("env", envs, env_file)):
+        for name in names:
+            try:
+                find(name)
+            except FileNotFoundError as e:
+                raise MatrixError(f"{path}: {field}: {e}") from None
+    return _product({"policy": policies,
+                     "map": _as_list(_required(fields, "maps", path), path, "maps", str),
+                     "model": _as_list(fields.get("models", roar_paths.default_model()), path, "models", str),
+                     "laps": _as_list(fields.get("laps", 2), path, "laps", int, 1, 100),
+                     "env": envs,
+                     "max_seconds": _as_list(fields.get("max_seconds", 600.0), path, "max_seconds", float, 1.0,
+                                             36000.0)}, path)

@@ -18,7 +18,7 @@ def package_root() -> Path:
 
 @functools.lru_cache(maxsize=None)
 def layout() -> typing.Dict[str, Path]:
-    """The package's folders: maps, urdf, vehicles (car models), sensors, scenarios, rl."""
+    """The package's folders: maps, urdf, vehicles (car models), sensors, scenarios, rl, policies."""
     import roar_core  # the C++ side's answer (a compiled module: imported when first asked)
     return {kind: Path(folder) for kind, folder in roar_core.package_layout(str(package_root())).items()}
 

@@ -92,6 +92,7 @@ PYBIND11_MODULE(roar_core, m) {
         d["sensors"] = layout.sensors();
         d["scenarios"] = layout.scenarios();
         d["rl"] = layout.rl();
+        d["policies"] = layout.policies();
         return d;
       },
       py::arg("root"),

@@ -18,6 +18,8 @@
 #include "roar/rl/async_vector_env.h"
 #include "roar/rl/env_options.h"
 #include "roar/rl/policy.h"
+#include "roar/rl/policy_laps.h"
+#include "roar/rl/racing_env.h"
 #include "roar/rl/vector_env.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
@@ -566,6 +568,34 @@ std::array<float, 2> mlpPolicyOutputs(const std::string& path, const std::vector
   return rl::MlpPolicy::load(path).outputs(flat_observation);
 }
 
+// A policy file's laps from the pole position of a map (rl::driveLaps), in the environment of `options_path`
+// observed as the policy observes.
+py::dict policyLaps(const std::string& policy_path, const std::string& map_folder, const std::string& options_path,
+                    const std::string& model, const std::string& urdf_dir, const std::string& vehicle_dir, int laps,
+                    double time_limit) {
+  if (laps < 1 || laps > 100) throw py::value_error("laps must be 1 to 100, got " + std::to_string(laps));
+  if (!(time_limit > 0.0 && time_limit <= 36000.0))
+    throw py::value_error("time_limit must be in (0, 36000] s, got " + std::to_string(time_limit));
+  const rl::MlpPolicy policy = rl::MlpPolicy::load(policy_path);
+  const track::Track track = track::loadMapFolder(map_folder);
+  const vehicle::VehicleParams car = vehicle::loadVehicleModel(model, urdf_dir, vehicle_dir);
+  const rl::EnvOptions options = rl::lapEnvironment(rl::readEnvOptions(options_path), policy, time_limit);
+  rl::PolicyLaps run;
+  {
+    py::gil_scoped_release unlocked;
+    rl::RacingEnv env(track, car, options);
+    run = rl::driveLaps(env, policy, laps);
+  }
+  py::dict d;
+  d["lap_times"] = run.laps;
+  d["best_lap"] = run.laps.empty() ? py::object(py::none()) : py::cast(run.best());
+  d["clean"] = run.clean;
+  d["ended"] = run.ended;
+  d["progress"] = run.progress;
+  d["sim_time"] = run.sim_time;
+  return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(roar_rl_core, m) {
@@ -578,6 +608,12 @@ PYBIND11_MODULE(roar_rl_core, m) {
         py::arg("params"), "writes a policy file (rl_train's format, what policy_driver drives with)");
   m.def("mlp_policy_outputs", &mlpPolicyOutputs, py::arg("path"), py::arg("flat_observation"),
         "{steer, pedal} of a policy file for a flattened observation, as policy_driver computes them");
+  m.def("policy_laps", &policyLaps, py::arg("policy_path"), py::arg("map_folder"), py::arg("options_path"),
+        py::arg("model"), py::arg("urdf_dir"), py::arg("vehicle_dir"), py::arg("laps") = 2,
+        py::arg("time_limit") = 600.0,
+        "A policy file's laps from the pole position, judged as race control judges a car (rl_train's test): a dict "
+        "of lap_times, best_lap (None without a lap), clean, ended (laps done, collision, off track, stalled, wrong "
+        "way, time limit), progress (m), sim_time (s)");
   py::class_<PyVectorEnv>(m, "VectorEnv")
       .def(py::init<const std::string&, const std::string&, const std::string&, const std::string&, const std::string&,
                     int, int>(),

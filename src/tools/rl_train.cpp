@@ -24,6 +24,7 @@
 #include "roar/race/race_control.h"
 #include "roar/report/race_report.h"
 #include "roar/rl/evolution.h"
+#include "roar/rl/policy_laps.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
 
@@ -121,34 +122,6 @@ std::optional<Args> parse(int argc, char** argv) {
   return a;
 }
 
-// Two laps from the pole position: the lap times, and whether the car stayed clean as race_control judges
-// it (no contact, never all four wheels off the road).
-struct LapTest {
-  std::vector<double> laps;
-  double progress = 0.0;
-  bool clean = true;
-  double best() const {
-    double b = 0.0;
-    for (double t : laps) b = b == 0.0 ? t : std::min(b, t);
-    return b;
-  }
-};
-
-LapTest driveLaps(rl::RacingEnv& env, const rl::MlpPolicy& policy) {
-  LapTest test;
-  rl::Value obs = env.reset(0).observation;
-  for (;;) {
-    const rl::StepResult r = env.step(policy.act(env.actionSpace(), obs));
-    if (r.info.collision_impulse > 0.0 || r.terminated || r.info.beyond_edge > race::RaceRules().track_limits_margin) {
-      test.clean = false;
-    }
-    if (r.info.laps > static_cast<int>(test.laps.size())) test.laps.push_back(r.info.last_lap_time);
-    test.progress = r.info.progress;
-    if (r.done() || test.laps.size() >= 2 || !test.clean) return test;
-    obs = r.observation;
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -207,10 +180,10 @@ int main(int argc, char** argv) {
       mean_returns.push_back(g.mean_return);
       best_returns.push_back(g.best_return);
       std::string eval_text;
-      LapTest test;
+      rl::PolicyLaps test;
       const bool evaluate = g.generation % args.eval_every == 0;
       if (evaluate) {
-        test = driveLaps(lap_env, es.policy());
+        test = rl::driveLaps(lap_env, es.policy(), 2);
         if (test.clean && !test.laps.empty()) {
           lap_curve.x.push_back(g.generation);
           lap_curve.y.push_back(test.best());

@@ -53,6 +53,12 @@ def write(tmp_path, matrix, name="m.yaml"):
      "controller.speed_gain: True is not a int or float or str"),
     ({"maps": ["roar_sprint"], "models": ["sedan"], "controller": ["stanley"]}, "controller: expected a mapping"),
     ({"kind": "traffic", "maps": ["roar_sprint"], "controller": {"lookahead_time": 0.4}}, "for a traffic"),
+    ({"kind": "policy", "maps": ["roar_sprint"], "policies": ["nowhere"]},
+     "policies: policy 'nowhere' is neither a file nor one of config/policies"),
+    ({"kind": "policy", "maps": ["roar_sprint"], "policies": ["roar_sprint"], "env": "pixels"},
+     "env: env 'pixels' is neither a file nor one of config/rl"),
+    ({"kind": "policy", "maps": ["roar_sprint"], "policies": ["roar_sprint"], "seeds": 4}, "deterministic (no seeds)"),
+    ({"kind": "policy", "maps": ["roar_sprint"]}, "policies is missing"),
 ])
 def test_a_matrix_is_refused_naming_the_file_and_field(tmp_path, matrix, message):
     path = write(tmp_path, matrix)
@@ -135,6 +141,21 @@ def test_time_trial_and_race_cells_take_the_trackers_settings(tmp_path):
                                         "controller": {"max_speed": 20}}, "r.yaml")).cells[0]
     capped = run_cell(race)
     assert capped["status"] == "done" and capped["best_lap"] > default["best_lap"] * 1.2, capped
+
+
+def test_policy_cells_lap_trained_policies_as_race_control_judges(tmp_path):
+    from roar_batch import run_cell
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("format: roar_ros mlp policy 1\nhidden: [4]\n")
+    m = read_matrix(write(tmp_path, {"kind": "policy", "policies": ["roar_sprint", str(broken)],
+                                     "maps": ["roar_sprint"], "models": ["sedan"], "laps": 2}))
+    trained, bad = (run_cell(c) for c in m.cells)
+    stack = run_cell({"kind": "time_trial", "map": "roar_sprint", "model": "sedan", "laps": 1, "grip_use": 0.85})
+    # The shipped policy (rl_train's) laps clean from the grid, slower than the planner and controller.
+    assert trained["status"] == "done" and trained["ended"] == "laps done", trained
+    assert trained["clean"] and trained["finished"] and trained["laps_done"] == 2
+    assert stack["best_lap"] < trained["best_lap"] < 1.2 * stack["best_lap"], (trained, stack)
+    assert bad["status"] == "failed" and str(broken) in bad["error"], bad
 
 
 BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "devel", "lib",

@@ -6,6 +6,7 @@
 
 #include "roar/rl/evolution.h"
 #include "roar/rl/policy.h"
+#include "roar/rl/policy_laps.h"
 #include "test_support.h"
 
 using namespace roar;
@@ -131,4 +132,30 @@ TEST(RlEvolution, AShortRunOnASmallTrackImprovesTheReturn) {
   rl::EvolutionStrategy first(make, options);
   for (int g = 0; g < 2; ++g) first.runGeneration();
   EXPECT_EQ(again.policy().params(), first.policy().params());
+}
+
+// rl_train's test and a batch's policy cell: laps from the pole position, judged as race control judges a car.
+TEST(RlPolicyLaps, FromThePoleJudgedAsRaceControlJudges) {
+  const track::Track circle = test::circleTrack(50.0, 12.0);
+  rl::ObservationOptions observation;
+  observation.waypoint_distances = {5, 15};
+  rl::MlpPolicy standing(observation, {1});  // zero weights: steer 0, pedal 0
+  const rl::EnvOptions options = rl::lapEnvironment(shortEpisodes(), standing, 6.0);
+  EXPECT_EQ(options.spawn, rl::SpawnMode::kGrid);
+  EXPECT_EQ(options.observation.waypoint_distances, observation.waypoint_distances);
+  rl::RacingEnv env(circle, test::sedan(), options);
+  const rl::PolicyLaps stood = rl::driveLaps(env, standing, 2);
+  EXPECT_TRUE(stood.clean);
+  EXPECT_TRUE(stood.laps.empty());
+  EXPECT_EQ(stood.best(), 0.0);
+  EXPECT_TRUE(stood.ended == "time limit" || stood.ended == "stalled") << stood.ended;
+  EXPECT_NEAR(stood.sim_time, 6.0, 0.06);
+
+  rl::MlpPolicy floored = standing;
+  floored.params().back() = 5.0f;  // the pedal's bias: full throttle, straight ahead off the circle
+  const rl::PolicyLaps left = rl::driveLaps(env, floored, 2);
+  EXPECT_FALSE(left.clean);
+  EXPECT_TRUE(left.ended == "off track" || left.ended == "collision") << left.ended;
+  EXPECT_LT(left.sim_time, 6.0);
+  EXPECT_GT(left.progress, 1.0);
 }

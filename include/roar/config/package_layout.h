@@ -18,6 +18,7 @@ struct PackageLayout {
   std::string sensors() const { return root + "/config/sensors"; }
   std::string scenarios() const { return root + "/config/scenarios"; }
   std::string rl() const { return root + "/config/rl"; }
+  std::string policies() const { return root + "/config/policies"; }  // trained policies (policy.yaml)
 };
 
 }  // namespace roar::config
