@@ -23,14 +23,19 @@ bool WindowPairing::onOdometry(double stamp, double wall) {
 
 bool WindowPairing::onWindow(double stamp) {
   const bool first = !has_window_;
+  const bool fresh = has_window_ && stamp > window_stamp_;
   has_window_ = true;
   window_stamp_ = stamp;
   // A window stamped with the odometry's time (not older than the newest: one lagging behind says nothing
-  // new) shows a planner that answers odometry; an unstamped one on a running clock, one that does not.
+  // new) shows a planner that answers odometry; an unstamped one on a running clock, one that does not. A
+  // planner given up on that plans again from newer odometry is waited for again even while it lags: held,
+  // the simulator waits and the planner catches up, so the race is in lockstep again
+  // (WindowPairing.ARestartedPlannerLaggingBehindIsWaitedForAgain).
   if (!odometry_seen_ || (stamp == 0.0 && newest_odometry_ != 0.0)) {
     planner_answers_ = false;
-  } else if (stamp >= newest_odometry_) {
+  } else if (stamp >= newest_odometry_ || (given_up_ && fresh)) {
     planner_answers_ = true;
+    given_up_ = false;
   }
   return holding_ && (first || window_stamp_ >= held_stamp_);
 }

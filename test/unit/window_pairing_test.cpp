@@ -85,6 +85,33 @@ TEST(WindowPairing, APlannerThatMissedItsWaitIsNotWaitedForUntilItAnswersAgain) 
   EXPECT_FALSE(p.onOdometry(0.20, 11.2)) << "and is waited for again";
 }
 
+TEST(WindowPairing, ARestartedPlannerLaggingBehindIsWaitedForAgain) {
+  WindowPairing p(1.0);
+  p.onOdometry(0.0, 0.0);
+  p.onWindow(0.0);
+  p.answered();
+  EXPECT_FALSE(p.onOdometry(0.05, 10.0));
+  ASSERT_TRUE(p.waitedTooLong(11.0));
+  p.answeredLate();
+  for (int k = 2; k <= 40; ++k) EXPECT_TRUE(p.onOdometry(0.05 * k, 11.0 + 0.01 * k));
+  p.onWindow(1.5);  // the restarted planner's first window, planned from odometry 0.5 s old
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_FALSE(p.onOdometry(2.05, 11.5)) << "the next tick waits: the simulator stops while the planner catches up";
+  EXPECT_FALSE(p.onWindow(1.6)) << "a window of an older tick does not answer it";
+  EXPECT_TRUE(p.onWindow(2.05));
+  p.answered();
+  // A window arriving late from the planner before it was given up is no news: it is not waited for.
+  WindowPairing dying(1.0);
+  dying.onOdometry(10.0, 0.0);
+  dying.onWindow(10.0);
+  dying.answered();
+  dying.onOdometry(10.05, 10.0);
+  dying.answeredLate();
+  dying.onWindow(10.0);
+  EXPECT_FALSE(dying.plannerAnswersOdometry());
+  EXPECT_TRUE(dying.onOdometry(10.1, 11.0));
+}
+
 TEST(WindowPairing, AWindowOlderThanTheOdometryByMoreThanItsLimitIsStale) {
   WindowPairing p(1.0);
   EXPECT_FALSE(p.windowStale(100.0, 2.0)) << "no window: nothing to be stale";

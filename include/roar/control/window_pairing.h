@@ -3,7 +3,9 @@
 // (its windows carry the stamp of the odometry they were planned from), tick t is answered with the
 // window of tick t: the odometry is held until that window comes, or until it has waited `window_wait`
 // seconds of wall time (then the latest window does). A planner whose windows are unstamped, or that
-// has not yet answered a tick, is not waited for. Without any window, odometry is held until the first.
+// has not yet answered a tick, is not waited for; one given up on (a window missed its wait) is waited
+// for again once it plans from newer odometry, so that a restarted planner brings the race back into
+// lockstep however far behind it starts. Without any window, odometry is held until the first.
 // Times in seconds: stamps are simulated time, `wall` is wall time. ROS-free: the controller node feeds
 // it and does what it says.
 namespace roar::control {
@@ -25,6 +27,7 @@ class WindowPairing {
   void answeredLate() {
     holding_ = false;
     planner_answers_ = false;
+    given_up_ = true;
   }
   // The held odometry was answered (or dropped).
   void answered() { holding_ = false; }
@@ -50,6 +53,7 @@ class WindowPairing {
   bool odometry_seen_ = false;
   double newest_odometry_ = 0.0;
   bool planner_answers_ = false;
+  bool given_up_ = false;  // answered late: a fresh stamped window makes the planner answering again
   bool holding_ = false;
   double held_stamp_ = 0.0;
   double held_since_ = 0.0;
