@@ -7,6 +7,22 @@
 
 using roar::control::WindowPairing;
 
+namespace {
+
+// A pairing whose planner answered tick `t0`, then missed its wait for the next tick: given up on.
+WindowPairing givenUpAfter(double t0) {
+  WindowPairing p(1.0);
+  p.onOdometry(t0, 0.0);
+  p.onWindow(t0);
+  p.answered();
+  EXPECT_FALSE(p.onOdometry(t0 + 0.05, 10.0));
+  EXPECT_TRUE(p.waitedTooLong(11.0));
+  p.answeredLate();
+  return p;
+}
+
+}  // namespace
+
 TEST(WindowPairing, OdometryIsHeldUntilTheFirstWindow) {
   WindowPairing p(1.0);
   EXPECT_FALSE(p.onOdometry(0.0, 10.0)) << "no window yet";
@@ -70,13 +86,7 @@ TEST(WindowPairing, AWindowLaggingBehindTheNewestOdometrySaysNothingNew) {
 }
 
 TEST(WindowPairing, APlannerThatMissedItsWaitIsNotWaitedForUntilItAnswersAgain) {
-  WindowPairing p(1.0);
-  p.onOdometry(0.0, 0.0);
-  p.onWindow(0.0);
-  p.answered();
-  EXPECT_FALSE(p.onOdometry(0.05, 10.0));
-  ASSERT_TRUE(p.waitedTooLong(11.0));
-  p.answeredLate();
+  WindowPairing p = givenUpAfter(0.0);
   EXPECT_FALSE(p.plannerAnswersOdometry());
   EXPECT_TRUE(p.onOdometry(0.10, 11.0)) << "the next tick is answered at once: a dead planner costs one wait";
   EXPECT_TRUE(p.onOdometry(0.15, 11.1));
@@ -86,13 +96,7 @@ TEST(WindowPairing, APlannerThatMissedItsWaitIsNotWaitedForUntilItAnswersAgain) 
 }
 
 TEST(WindowPairing, ARestartedPlannerLaggingBehindIsWaitedForAgain) {
-  WindowPairing p(1.0);
-  p.onOdometry(0.0, 0.0);
-  p.onWindow(0.0);
-  p.answered();
-  EXPECT_FALSE(p.onOdometry(0.05, 10.0));
-  ASSERT_TRUE(p.waitedTooLong(11.0));
-  p.answeredLate();
+  WindowPairing p = givenUpAfter(0.0);
   for (int k = 2; k <= 40; ++k) EXPECT_TRUE(p.onOdometry(0.05 * k, 11.0 + 0.01 * k));
   p.onWindow(1.5);  // the restarted planner's first window, planned from odometry 0.5 s old
   EXPECT_TRUE(p.plannerAnswersOdometry());
@@ -101,12 +105,7 @@ TEST(WindowPairing, ARestartedPlannerLaggingBehindIsWaitedForAgain) {
   EXPECT_TRUE(p.onWindow(2.05));
   p.answered();
   // A window arriving late from the planner before it was given up is no news: it is not waited for.
-  WindowPairing dying(1.0);
-  dying.onOdometry(10.0, 0.0);
-  dying.onWindow(10.0);
-  dying.answered();
-  dying.onOdometry(10.05, 10.0);
-  dying.answeredLate();
+  WindowPairing dying = givenUpAfter(10.0);
   dying.onWindow(10.0);
   EXPECT_FALSE(dying.plannerAnswersOdometry());
   EXPECT_TRUE(dying.onOdometry(10.1, 11.0));
