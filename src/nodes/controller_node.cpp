@@ -16,7 +16,9 @@
 
 #include <algorithm>
 #include <list>
+#include <stdexcept>
 
+#include "roar/control/tracker_option_table.h"
 #include "roar/control/tracker_sizing.h"
 #include "roar/control/trajectory_tracker.h"
 #include "roar/control/window_pairing.h"
@@ -74,7 +76,7 @@ double tighter(double a, double b) { return a <= 0 ? b : b <= 0 ? a : std::min(a
 
 control::TrackerOptions withGains(control::TrackerOptions t, const roar_ros::ControllerConfig& c, double car_cap,
                                   double pedal_response) {
-  t.lateral = c.lateral_control == "stanley" ? control::LateralMethod::kStanley : control::LateralMethod::kPurePursuit;
+  control::setTrackerOption(&t, "lateral_control", c.lateral_control, "controller");  // checked on reconfigure
   t.lookahead_min = c.lookahead_min;
   t.lookahead_time = c.lookahead_time;
   t.stanley_gain = c.stanley_gain;
@@ -241,10 +243,11 @@ class ControllerNode {
     for (const auto& car : options.cars)
       drivers_.emplace_back(nh, car, options.odom_timeout, options.window_wait, racing_line_);
     reconfigure_.setCallback([this](const roar_ros::ControllerConfig& config, uint32_t) {
-      if (config.lateral_control != "pure_pursuit" && config.lateral_control != "stanley") {
-        ROS_ERROR(
-            "controller: lateral_control '%s' is neither pure_pursuit nor stanley; keeping the gains as they were",
-            config.lateral_control.c_str());
+      try {
+        control::TrackerOptions law;  // the law's name checked by the tracker's own table
+        control::setTrackerOption(&law, "lateral_control", config.lateral_control, "controller");
+      } catch (const std::invalid_argument& e) {
+        ROS_ERROR("%s; keeping the gains as they were", e.what());
         return;
       }
       for (auto& driver : drivers_) driver.configure(config);

@@ -194,6 +194,11 @@ class StackInputs(unittest.TestCase):
         self.assertEqual(answer.throttle, 0.0)
         self.assertGreater(answer.brake, 0.5)
         client.update_configuration({"max_speed": 0.0})
+        # A law the tracker's table does not know is refused by it, and the gains stay as they were.
+        client.update_configuration({"lateral_control": "mpc"})
+        self.assertTrue(self.wait_for_log("controller lateral_control 'mpc' is neither pure_pursuit nor stanley; "
+                                          "keeping the gains as they were"))
+        client.update_configuration({"lateral_control": "pure_pursuit"})
 
 
 if __name__ == "__main__":
