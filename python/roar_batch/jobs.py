@@ -40,10 +40,32 @@ def _time_trial(cell: dict, folders: dict) -> dict:
             "rms_lateral_error": r["rms_lateral_error"], "sim_time": r["sim_time"]}
 
 
+def scenario_race(cell: dict) -> typing.Tuple[str, str, int, typing.List[dict]]:
+    """A scenario cell's map, car model, laps and cars (the scenario's unless the cell sets model or laps)."""
+    import roar_core
+    scenario = roar_core.load_scenario(cell["scenario"], str(roar_paths.package_root()))
+    name = cell["scenario"]
+    others = [c["name"] for c in scenario["cars"] if not c["driven"] or c["agent"]]
+    if others:
+        raise ValueError(f"scenario {name}: car(s) {', '.join(others)} are not the stack's to drive (undriven or "
+                         "an agent's); a batch's race drives every car with the stack")
+    models = {c["model"] for c in scenario["cars"]}
+    if "model" not in cell and len(models) > 1:
+        raise ValueError(f"scenario {name}: its cars are of {len(models)} models ({', '.join(sorted(models))}); "
+                         "a batch's race is of one (set models)")
+    cars = [{"name": c["name"], "grid_slot": c["spawn_point"], "pace": c["pace"], "max_speed": c["max_speed"]}
+            for c in scenario["cars"]]
+    return scenario["map"], cell.get("model", models.pop()), cell.get("laps", scenario["laps"]), cars
+
+
 def _race(cell: dict, folders: dict) -> dict:
     import roar_core
-    r = roar_core.run_race(cell["map"], folders["maps"], cell["model"], folders["urdf"], folders["vehicles"],
-                           race_field(cell), laps=cell["laps"], grip_use=cell["grip_use"],
+    if "scenario" in cell:
+        map_name, model, laps, cars = scenario_race(cell)
+    else:
+        map_name, model, laps, cars = cell["map"], cell["model"], cell["laps"], race_field(cell)
+    r = roar_core.run_race(map_name, folders["maps"], model, folders["urdf"], folders["vehicles"],
+                           cars, laps=laps, grip_use=cell["grip_use"],
                            overtaking=cell.get("overtaking", True), overtake=cell.get("overtake", {}),
                            controller=cell.get("controller", {}))
     cars = r["cars"]

@@ -1,5 +1,5 @@
 """A batch's matrix: a YAML file of what to vary (time trials and races of the stack: maps, car models, laps,
-grip use, seeds, a race's field, the overtaking planner's and the tracker's options; ROAR_PY programs:
+grip use, seeds, a race's field or scenario, the overtaking planner's and the tracker's options; ROAR_PY programs:
 competition entries, maps, laps; trained policies: policy files, maps, car models, laps) and the cells it
 expands to, each keyed by its content."""
 import hashlib
@@ -14,7 +14,8 @@ import yaml
 KINDS = ("time_trial", "race", "traffic", "roar_py", "policy")
 # The fields each kind takes (besides name and kind).
 KEYS = {"time_trial": {"maps", "models", "laps", "grip_use", "controller"},
-        "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake", "controller"},
+        "race": {"maps", "models", "laps", "grip_use", "seeds", "field", "overtaking", "overtake", "controller",
+                 "scenarios"},
         "traffic": {"maps", "models", "fields", "seeds", "laps", "pace_step", "overtake"},
         "roar_py": {"entries", "maps", "laps", "camera", "max_seconds"},
         "policy": {"policies", "maps", "models", "laps", "env", "max_seconds"}}
@@ -163,9 +164,36 @@ def _with_settings(cells: typing.List[dict], fields: dict, path: str, keys: typi
     return cells
 
 
+def _scenario_lists(fields: dict, path: str) -> typing.Dict[str, list]:
+    """Races of scenario files (config/scenarios names or paths): each its map, cars, grid and paces; `models`
+    and `laps`, where given, replace the scenario's for every car."""
+    import roar_core
+    import roar_paths
+    clash = sorted({"maps", "field", "seeds"} & set(fields))
+    if clash:
+        raise MatrixError(f"{path}: {', '.join(clash)}: a scenario names its own map and cars, and races them "
+                          f"deterministically (no seeds)")
+    scenarios = _as_list(fields["scenarios"], path, "scenarios", str)
+    for name in scenarios:
+        try:
+            roar_core.load_scenario(name, str(roar_paths.package_root()))
+        except ValueError as e:
+            raise MatrixError(f"{path}: scenarios: {e}") from None
+    lists = {"scenario": scenarios,
+             "grip_use": _as_list(fields.get("grip_use", 0.85), path, "grip_use", float, 0.05, 1.0)}
+    if "models" in fields:
+        lists["model"] = _as_list(fields["models"], path, "models", str)
+    if "laps" in fields:
+        lists["laps"] = _as_list(fields["laps"], path, "laps", int, 1, 100)
+    return lists
+
+
 def _race_cells(fields: dict, path: str) -> typing.List[dict]:
-    lists = _stack_lists(fields, path)
-    lists.update(seed=_seeds(fields, path), field=_fields(fields, path))
+    if "scenarios" in fields:
+        lists = _scenario_lists(fields, path)
+    else:
+        lists = _stack_lists(fields, path)
+        lists.update(seed=_seeds(fields, path), field=_fields(fields, path))
     overtaking = fields.get("overtaking", True)
     overtaking = overtaking if isinstance(overtaking, list) and overtaking else [overtaking]
     for v in overtaking:

@@ -59,6 +59,8 @@ def write(tmp_path, matrix, name="m.yaml"):
      "env: env 'pixels' is neither a file nor one of config/rl"),
     ({"kind": "policy", "maps": ["roar_sprint"], "policies": ["roar_sprint"], "seeds": 4}, "deterministic (no seeds)"),
     ({"kind": "policy", "maps": ["roar_sprint"]}, "policies is missing"),
+    ({"kind": "race", "scenarios": ["reverse_grid"], "seeds": 3}, "seeds: a scenario names its own map and cars"),
+    ({"kind": "race", "scenarios": ["reverse_gird"]}, "scenarios: no scenario 'reverse_gird'"),
 ])
 def test_a_matrix_is_refused_naming_the_file_and_field(tmp_path, matrix, message):
     path = write(tmp_path, matrix)
@@ -156,6 +158,19 @@ def test_policy_cells_lap_trained_policies_as_race_control_judges(tmp_path):
     assert trained["clean"] and trained["finished"] and trained["laps_done"] == 2
     assert stack["best_lap"] < trained["best_lap"] < 1.2 * stack["best_lap"], (trained, stack)
     assert bad["status"] == "failed" and str(broken) in bad["error"], bad
+
+
+def test_race_cells_of_scenarios_race_the_scenarios_cars(tmp_path):
+    from roar_batch import run_cell
+    m = read_matrix(write(tmp_path, {"kind": "race", "scenarios": ["five_percent", "multi_car"], "laps": 1,
+                                     "overtaking": [True, False]}))
+    assert len(m.cells) == 4 and all("map" not in c and "field" not in c for c in m.cells)
+    rows = {(c["scenario"], c.get("overtaking", True)): run_cell(c) for c in m.cells}
+    assert all(r["status"] == "done" and r["finished"] for r in rows.values()), rows
+    # multi_car's pace car on pole is capped at 15 m/s: with overtaking off nobody gets by and it wins.
+    assert rows[("multi_car", False)]["winner"] == "pace"
+    assert rows[("multi_car", True)]["winner"] != "pace" and rows[("multi_car", True)]["passes_completed"] >= 1
+    assert rows[("five_percent", False)]["winner"] == "slowed"
 
 
 BENCH = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "devel", "lib",
