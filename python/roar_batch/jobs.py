@@ -43,8 +43,8 @@ def _time_trial(cell: dict, folders: dict) -> dict:
 def scenario_race(cell: dict) -> typing.Tuple[str, str, int, typing.List[dict]]:
     """A scenario cell's map, car model, laps and cars (the scenario's unless the cell sets model or laps)."""
     import roar_core
-    scenario = roar_core.load_scenario(cell["scenario"], str(roar_paths.package_root()))
     name = cell["scenario"]
+    scenario = roar_core.load_scenario(name, str(roar_paths.package_root()))
     others = [c["name"] for c in scenario["cars"] if not c["driven"] or c["agent"]]
     if others:
         raise ValueError(f"scenario {name}: car(s) {', '.join(others)} are not the stack's to drive (undriven or "

@@ -7,6 +7,9 @@
 
 namespace roar::config {
 
+namespace {
+
+// "[low, high]" with no trailing zeros.
 std::string rangeText(double low, double high) {
   auto text = [](double x) {
     std::string s = std::to_string(x);
@@ -16,6 +19,8 @@ std::string rangeText(double low, double high) {
   };
   return "[" + text(low) + ", " + text(high) + "]";
 }
+
+}  // namespace
 
 void setOption(const std::vector<OptionEntry>& table, const std::string& name, const std::string& text,
                const std::string& label) {

@@ -147,13 +147,13 @@ py::dict runRace(const std::string& map, const std::string& maps_dir, const std:
   if (car_dicts.empty() || car_dicts.size() > 20) throw py::value_error("a race needs 1 to 20 cars");
   std::vector<harness::RaceCar> cars;
   for (std::size_t i = 0; i < car_dicts.size(); ++i) cars.push_back(raceCar(car_dicts[i], i));
-  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
   harness::RaceOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
   options.field.overtaking = overtaking;
   setOvertakeOptions(&options.field.overtake, overtake);
   setTrackerOptions(&options.tracker, controller);
+  const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
   harness::RaceResult r;
   {
     py::gil_scoped_release unlocked;

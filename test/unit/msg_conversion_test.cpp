@@ -288,7 +288,7 @@ TEST(TrackMarkers, FollowTheRoadOverABridge) {
 TEST(ControllerConfig, DefaultsAreTheTrackersDefaults) {
   const auto config = roar_ros::ControllerConfig::__getDefault__();
   const control::TrackerOptions t;
-  EXPECT_EQ(config.lateral_control, t.lateral == control::LateralMethod::kStanley ? "stanley" : "pure_pursuit");
+  EXPECT_EQ(config.lateral_control, control::lateralMethodName(t.lateral));
   EXPECT_EQ(config.lookahead_min, t.lookahead_min);
   EXPECT_EQ(config.lookahead_time, t.lookahead_time);
   EXPECT_EQ(config.stanley_gain, t.stanley_gain);

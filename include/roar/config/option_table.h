@@ -22,7 +22,4 @@ struct OptionEntry {
 void setOption(const std::vector<OptionEntry>& table, const std::string& name, const std::string& text,
                const std::string& label);
 
-// "[low, high]" with no trailing zeros.
-std::string rangeText(double low, double high);
-
 }  // namespace roar::config

@@ -16,7 +16,8 @@ struct PolicyLaps {
   double progress = 0.0;     // m along the centre line when it ended
   double sim_time = 0.0;     // s driven
   bool clean = true;
-  // Why it ended: "laps done", "collision", "off track", "stalled", "wrong way" or "time limit".
+  // Why it ended: "laps done", "time limit", "stalled" (clean), or "collision", "off track", "wrong way",
+  // "course end" (not clean: a point-to-point course's end ends the episode, as rl_train always judged it).
   std::string ended;
   double best() const;  // 0 without a lap
 };
