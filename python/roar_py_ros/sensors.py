@@ -124,45 +124,49 @@ class RosSensorMixin(_VehicleSensor):
             self._sub.unregister()
 
 
-def _lazy_camera_class(base: type, field: str) -> type:
-    """A subclass of a camera data class whose image (`field`) is rendered on its first read."""
+def _lazy_data_class(base: type, field: str) -> type:
+    """A subclass of a sensor data class whose `field` (pixels) is made on its first read: a frame or map
+    nobody reads costs nothing. `get_size` answers without making it."""
 
     class Lazy(base):
-        def __init__(self, render, size: typing.Tuple[int, int]):
-            object.__setattr__(self, "_render", render)
+        def __init__(self, make, size: typing.Tuple[int, int]):
+            object.__setattr__(self, "_make", make)
             object.__setattr__(self, "_size", size)
-            object.__setattr__(self, "_image", None)
+            object.__setattr__(self, "_value", None)
             if base is data.RoarPyCameraSensorDataSemanticSegmentation:
                 self.ss_label_color_map = data.CARLA_SEMANTIC_LABEL_COLOR_MAP
             if base is data.RoarPyCameraSensorDataDepth:
                 self.is_log_scale = False  # metres, as ROAR_PY's CARLA backend converts depth
 
-        def _pixels(self):
-            if self._image is None:
-                object.__setattr__(self, "_image", getattr(self._render(), field))
-            return self._image
+        def _read(self):
+            if self._value is None:
+                object.__setattr__(self, "_value", getattr(self._make(), field))
+            return self._value
 
         def _store(self, value):
-            object.__setattr__(self, "_image", value)
+            object.__setattr__(self, "_value", value)
 
         def get_size(self) -> typing.Tuple[int, int]:
             return self._size
 
         def __repr__(self):
-            # Not the dataclass's: asyncio and debuggers print results, and that must not render.
-            state = "rendered" if self._image is not None else "rendered when first read"
+            # Not the dataclass's: asyncio and debuggers print results, and that must not make the pixels.
+            state = "made" if self._value is not None else "made when first read"
             return f"{base.__name__}({self._size[0]}x{self._size[1]}, {state})"
 
-    setattr(Lazy, field, property(Lazy._pixels, Lazy._store))
+    if base is data.RoarPyOccupancyMapSensorData:
+        Lazy.get_gym_observation_spec = lambda self: base.gym_observation_space(*self._size)
+    setattr(Lazy, field, property(Lazy._read, Lazy._store))
     Lazy.__name__ = Lazy.__qualname__ = base.__name__
     Lazy.__module__ = base.__module__
     return Lazy
 
 
-_LAZY_CAMERA_DATA = {cls: _lazy_camera_class(cls, field) for cls, field in (
+_LAZY_CAMERA_DATA = {cls: _lazy_data_class(cls, field) for cls, field in (
     (data.RoarPyCameraSensorDataRGB, "image_rgb"), (data.RoarPyCameraSensorDataGreyscale, "image_greyscale"),
     (data.RoarPyCameraSensorDataDepth, "image_depth"),
     (data.RoarPyCameraSensorDataSemanticSegmentation, "image_ss"))}
+_LAZY_OCCUPANCY_DATA = _lazy_data_class(data.RoarPyOccupancyMapSensorData, "occupancy_map")
 
 
 class RoarPyRosCameraSensor(_VehicleSensor, rpi.RoarPyCameraSensor):
@@ -369,7 +373,9 @@ RoarPyRosGyroscopeSensor = _state_sensor(
 
 
 class RoarPyRosOccupancyMapSensor(_VehicleSensor, rpi.RoarPyOccupancyMapSensor):
-    """ROAR_PY's CARLA occupancy map: the road drawn from the map's waypoints around the car, forward up."""
+    """ROAR_PY's CARLA occupancy map: the road drawn from the map's waypoints around the car, forward up,
+    drawn when the program first reads it, from the car's place at its observation (most entries never
+    look: test_roar_py_ros test_an_occupancy_map_is_drawn_when_first_read_from_the_observations_place)."""
 
     def __init__(self, vehicle, producer: rpi.RoarPyOccupancyMapProducer, name: str):
         rpi.RoarPyOccupancyMapSensor.__init__(self, name)
@@ -383,7 +389,10 @@ class RoarPyRosOccupancyMapSensor(_VehicleSensor, rpi.RoarPyOccupancyMapSensor):
         self._check_open()
         location = self._vehicle.get_3d_location()[:2]
         yaw = self._vehicle.get_roll_pitch_yaw()[2]
-        self._last_obs = data.RoarPyOccupancyMapSensorData.from_image(self.producer.plot_occupancy_map(location, yaw))
+        producer = self.producer
+        self._last_obs = _LAZY_OCCUPANCY_DATA(
+            lambda: data.RoarPyOccupancyMapSensorData.from_image(producer.plot_occupancy_map(location, yaw)),
+            (producer.width, producer.height))
         return self._last_obs
 
 

@@ -275,6 +275,30 @@ def test_a_camera_frame_is_rendered_when_first_read_and_is_the_ticks_frame(world
         old.to_gym()
 
 
+def test_an_occupancy_map_is_drawn_when_first_read_from_the_observations_place(world):
+    car = spawn(world)
+    sensor = car.attach_occupancy_map_sensor(40, 30, 2.0, 2.0)
+    drawn = []
+    real_plot = sensor.producer.plot_occupancy_map
+    sensor.producer.plot_occupancy_map = lambda location, yaw: drawn.append((location.copy(), yaw)) or \
+        real_plot(location, yaw)
+    run(car.apply_action(GO))
+    run(world.step())
+    observed = run(sensor.receive_observation())
+    place, yaw = car.get_3d_location()[:2].copy(), car.get_roll_pitch_yaw()[2]
+    assert drawn == [] and observed.get_gym_observation_spec().shape == (30, 40, 1), "received, sized, not drawn"
+    for _ in range(60):  # past the 1.55 s CARLA's spawned Model 3 stands
+        run(car.apply_action(GO))
+        run(world.step())
+    run(car.receive_observation())
+    assert np.linalg.norm(car.get_3d_location()[:2] - place) > 0.5, "the car moved on"
+    pixels = observed.convert_obs_to_gym_obs()
+    assert len(drawn) == 1 and np.array_equal(drawn[0][0], place) and drawn[0][1] == yaw, \
+        "drawn once, where the car was when it was observed"
+    assert np.array_equal(pixels, np.asarray(real_plot(place, yaw).convert("L"))[:, :, None])
+    assert pixels.shape == (30, 40, 1) and pixels.max() == 255, "the road around the car"
+
+
 def test_an_asynchronous_camera_sees_now(world):
     # ROAR_PY's manual control reads its camera right after attaching it, in asynchronous mode: the frame of
     # now, though no tick has passed since the camera came.
