@@ -94,49 +94,53 @@ CameraRenderer::CameraRenderer(const CameraSpec& spec, float max_distance)
       }
     }
   }
-  world_dirs_.resize(body_dirs_.size());
-  hits_.resize(body_dirs_.size());
+  world_dirs_.resize(std::min(kRaysPerChunk, body_dirs_.size()));
+  hits_.resize(world_dirs_.size());
 }
 
 void CameraRenderer::render(const RayScene& scene, const Eigen::Isometry3d& sensor_in_map, int own_vehicle,
                             const CameraChannels& channels, CameraFrame* frame) {
   const std::size_t n = body_dirs_.size();
   const Eigen::Matrix3f rotation = sensor_in_map.linear().cast<float>();
-  for (std::size_t i = 0; i < n; ++i) world_dirs_[i] = rotation * body_dirs_[i];
-  scene.cast(sensor_in_map.translation(), world_dirs_.data(), n, own_vehicle, max_distance_, true, hits_.data());
-
   frame->width = intrinsics_.width;
   frame->height = intrinsics_.height;
   frame->rgb.resize(channels.rgb ? 3 * n : 0);
   frame->grey.resize(channels.grey ? n : 0);
   frame->depth.resize(channels.depth ? n : 0);
   frame->semantic.resize(channels.semantic ? n : 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const RayHit& hit = hits_[i];
-    const int p = pixel_of_ray_[i];
-    if (channels.depth) {
-      frame->depth[p] = hit.hit ? hit.distance * optical_z_[i] : std::numeric_limits<float>::infinity();
-    }
-    if (channels.semantic) frame->semantic[p] = static_cast<std::uint8_t>(hit.semantic);
-    if (!channels.rgb && !channels.grey) continue;
-    Eigen::Vector3f colour;
-    if (!hit.hit) {
-      colour = skyColour(world_dirs_[i]);
-    } else {
-      const float sun = std::max(0.0f, hit.normal.dot(kSunDirection));
-      const float sky = 0.35f + 0.15f * hit.normal.z();
-      colour = hit.albedo * (0.9f * sun + sky);
-      // Distance haze towards the horizon colour.
-      const float haze = 1.0f - std::exp(-hit.distance / 1500.0f);
-      colour = colour * (1.0f - haze) + Eigen::Vector3f(0.7f, 0.8f, 0.95f) * haze;
-    }
-    if (channels.rgb) {
-      frame->rgb[3 * p] = kGamma(colour.x());
-      frame->rgb[3 * p + 1] = kGamma(colour.y());
-      frame->rgb[3 * p + 2] = kGamma(colour.z());
-    }
-    if (channels.grey) frame->grey[p] = kGamma(0.299f * colour.x() + 0.587f * colour.y() + 0.114f * colour.z());
+  for (std::size_t first = 0; first < n; first += kRaysPerChunk) {
+    const std::size_t count = std::min(kRaysPerChunk, n - first);
+    for (std::size_t k = 0; k < count; ++k) world_dirs_[k] = rotation * body_dirs_[first + k];
+    scene.cast(sensor_in_map.translation(), world_dirs_.data(), count, own_vehicle, max_distance_, true, hits_.data());
+    for (std::size_t k = 0; k < count; ++k) shadePixel(first + k, hits_[k], world_dirs_[k], channels, frame);
   }
+}
+
+void CameraRenderer::shadePixel(std::size_t ray, const RayHit& hit, const Eigen::Vector3f& dir,
+                                const CameraChannels& channels, CameraFrame* frame) const {
+  const int p = pixel_of_ray_[ray];
+  if (channels.depth) {
+    frame->depth[p] = hit.hit ? hit.distance * optical_z_[ray] : std::numeric_limits<float>::infinity();
+  }
+  if (channels.semantic) frame->semantic[p] = static_cast<std::uint8_t>(hit.semantic);
+  if (!channels.rgb && !channels.grey) return;
+  Eigen::Vector3f colour;
+  if (!hit.hit) {
+    colour = skyColour(dir);
+  } else {
+    const float sun = std::max(0.0f, hit.normal.dot(kSunDirection));
+    const float sky = 0.35f + 0.15f * hit.normal.z();
+    colour = hit.albedo * (0.9f * sun + sky);
+    // Distance haze towards the horizon colour.
+    const float haze = 1.0f - std::exp(-hit.distance / 1500.0f);
+    colour = colour * (1.0f - haze) + Eigen::Vector3f(0.7f, 0.8f, 0.95f) * haze;
+  }
+  if (channels.rgb) {
+    frame->rgb[3 * p] = kGamma(colour.x());
+    frame->rgb[3 * p + 1] = kGamma(colour.y());
+    frame->rgb[3 * p + 2] = kGamma(colour.z());
+  }
+  if (channels.grey) frame->grey[p] = kGamma(0.299f * colour.x() + 0.587f * colour.y() + 0.114f * colour.z());
 }
 
 }  // namespace roar::sensors

@@ -44,11 +44,15 @@ class CameraRenderer {
   const CameraIntrinsics& intrinsics() const { return intrinsics_; }
 
  private:
+  static constexpr std::size_t kRaysPerChunk = 1024;  // 64 packets of 16; their hits fit the L2 cache
+  void shadePixel(std::size_t ray, const RayHit& hit, const Eigen::Vector3f& dir, const CameraChannels& channels,
+                  CameraFrame* frame) const;
   CameraIntrinsics intrinsics_;
   float max_distance_;
   std::vector<Eigen::Vector3f> body_dirs_;  // unit ray per pixel in the camera body frame, 4x4 tiles in order
   std::vector<float> optical_z_;            // depth = distance * optical_z
   std::vector<int> pixel_of_ray_;
+  // One chunk of rays at a time, cast and shaded while its hits are still in the cache.
   std::vector<Eigen::Vector3f> world_dirs_;
   std::vector<RayHit> hits_;
 };
