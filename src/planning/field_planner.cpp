@@ -47,10 +47,9 @@ void FieldPlanner::locate(const std::string& car, const Eigen::Vector3d& positio
   // moment is not taken for a slow one. A car gaining speed as hard as it can shows what its engine (or
   // its grip) can do, not its pace: it lowers no estimate (a car is taken for a full-pace one until it
   // shows otherwise, so that a field accelerating away from the grid is not taken for a slow one). One
-  // gaining at under half of that is driving its pace: a slow car on a long straight, whose line speeds
-  // rise there, was otherwise taken all the way down it for as fast as it had last been seen (the pace car
-  // on its opening lap at Roar Speedway: 79% of the line's speed predicted, 63% driven), so no pass of it
-  // there drew alongside within the horizon.
+  // gaining at under half of that is driving its pace: on a long straight, where the line's speeds rise, a
+  // slow car would otherwise be taken for as fast as when last seen all the way down it, and a pass of it
+  // there would never draw alongside within the horizon.
   const double line_speed = sampleAt(line_, place.on_line.s).speed;
   place.held.observe(speed, line_speed, time);
   const double share = speed / std::max(1.0, line_speed);

@@ -109,9 +109,9 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
   const double move = std::max(std::abs(to - from), std::abs(to));
   const double stretch = std::sqrt(std::max(1.0, move / (options_.car.width + options_.margins.lateral + kMoveAir)));
-  // At the car's speed, not the line's: behind a slow car the line's is far above it (72 m/s on Roar
-  // Speedway's straight, 45 behind the pace car), and a move sized for the line took 180 m, 4 s, the guard
-  // holding the passer to the slow car's speed until it was clear of it sideways.
+  // At the car's speed, not the line's: behind a slow car the line's speed is far above it, and a move
+  // sized for the line would be several times as long, the guard holding the passer to the slow car's speed
+  // until it was clear of it sideways.
   const double line_speed = sampleAt(line_, ramp_s).speed;
   const double move_speed = ramp_speed > 0.0 ? std::min(ramp_speed, line_speed) : line_speed;
   const double shift_length =
@@ -127,7 +127,7 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
   // A pass keeps the edge margin, so where the racing line runs nearer the edge than that (along an edge
   // before and after a corner) the car is pushed off it at once. The move starts from there: a ramp from
   // the car's place on the line would be held flat on that bound and then leave it, a kink the pass's
-  // speeds brake for (44 m/s on a straight the line does at 72, at Roar Speedway).
+  // speeds would brake for on a straight.
   if (for_pass) {
     const auto [lo, hi] = passBounds(ramp_s);
     from = std::clamp(from, lo, hi);
