@@ -31,6 +31,7 @@
 #include "roar/ros/car_label.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
+#include "roar/ros/race_msg_conversion.h"
 #include "roar/ros/scenario_params.h"
 #include "roar/ros/sim_map_follower.h"
 #include "roar/track/map_folder.h"
@@ -101,40 +102,6 @@ RaceControlOptions readParameters(const ros::NodeHandle& nh) {
     if (o.output_dir.size() > 1 && o.output_dir.back() == '/') o.output_dir.pop_back();
   }
   return o;
-}
-
-roar_ros::RaceStatus toMessage(const race::RaceControl& race, double now) {
-  roar_ros::RaceStatus msg;
-  msg.header.stamp = ros_bridge::toRosTime(now);
-  msg.map_name = race.track().info().name;
-  msg.laps = race.rules().laps;
-  msg.finished = race.finished();
-  for (const auto& standing : race.standings()) {
-    const race::CarRecord& car = race.car(standing.name);
-    roar_ros::CarStanding s;
-    s.name = standing.name;
-    s.position = standing.position;
-    s.gap_to_leader = standing.gap_to_leader;
-    s.laps_completed = car.timer.lapsCompleted();
-    if (car.timer.started()) {
-      s.sector = 1 + static_cast<int>(car.timer.progress() / race.track().length() * race.track().info().sectors);
-      s.current_lap_time = car.last_time - car.timer.lapStart();
-    }
-    if (!car.timer.laps().empty()) s.last_lap = car.timer.laps().back().lap_time;
-    if (auto best = car.timer.bestLap()) s.best_lap = *best;
-    s.distance = std::max(0.0, car.timer.distanceCovered());
-    s.penalties = car.penalties;
-    s.barrier_contacts = car.barrier_contacts;
-    s.car_contacts = car.car_contacts;
-    s.track_limit_violations = car.track_limit_violations;
-    s.time_in_traffic = car.time_in_traffic;
-    const double lost = race.timeLostInTraffic(standing.name);  // NaN until there is a clean lap to compare
-    s.traffic_compared = std::isfinite(lost);
-    s.time_lost_in_traffic = s.traffic_compared ? lost : 0.0;
-    s.finished = car.finished;
-    msg.cars.push_back(s);
-  }
-  return msg;
 }
 
 class RaceControlNode {
@@ -318,7 +285,7 @@ class RaceControlNode {
   }
 
   void publishStatus() {
-    const roar_ros::RaceStatus status = toMessage(*race_, now_);
+    const roar_ros::RaceStatus status = ros_bridge::toRaceStatus(*race_, now_);
     status_pub_.publish(status);
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(timingMarkers(status));
   }
@@ -407,7 +374,7 @@ int main(int argc, char** argv) {
 
     // Wall-time loop: the race ends on simulated events, not on a clock of ours; but a simulator that has
     // gone silent and no longer answers (killed) ends it as aborted.
-    bool aborted = false;
+    bool simulator_lost = false;
     ros::WallTime last_probe = ros::WallTime::now();
     int laps_written = 0;
     while (ros::ok()) {
@@ -423,7 +390,7 @@ int main(int argc, char** argv) {
           (wall - last_probe).toSec() > 1.0) {
         last_probe = wall;
         if (!ros::service::exists("/roar_sim/spawn_vehicle", false)) {
-          aborted = true;
+          simulator_lost = true;
           std::printf("race_control: no odometry for %.0f s of wall time and roar_sim does not answer: race aborted\n",
                       (wall - node.lastMessage()).toSec());
           break;
@@ -431,36 +398,17 @@ int main(int argc, char** argv) {
       }
       ros::WallDuration(0.002).sleep();
     }
-    const bool complete = node.race().finished();
-    // Every car retired and none finished (their drivers lost, the controller killed): not a result.
-    const bool no_finisher = complete && !node.race().anyFinisher();
-    // Shut down before the end (roar_sim, a required node, died and took the launch down): aborted too.
-    const bool out_of_time = options.max_sim_time > 0 && node.now() > options.max_sim_time;
-    aborted = aborted || (!complete && !out_of_time) || no_finisher;
-    const bool result = complete && !no_finisher;
-    std::printf("race_control: race %s at t = %.2f s%s\n",
-                result    ? "finished"
-                : aborted ? "aborted"
-                          : "timed out",
-                node.now(), no_finisher ? ": every car retired, none finished" : "");
-    for (const auto& standing : node.race().standings()) {
-      const race::CarRecord& car = node.race().car(standing.name);
-      const auto best = car.timer.bestLap();
-      const double lost = node.race().timeLostInTraffic(standing.name);
-      char lost_text[32] = "no clean lap to compare";
-      if (std::isfinite(lost)) std::snprintf(lost_text, sizeof lost_text, "lost %.1f s", lost);
-      std::printf(
-          "  P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
-          "car contacts %d, track limits %d, in traffic %.1f s (%s)\n",
-          standing.position, standing.name.c_str(), car.timer.lapsCompleted(), node.race().rules().laps,
-          car.retired.empty() ? "" : (" (retired: " + car.retired + ")").c_str(),
-          best ? std::to_string(*best).c_str() : "-", standing.gap_to_leader, car.penalties, car.barrier_contacts,
-          car.car_contacts, car.track_limit_violations, car.time_in_traffic, lost_text);
-    }
+    race::RaceEnd end;
+    end.complete = node.race().finished();
+    end.any_finisher = node.race().anyFinisher();
+    end.out_of_time = options.max_sim_time > 0 && node.now() > options.max_sim_time;
+    end.simulator_lost = simulator_lost;
+    const race::RaceVerdict verdict = race::judgeRaceEnd(end);
+    std::printf("race_control: race %s at t = %.2f s%s\n", race::outcomeWords(verdict.outcome), node.now(),
+                verdict.reason.empty() ? "" : (": " + verdict.reason).c_str());
+    for (const auto& standing : node.race().standings())
+      std::printf("  %s\n", race::standingLine(node.race(), standing).c_str());
     if (!options.output_dir.empty()) {
-      const race::RaceOutcome outcome = result    ? race::RaceOutcome::kFinished
-                                        : aborted ? race::RaceOutcome::kAborted
-                                                  : race::RaceOutcome::kTimedOut;
       const auto recording = node.recording(kRecorderPatience);
       if (recording && !recording->complete) {
         std::printf(
@@ -468,7 +416,7 @@ int main(int argc, char** argv) {
             "short and, if it was killed, left .active (rosbag reindex, or replay.launch, recovers it)\n",
             options.recorder.c_str(), recording->recorded_until, node.now());
       }
-      race::writeResults(options.output_dir, node.race(), outcome, run_id, recording);
+      race::writeResults(options.output_dir, node.race(), verdict.outcome, run_id, recording);
       report::writeRaceReport(options.output_dir, node.race(), node.telemetry(), node.profile());
       std::printf(
           "race_control: results in %s: results.yaml, laps.csv, sectors.csv, laps.md, trajectories.png, "
@@ -476,14 +424,14 @@ int main(int argc, char** argv) {
           options.output_dir.c_str());
     }
     std::fflush(stdout);
-    if (complete && options.end_launch && askRoslaunchToEnd()) {
+    if (end.complete && options.end_launch && askRoslaunchToEnd()) {
       // roslaunch stops every node, this one too (its SIGINT shuts ROS down); a while at most.
       const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(15.0);
       while (ros::ok() && ros::WallTime::now() < until) ros::WallDuration(0.05).sleep();
       return 0;
     }
     ros::shutdown();
-    return result ? 0 : 1;
+    return verdict.outcome == race::RaceOutcome::kFinished ? 0 : 1;
   } catch (const std::exception& e) {
     ROS_FATAL("race_control: %s", e.what());
     return 1;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -284,6 +285,47 @@ std::vector<Standing> RaceControl::standings() const {
     out.push_back(s);
   }
   return out;
+}
+
+const char* outcomeWords(RaceOutcome outcome) {
+  return outcome == RaceOutcome::kTimedOut ? "timed out" : outcomeName(outcome);
+}
+
+RaceVerdict judgeRaceEnd(const RaceEnd& end) {
+  const bool no_finisher = end.complete && !end.any_finisher;
+  RaceVerdict verdict;
+  if (end.complete && !no_finisher) {
+    verdict.outcome = RaceOutcome::kFinished;
+  } else if (end.simulator_lost || no_finisher || !end.out_of_time) {
+    verdict.outcome = RaceOutcome::kAborted;
+    if (no_finisher) verdict.reason = "every car retired, none finished";
+  } else {
+    verdict.outcome = RaceOutcome::kTimedOut;
+  }
+  return verdict;
+}
+
+std::string standingLine(const RaceControl& race, const Standing& standing) {
+  const CarRecord& car = race.car(standing.name);
+  const auto best = car.timer.bestLap();
+  const double lost = race.timeLostInTraffic(standing.name);  // NaN until there is a clean lap to compare
+  char lost_text[32] = "no clean lap to compare";
+  if (std::isfinite(lost)) std::snprintf(lost_text, sizeof lost_text, "lost %.1f s", lost);
+  const std::string retired = car.retired.empty() ? "" : " (retired: " + car.retired + ")";
+  const std::string best_text = best ? std::to_string(*best) : "-";
+  // Sized by a first pass: a car's name or retirement reason may be of any length.
+  auto print = [&](char* out, std::size_t size) {
+    return std::snprintf(out, size,
+                         "P%d %s: %d/%d laps%s, best lap %s s, gap %.3f s, penalties %.1f s, barrier contacts %d, "
+                         "car contacts %d, track limits %d, in traffic %.1f s (%s)",
+                         standing.position, standing.name.c_str(), car.timer.lapsCompleted(), race.rules().laps,
+                         retired.c_str(), best_text.c_str(), standing.gap_to_leader, car.penalties,
+                         car.barrier_contacts, car.car_contacts, car.track_limit_violations, car.time_in_traffic,
+                         lost_text);
+  };
+  std::string line(static_cast<std::size_t>(print(nullptr, 0)), '\0');
+  print(line.data(), line.size() + 1);
+  return line;
 }
 
 const char* outcomeName(RaceOutcome outcome) {

@@ -15,6 +15,7 @@
 #include "roar/ros/car_label.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/planning_msg_conversion.h"
+#include "roar/ros/race_msg_conversion.h"
 #include "roar/ros/track_msg_conversion.h"
 #include "roar/ros/waking_queue.h"
 #include "roar/track/bridges.h"
@@ -397,4 +398,34 @@ TEST(WakingCallbackQueue, ServiceRequestsWakeTheTopicsWait) {
   EXPECT_EQ(calls, 0) << "the request is answered from its own queue, not the topics'";
   services.callAvailable(ros::WallDuration(0));
   EXPECT_EQ(calls, 1);
+}
+
+TEST(MsgConversion, RaceStatusHasEveryCarsStanding) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 2;
+  race::RaceControl race(track, rules, {"slow", "fast"});
+  double t = 0.0;
+  for (; t < 40.0; t += 0.05) {
+    race.updatePosition("fast", t,
+                        {100.0 * std::cos((20.0 * t - 5) / 100.0), 100.0 * std::sin((20.0 * t - 5) / 100.0), 0});
+    race.updatePosition("slow", t,
+                        {100.0 * std::cos((10.0 * t - 10) / 100.0), 100.0 * std::sin((10.0 * t - 10) / 100.0), 0});
+  }
+  const roar_ros::RaceStatus msg = ros_bridge::toRaceStatus(race, t);
+  EXPECT_DOUBLE_EQ(msg.header.stamp.toSec(), ros_bridge::toRosTime(t).toSec());
+  EXPECT_EQ(msg.laps, 2);
+  EXPECT_FALSE(msg.finished);
+  ASSERT_EQ(msg.cars.size(), 2u);
+  EXPECT_EQ(msg.cars[0].name, "fast") << "in the standings' order";
+  EXPECT_EQ(msg.cars[0].position, 1);
+  EXPECT_EQ(msg.cars[0].laps_completed, 1);
+  EXPECT_DOUBLE_EQ(msg.cars[0].best_lap, *race.car("fast").timer.bestLap());
+  EXPECT_DOUBLE_EQ(msg.cars[0].last_lap, msg.cars[0].best_lap);
+  EXPECT_GT(msg.cars[0].current_lap_time, 0.0);
+  EXPECT_GE(msg.cars[0].sector, 1);
+  EXPECT_EQ(msg.cars[1].name, "slow");
+  EXPECT_EQ(msg.cars[1].laps_completed, 0);
+  EXPECT_GT(msg.cars[1].gap_to_leader, 0.0);
+  EXPECT_NEAR(msg.cars[1].distance, race.car("slow").timer.distanceCovered(), 1e-9);
 }

@@ -419,3 +419,51 @@ TEST(RaceControl, ALostDriverBackWithinTheGraceRacesOnAndOneThatIsNotRetires) {
   ASSERT_TRUE(race.finished());
   EXPECT_TRUE(race.anyFinisher());
 }
+
+TEST(RaceControl, RaceEndsAreJudgedAsRaceControlReportsThem) {
+  auto judge = [](bool complete, bool any_finisher, bool out_of_time, bool simulator_lost) {
+    race::RaceEnd end;
+    end.complete = complete;
+    end.any_finisher = any_finisher;
+    end.out_of_time = out_of_time;
+    end.simulator_lost = simulator_lost;
+    return race::judgeRaceEnd(end);
+  };
+  EXPECT_EQ(judge(true, true, false, false).outcome, race::RaceOutcome::kFinished);
+  EXPECT_EQ(judge(true, true, true, true).outcome, race::RaceOutcome::kFinished) << "done before anything failed";
+  const race::RaceVerdict nobody = judge(true, false, false, false);
+  EXPECT_EQ(nobody.outcome, race::RaceOutcome::kAborted) << "every car retired: no result";
+  EXPECT_EQ(nobody.reason, "every car retired, none finished");
+  EXPECT_EQ(judge(false, false, true, false).outcome, race::RaceOutcome::kTimedOut);
+  EXPECT_EQ(judge(false, true, true, false).outcome, race::RaceOutcome::kTimedOut) << "some finished, not all";
+  EXPECT_EQ(judge(false, false, true, true).outcome, race::RaceOutcome::kAborted) << "the simulator died first";
+  EXPECT_EQ(judge(false, false, false, false).outcome, race::RaceOutcome::kAborted)
+      << "shut down before the end and its time limit";
+  EXPECT_TRUE(judge(false, false, false, true).reason.empty());
+  EXPECT_STREQ(race::outcomeWords(race::RaceOutcome::kTimedOut), "timed out");
+  EXPECT_STREQ(race::outcomeWords(race::RaceOutcome::kFinished), "finished");
+}
+
+TEST(RaceControl, StandingLineSaysTheCarsRace) {
+  const auto track = test::circleTrack(100.0);
+  race::RaceRules rules;
+  rules.laps = 2;
+  const std::string long_name(600, 'x');  // longer than any fixed buffer a line might be printed into
+  race::RaceControl race(track, rules, {"runner", long_name});
+  double t = 0.0;
+  for (; t < 40.0; t += 0.05) {
+    race.updatePosition("runner", t, atCircle(-5 + 20.0 * t));
+    race.updatePosition(long_name, t, atCircle(-10 + 10.0 * t));
+  }
+  race.retire(long_name, t, "driver lost");
+  const auto standings = race.standings();
+  ASSERT_EQ(standings.front().name, "runner");
+  const std::string runner = race::standingLine(race, standings.front());
+  const double best = *race.car("runner").timer.bestLap();
+  EXPECT_EQ(runner.rfind("P1 runner: 1/2 laps, best lap " + std::to_string(best) + " s, gap 0.000 s", 0), 0u) << runner;
+  EXPECT_NE(runner.find("barrier contacts 0, car contacts 0, track limits 0"), std::string::npos) << runner;
+  const std::string retired = race::standingLine(race, standings.back());
+  EXPECT_EQ(retired.rfind("P2 " + long_name + ": 0/2 laps (retired: driver lost), best lap - s", 0), 0u)
+      << retired.substr(590);
+  EXPECT_NE(retired.find("(no clean lap to compare)"), std::string::npos) << "the line is whole, not cut";
+}

@@ -161,6 +161,28 @@ class RaceControl {
 // kRunning: the results so far, written after every lap so that a race_control killed mid-race loses none.
 enum class RaceOutcome { kFinished, kTimedOut, kInterrupted, kAborted, kRunning };
 const char* outcomeName(RaceOutcome outcome);
+// The outcome as race_control's summary says it: "finished", "timed out", "aborted", ...
+const char* outcomeWords(RaceOutcome outcome);
+
+// What race_control saw when its loop stopped.
+struct RaceEnd {
+  bool complete = false;        // every car finished its laps or retired (RaceControl::finished)
+  bool any_finisher = false;    // a car finished its laps (RaceControl::anyFinisher)
+  bool out_of_time = false;     // the simulated time limit passed before the race was complete
+  bool simulator_lost = false;  // the simulator fell silent and stopped answering
+};
+struct RaceVerdict {
+  RaceOutcome outcome = RaceOutcome::kAborted;
+  std::string reason;  // why a complete race is no result; empty otherwise
+};
+// Finished when complete with a finisher; a complete race every car retired from (drivers lost, the
+// controller killed), a lost simulator, or a run shut down before the end and its time limit is aborted;
+// otherwise timed out. race_control_test RaceEndsAreJudgedAsRaceControlReportsThem.
+RaceVerdict judgeRaceEnd(const RaceEnd& end);
+
+// A car's line in race_control's summary: position, laps (and retirement), best lap, gap, penalties,
+// contacts, track limits, time in traffic and what it cost. race_control_test StandingLineSaysTheCarsRace.
+std::string standingLine(const RaceControl& race, const Standing& standing);
 // How far the race's recorder got: a recorder killed mid-race leaves a bag short of the finish (and
 // unindexed, .active), which results.yaml then says.
 struct RecordingState {
