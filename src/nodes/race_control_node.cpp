@@ -277,7 +277,7 @@ class RaceControlNode {
     roar_ros::ResetVehicle srv;
     srv.request.name = name;
     srv.request.spawn_point = -1;
-    srv.request.pose = ros_bridge::toMessage(track::poseOnTrack(incident.respawn_pose));
+    srv.request.pose = ros_bridge::toMessage(incident.respawn_pose);
     if (!reset_.call(srv) || !srv.response.success) {
       ROS_ERROR("race_control: respawning '%s' through %s failed: %s", name.c_str(), reset_.getService().c_str(),
                 srv.response.message.c_str());

@@ -24,8 +24,6 @@ using namespace roar;
 
 namespace {
 
-geometry_msgs::Pose poseMessage(const track::TrackPose& p) { return ros_bridge::toMessage(track::poseOnTrack(p)); }
-
 class WaypointServer {
  public:
   WaypointServer(ros::NodeHandle nh, ros::NodeHandle pnh) {
@@ -68,7 +66,7 @@ class WaypointServer {
     markers_pub_.publish(trackMarkers(*track_, frame_));
     geometry_msgs::PoseArray spawns;
     spawns.header.frame_id = frame_;
-    for (const auto& p : track_->gridSpawnPoints(grid_)) spawns.poses.push_back(poseMessage(p));
+    for (const auto& p : track_->gridSpawnPoints(grid_)) spawns.poses.push_back(ros_bridge::toMessage(p));
     spawn_pub_.publish(spawns);
   }
 
@@ -98,7 +96,7 @@ class WaypointServer {
       return ros_bridge::refuse(res, "get_spawn_points", "kind must be 'grid' or 'even', got '" + req.kind + "'");
     }
     const auto poses = req.kind == "grid" ? track_->gridSpawnPoints(req.count) : track_->evenSpawnPoints(req.count);
-    for (const auto& p : poses) res.poses.push_back(poseMessage(p));
+    for (const auto& p : poses) res.poses.push_back(ros_bridge::toMessage(p));
     res.success = true;
     return true;
   }

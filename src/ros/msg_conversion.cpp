@@ -59,6 +59,8 @@ geometry_msgs::Pose toMessage(const track::Pose& pose) {
   return msg;
 }
 
+geometry_msgs::Pose toMessage(const track::TrackPose& pose) { return toMessage(track::poseOnTrack(pose)); }
+
 ros::Time toRosTime(double seconds) {
   ros::Time t;
   t.fromSec(seconds);

@@ -429,3 +429,15 @@ TEST(MsgConversion, RaceStatusHasEveryCarsStanding) {
   EXPECT_GT(msg.cars[1].gap_to_leader, 0.0);
   EXPECT_NEAR(msg.cars[1].distance, race.car("slow").timer.distanceCovered(), 1e-9);
 }
+
+TEST(MsgConversion, APlaceOnTheRoadIsThePoseOnItsSurface) {
+  const auto track = test::circleTrack(100.0);
+  const track::TrackPose place = track.poseAt(50.0);
+  const geometry_msgs::Pose msg = ros_bridge::toMessage(place);
+  const track::Pose pose = track::poseOnTrack(place);
+  EXPECT_DOUBLE_EQ(msg.position.x, pose.position.x());
+  EXPECT_DOUBLE_EQ(msg.position.y, pose.position.y());
+  EXPECT_DOUBLE_EQ(msg.position.x, place.position.x());
+  EXPECT_DOUBLE_EQ(msg.position.z, place.height) << "on the road's surface";
+  EXPECT_NEAR(ros_bridge::yawOf(msg.orientation), place.heading, 1e-9);
+}

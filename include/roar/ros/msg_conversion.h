@@ -10,6 +10,7 @@
 #include <sensor_msgs/JointState.h>
 
 #include "roar/track/pose.h"
+#include "roar/track/track.h"
 #include "roar/vehicle/vehicle_params.h"
 #include "roar/vehicle/vehicle_state.h"
 
@@ -20,6 +21,8 @@ roar_ros::VehicleControl toMessage(const vehicle::VehicleControl& control);
 
 track::Pose fromMessage(const geometry_msgs::Pose& msg);
 geometry_msgs::Pose toMessage(const track::Pose& pose);
+// A place on the road (a spawn point, a respawn) as the pose on its surface.
+geometry_msgs::Pose toMessage(const track::TrackPose& pose);
 
 // Simulated seconds since the start <-> ROS time (the simulator's /clock starts at zero).
 ros::Time toRosTime(double seconds);
