@@ -22,6 +22,7 @@ TrackerInput trackerInputOf(const vehicle::VehicleState& state) {
   in.position = state.pose.position.head<2>();
   in.yaw = std::atan2(forward.y(), forward.x());
   in.speed = state.forward_speed;
+  in.lateral_speed = state.body_linear_velocity.y();
   in.yaw_rate = state.body_angular_velocity.z();
   return in;
 }

@@ -80,7 +80,9 @@ vehicle::VehicleControl TrajectoryTracker::update(const TrackerInput& in) {
     control.brake = 1.0;
     return control;
   }
-  const double speed = std::max(0.0, in.speed);
+  // The speed the profile is a speed of, along the path: a car sliding at an angle has less of it forward,
+  // and taken for slow it was floored mid-slide (trajectory_tracker_test ASlidingCarIsNotTakenForASlowOne).
+  const double speed = in.speed > 0.0 ? std::hypot(in.speed, in.lateral_speed) : 0.0;
 
   const double lock = options_.max_steer_angle * vehicle::steeringShare(options_.steering_curve, std::abs(speed));
   control.steer = std::clamp(steeringAngle(in, projection.s, speed) / lock, -1.0, 1.0);

@@ -194,6 +194,7 @@ class Driver {
     in.position = Eigen::Vector2d(odom.pose.pose.position.x, odom.pose.pose.position.y);
     in.yaw = ros_bridge::yawOf(odom.pose.pose.orientation);
     in.speed = odom.twist.twist.linear.x;
+    in.lateral_speed = odom.twist.twist.linear.y;
     in.yaw_rate = odom.twist.twist.angular.z;
     roar_ros::VehicleControl msg = ros_bridge::toMessage(tracker_.update(in));
     if (tracker_.tooFar()) {

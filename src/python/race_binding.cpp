@@ -2,6 +2,7 @@
 // this process (harness::runTimeTrial, harness::runRace) with the GIL released, results as plain dicts.
 #include "race_binding.h"
 
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "roar/harness/traffic.h"
 #include "roar/planning/overtaking/option_table.h"
 #include "roar/track/map_folder.h"
+#include "roar/track/pose.h"
 #include "roar/vehicle/vehicle_config.h"
 
 namespace py = pybind11;
@@ -57,12 +59,21 @@ void setTrackerOptions(control::TrackerOptions* options, const py::dict& setting
 
 py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const std::string& model,
                       const std::string& urdf_dir, const std::string& config_dir, int laps, double grip_use,
-                      const py::dict& controller) {
+                      const py::dict& controller, bool trace) {
   checkRace(laps, grip_use);
   harness::TimeTrialOptions options;
   options.laps = laps;
   options.grip_use = grip_use;
   setTrackerOptions(&options.tracker, controller);
+  // Per tick: t, x, y, yaw, speed, steer, throttle, brake (columns of the `trace` array).
+  std::vector<std::array<double, 8>> ticks;
+  if (trace) {
+    options.on_tick = [&ticks](double t, const vehicle::VehicleState& s) {
+      const auto& c = s.applied_control;
+      ticks.push_back({t, s.pose.position.x(), s.pose.position.y(), track::yawOf(s.pose.orientation), s.speed, c.steer,
+                       c.throttle, c.brake});
+    };
+  }
   const Setup setup = setUp(map, maps_dir, model, urdf_dir, config_dir);
   harness::TimeTrialResult r;
   {
@@ -79,6 +90,11 @@ py::dict runTimeTrial(const std::string& map, const std::string& maps_dir, const
   d["max_lateral_error"] = r.max_lateral_error;
   d["rms_lateral_error"] = r.rms_lateral_error;
   d["sim_time"] = r.sim_time;
+  if (trace) {
+    py::array_t<double> columns({static_cast<py::ssize_t>(ticks.size()), static_cast<py::ssize_t>(8)});
+    std::copy(ticks.begin(), ticks.end(), reinterpret_cast<std::array<double, 8>*>(columns.mutable_data()));
+    d["trace"] = columns;
+  }
   return d;
 }
 
@@ -219,9 +235,11 @@ py::dict trafficRace(const std::string& map, const std::string& maps_dir, const 
 void bindRaces(py::module_& m) {
   m.def("run_time_trial", &runTimeTrial, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
         py::arg("config_dir"), py::arg("laps") = 1, py::arg("grip_use") = 0.85, py::arg("controller") = py::dict(),
+        py::arg("trace") = false,
         "The stack's time trial of a car model on a map (an out-lap, then `laps` flying laps), the tracker's options "
         "set by name (tracker_options): a dict of finished, "
-        "lap_times, best_lap, promised_lap, barrier_contacts, worst_offroad, max_ and rms_lateral_error, sim_time");
+        "lap_times, best_lap, promised_lap, barrier_contacts, worst_offroad, max_ and rms_lateral_error, sim_time; "
+        "with trace=True also `trace`, one row a tick of t, x, y, yaw, speed, steer, throttle, brake");
   m.def("run_race", &runRace, py::arg("map"), py::arg("maps_dir"), py::arg("model"), py::arg("urdf_dir"),
         py::arg("config_dir"), py::arg("cars"), py::arg("laps") = 2, py::arg("grip_use") = 0.85,
         py::arg("overtaking") = true, py::arg("overtake") = py::dict(), py::arg("controller") = py::dict(),

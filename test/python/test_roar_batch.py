@@ -327,3 +327,24 @@ def test_every_shipped_matrix_reads():
     assert names, folder
     for name in names:
         assert read_matrix(os.path.join(folder, name)).cells, name
+
+
+def test_a_time_trial_can_be_traced_tick_by_tick():
+    import numpy as np
+    import roar_core
+    import roar_paths
+    layout = roar_paths.layout()
+    args = ("roar_sprint", str(layout["maps"]), "sedan", str(layout["urdf"]), str(layout["vehicles"]))
+    plain = roar_core.run_time_trial(*args)
+    traced = roar_core.run_time_trial(*args, trace=True)
+    assert "trace" not in plain
+    trace = traced.pop("trace")
+    assert traced == plain, "tracing changes nothing the trial does"
+    t, x, y, yaw, speed, steer, throttle, brake = trace.T
+    assert trace.shape == (round(traced["sim_time"] / 0.05), 8)
+    assert np.allclose(np.diff(t), 0.05) and t[-1] == pytest.approx(traced["sim_time"])
+    # The positions are a car's: speed is the distance it covers, and the pedals and steer are in range.
+    covered = np.hypot(np.diff(x), np.diff(y)) / 0.05
+    assert np.median(np.abs(covered - speed[1:])) < 0.5
+    assert speed.max() > 30 and np.all((throttle >= 0) & (throttle <= 1) & (brake >= 0) & (brake <= 1))
+    assert np.all(np.abs(steer) <= 1) and np.all(np.abs(yaw) <= np.pi)

@@ -45,8 +45,9 @@ struct TrackerOptions {
 struct TrackerInput {
   Eigen::Vector2d position = Eigen::Vector2d::Zero();  // base_link in the map frame
   double yaw = 0.0;
-  double speed = 0.0;     // m/s forward
-  double yaw_rate = 0.0;  // rad/s counter-clockwise
+  double speed = 0.0;          // m/s forward
+  double yaw_rate = 0.0;       // rad/s counter-clockwise
+  double lateral_speed = 0.0;  // m/s to the left, base_link frame (a car sliding: its speed is not all forward)
 };
 
 class TrajectoryTracker {
