@@ -20,6 +20,16 @@ using planning::RaceMode;
 
 namespace {
 
+// A pass's move from the racing line at line s to `to` m left of it, made at ramp_speed (0: the line's).
+planning::OvertakePlanner::Move passMove(double s, double to, double ramp_speed = 0.0) {
+  planning::OvertakePlanner::Move move;
+  move.ramp_s = s;
+  move.to = to;
+  move.ramp_speed = ramp_speed;
+  move.pass = true;
+  return move;
+}
+
 struct Fixture {
   track::Track track = track::loadMapFolder(test::sourceDir() + "/maps/roar_sprint");
   planning::VehicleLimits limits = planning::vehicleLimits(test::sedan(), track.info().friction, 0.85);
@@ -197,7 +207,7 @@ TEST(Overtaking, APassBegunWhereTheLineRunsAlongTheEdgeIsAsFastAsTheLine) {
     if (slowest_line < 0.8 * top || sharpest > 5e-4) continue;
     ++checked;
     const double to = right_edge ? 3.05 : -3.05;  // away from the edge
-    const auto pass = planner.shifted(window, s, 0.0, to, std::numeric_limits<double>::infinity(), 1.0, true);
+    const auto pass = planner.shifted(window, passMove(s, to));
     for (const auto& p : pass.points) {
       if (p.s < s || p.s > s + 120.0) continue;  // the move across
       EXPECT_GT(p.speed, 0.97 * planning::sampleAt(f.line, p.s).speed) << "a pass from s = " << s << " at " << p.s;
@@ -227,10 +237,9 @@ TEST(Overtaking, APassPullingOutFromBehindASlowCarMovesAcrossInShiftTimeAtItsOwn
       << "the move still under way " << across << " m on";
   // A car at or above the line's speed moves over as it always did: in shift_time at the line's speed.
   const auto straight = planning::windowAround(f.line, s, 10.0, 400.0);
-  const double inf = std::numeric_limits<double>::infinity();
-  const auto at_line = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true);
-  const auto faster = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true, -inf, 1.2 * line_speed);
-  const auto slower = planner.shifted(straight, s, 0.0, 3.05, inf, 1.0, true, -inf, v);
+  const auto at_line = planner.shifted(straight, passMove(s, 3.05));
+  const auto faster = planner.shifted(straight, passMove(s, 3.05, 1.2 * line_speed));
+  const auto slower = planner.shifted(straight, passMove(s, 3.05, v));
   ASSERT_EQ(at_line.points.size(), faster.points.size());
   for (std::size_t k = 0; k < at_line.points.size(); ++k) EXPECT_EQ(at_line.points[k].offset, faster.points[k].offset);
   EXPECT_LT(shiftAt(f.line, at_line, s + across), shiftAt(f.line, slower, s + across) - 0.3);
@@ -477,8 +486,11 @@ TEST(Overtaking, AMoveIsPlannedTheSameWhereverItsWindowBegins) {
   for (const double early : {0.02, 0.5}) {
     const double s = next->s - early + 10.0;  // the window, 10 m behind the car, begins `early` before the point
     for (const double to : {-2.5, 2.5}) {
-      const auto moving = planner.shifted(planning::windowAround(f.line, s, 10.0, 250.0), ramp_s, 0.0, to);
-      const auto later = planner.shifted(planning::windowAround(f.line, s + 0.3, 10.0, 250.0), ramp_s, 0.0, to);
+      planning::OvertakePlanner::Move move;
+      move.ramp_s = ramp_s;
+      move.to = to;
+      const auto moving = planner.shifted(planning::windowAround(f.line, s, 10.0, 250.0), move);
+      const auto later = planner.shifted(planning::windowAround(f.line, s + 0.3, 10.0, 250.0), move);
       const double v_here = planning::sampleAt(moving, s).speed, v_later = planning::sampleAt(later, s).speed;
       EXPECT_NEAR(v_here, v_later, 0.2) << "window begun " << early << " m before a point, moving to " << to;
       EXPECT_GT(v_here, 0.9 * planning::sampleAt(f.line, s).speed) << "begun " << early << " m before, to " << to;

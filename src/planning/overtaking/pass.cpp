@@ -31,13 +31,18 @@ OvertakePlanner::Candidate OvertakePlanner::considerPass(const PlanContext& ctx,
   const bool slingshot = ctx.tow > kMinTow;
   const Trajectory& from = slingshot ? ctx.towed_base : ctx.base;
   const double drag_share = slingshot ? 1.0 - ctx.tow : 1.0;
-  Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, drag_share, true, -kInf, d.ramp_speed), d, true};
+  Move move = Move::of(d);
+  move.pass = true;
+  MoveGrip grip;
+  grip.drag_share = drag_share;
+  Candidate c{shifted(from, move, grip), d, true};
   // Back onto the racing line once clear ahead of the car passed: off the line no longer than needed.
   Trajectory staying_out;  // the window that does not come back onto the line within it
   const double back_s = passCompleteAt(c.window, ctx.s, ctx.speed, ctx.leader_prediction);
   if (std::isfinite(back_s)) {
     staying_out = std::move(c.window);
-    c.window = shifted(from, d.ramp_s, d.ramp_from, d.offset, back_s, drag_share, true, -kInf, d.ramp_speed);
+    move.back_s = back_s;
+    c.window = shifted(from, move, grip);
   }
   // A move under way goes on with half the margin it needed to start; level with the car passed, a pass is
   // given up only for what it could not drop back from later

@@ -102,46 +102,58 @@ double OvertakePlanner::laneRun(int side, double s, double beside, double longes
   return std::min(run, longest);
 }
 
-Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, double from, double to, double back_s,
-                                    double drag_share, bool for_pass, double settle_s, double ramp_speed) const {
-  Trajectory out = window;
+OvertakePlanner::Move OvertakePlanner::Move::of(const RaceDecision& d) {
+  Move m;
+  m.ramp_s = d.ramp_s;
+  m.from = d.ramp_from;
+  m.to = d.offset;
+  m.ramp_speed = d.ramp_speed;
+  return m;
+}
+
+double OvertakePlanner::shiftLength(const Move& move) const {
   // shift_time is for a move of a car's width and air (3 m); a longer one takes longer, so that it asks
   // no more sideways acceleration (which grows with the move and falls with the square of its length).
-  const double move = std::max(std::abs(to - from), std::abs(to));
-  const double stretch = std::sqrt(std::max(1.0, move / (options_.car.width + options_.margins.lateral + kMoveAir)));
+  const double across = std::max(std::abs(move.to - move.from), std::abs(move.to));
+  const double stretch = std::sqrt(std::max(1.0, across / (options_.car.width + options_.margins.lateral + kMoveAir)));
   // At the car's speed, not the line's: behind a slow car the line's speed is far above it, and a move
   // sized for the line would be several times as long, the guard holding the passer to the slow car's speed
   // until it was clear of it sideways.
-  const double line_speed = sampleAt(line_, ramp_s).speed;
-  const double move_speed = ramp_speed > 0.0 ? std::min(ramp_speed, line_speed) : line_speed;
-  const double shift_length =
-      std::max(options_.moves.min_shift_length, stretch * options_.moves.shift_time * move_speed);
-  auto& pts = out.points;
+  const double line_speed = sampleAt(line_, move.ramp_s).speed;
+  const double move_speed = move.ramp_speed > 0.0 ? std::min(move.ramp_speed, line_speed) : line_speed;
+  return std::max(options_.moves.min_shift_length, stretch * options_.moves.shift_time * move_speed);
+}
+
+std::pair<double, double> OvertakePlanner::passBounds(double s) const {
+  // The edge margin from either edge (the right one where the road is narrower than both margins).
   const double half = 0.5 * options_.car.width + options_.margins.edge;
-  // Where a pass may run at line s (m left of the line): the edge margin from either edge (the right one
-  // where the road is narrower than both margins).
-  auto passBounds = [&](double at) {
-    const double lo = half - roomRight(at);
-    return std::pair{lo, std::max(lo, roomLeft(at) - half)};
-  };
+  const double lo = half - roomRight(s);
+  return {lo, std::max(lo, roomLeft(s) - half)};
+}
+
+std::vector<double> OvertakePlanner::moveWindow(Trajectory* window, Move move) const {
+  const double shift_length = shiftLength(move);
+  const double half = 0.5 * options_.car.width + options_.margins.edge;
   // A pass keeps the edge margin, so where the racing line runs nearer the edge than that (along an edge
   // before and after a corner) the car is pushed off it at once. The move starts from there: a ramp from
   // the car's place on the line would be held flat on that bound and then leave it, a kink the pass's
   // speeds would brake for on a straight.
-  if (for_pass) {
-    const auto [lo, hi] = passBounds(ramp_s);
-    from = std::clamp(from, lo, hi);
+  if (move.pass) {
+    const auto [lo, hi] = passBounds(move.ramp_s);
+    move.from = std::clamp(move.from, lo, hi);
   }
-  const std::size_t n = pts.size();
-  std::vector<double> d(n, 0.0);  // m each point is moved left off the racing line
-  for (std::size_t k = 0; k < n; ++k) {
+  auto& pts = window->points;
+  std::vector<double> d(pts.size(), 0.0);  // m each point is moved left off the racing line
+  for (std::size_t k = 0; k < pts.size(); ++k) {
     auto& p = pts[k];
-    double shift = from + (to - from) * smoothStep(aheadOnLap(p.s, ramp_s, lapLength(line_)) / shift_length);
-    if (std::isfinite(back_s) && p.s > back_s) shift -= to * smoothStep((p.s - back_s) / shift_length);
+    double shift =
+        move.from + (move.to - move.from) * smoothStep(aheadOnLap(p.s, move.ramp_s, lapLength(line_)) / shift_length);
+    if (std::isfinite(move.back_s) && p.s > move.back_s)
+      shift -= move.to * smoothStep((p.s - move.back_s) / shift_length);
     // Inside the road by the margin. Any move but a pass comes no nearer the edge than the racing line
     // itself does (at an apex it runs nearer): a path moved by nothing is the racing line. A pass keeps
-    // the margin even there, pushed off the line (see below).
-    if (for_pass) {
+    // the margin even there, pushed off the line (see above).
+    if (move.pass) {
       // Bent onto the margins smoothly, not clamped: where the line runs to an edge (an apex, a straight
       // along it) a clamped pass meets the margin at an angle and leaves it again, kinks its speeds brake for.
       const auto [lo, hi] = passBounds(p.s);
@@ -153,73 +165,92 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     p.position += d[k] * track::leftOf(p.yaw);
     p.offset += d[k];
   }
-  if (n < 3) return out;
-  std::vector<double> step(n, 0.0), curvature(n, 0.0);
-  for (std::size_t k = 0; k + 1 < n; ++k) step[k] = std::max(1e-3, (pts[k + 1].position - pts[k].position).norm());
-  if (for_pass) {
-    // A pass is planned on the curvature of its moved points, differenced: rougher than the exact one
-    // below (up to half as much again at the line's small kinks and where the edge margin pushes it off
-    // at an apex), so slower, and a pass is begun only where it gains on that. Planned exactly, passes
-    // are begun that the next corner squeezes: roar_bench --traffic --seeds=6 completed 88.7% of 353
-    // attempts that way, 92.1% of 353 this way.
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
-      const Eigen::Vector2d chord = pts[b].position - pts[a].position;
-      pts[k].yaw = std::atan2(chord.y(), chord.x());
-    }
-    for (std::size_t k = 1; k + 1 < n; ++k) {
-      double dyaw = pts[k + 1].yaw - pts[k - 1].yaw;
-      dyaw = std::atan2(std::sin(dyaw), std::cos(dyaw));
-      curvature[k] = dyaw / (step[k - 1] + step[k]);
-    }
-    curvature[0] = curvature[1];
-    curvature[n - 1] = curvature[n - 2];
-  } else {
-    // The moved path's heading and curvature exactly, from the racing line's own (smooth) ones and the
-    // offset's derivatives along the line (Frenet): differenced from the moved points, a move back onto
-    // the line was planned up to 10 m/s slower than the line where it was already back on it.
-    std::vector<double> heading(n, 0.0), path_per_line(n, 1.0);
-    auto along = [&](std::size_t a, std::size_t b) { return std::max(1e-3, pts[b].s - pts[a].s); };
-    // The neighbours a derivative at k is taken between: the next points either side, but at least
-    // kMinSpan apart. A window begins at a point sampled anywhere on the line, often centimetres before the
-    // line's next point, and over those centimetres the offset's slope (and the heading's) differed enough
-    // to plan the window's first point as a hairpin and the car at a third of the line's speed.
-    auto span = [&](std::size_t k) {
-      std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
-      while (pts[b].s - pts[a].s < kMinSpan && (a > 0 || b + 1 < n)) {
-        if (b + 1 < n)
-          ++b;
-        else
-          --a;
-      }
-      return std::pair{a, b};
-    };
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto [a, b] = span(k);
-      const double d_prime = (d[b] - d[a]) / along(a, b);
-      const double squeeze = 1.0 - pts[k].curvature * d[k];  // metres of moved path per metre of line, across
-      heading[k] = std::atan2(d_prime, squeeze);
-      path_per_line[k] = std::max(1e-3, std::hypot(squeeze, d_prime));
-    }
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto [a, b] = span(k);
-      curvature[k] = (pts[k].curvature + (heading[b] - heading[a]) / along(a, b)) / path_per_line[k];
-      pts[k].yaw = std::remainder(pts[k].yaw + heading[k], 2.0 * M_PI);
-    }
+  return d;
+}
+
+namespace {
+
+// A pass is planned on the curvature of its moved points, differenced: rougher than the exact one
+// (up to half as much again at the line's small kinks and where the edge margin pushes it off at an apex),
+// so slower, and a pass is begun only where it gains on that. Planned exactly, passes are begun that the
+// next corner squeezes: roar_bench --traffic --seeds=6 completed 88.7% of 353 attempts that way, 92.1% of
+// 353 this way. Sets each point's heading; returns the curvatures.
+std::vector<double> differencedCurvature(std::vector<TrajectoryPoint>* points, const std::vector<double>& step) {
+  auto& pts = *points;
+  const std::size_t n = pts.size();
+  std::vector<double> curvature(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
+    const Eigen::Vector2d chord = pts[b].position - pts[a].position;
+    pts[k].yaw = std::atan2(chord.y(), chord.x());
   }
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    double dyaw = pts[k + 1].yaw - pts[k - 1].yaw;
+    dyaw = std::atan2(std::sin(dyaw), std::cos(dyaw));
+    curvature[k] = dyaw / (step[k - 1] + step[k]);
+  }
+  curvature[0] = curvature[1];
+  curvature[n - 1] = curvature[n - 2];
+  return curvature;
+}
+
+// The moved path's heading and curvature exactly, from the racing line's own (smooth) ones and the offset's
+// derivatives along the line (Frenet): differenced from the moved points, a move back onto the line was
+// planned up to 10 m/s slower than the line where it was already back on it. Turns each point's heading by
+// the move's; returns the curvatures.
+std::vector<double> frenetCurvature(std::vector<TrajectoryPoint>* points, const std::vector<double>& d) {
+  auto& pts = *points;
+  const std::size_t n = pts.size();
+  std::vector<double> curvature(n, 0.0), heading(n, 0.0), path_per_line(n, 1.0);
+  auto along = [&](std::size_t a, std::size_t b) { return std::max(1e-3, pts[b].s - pts[a].s); };
+  // The neighbours a derivative at k is taken between: the next points either side, but at least
+  // kMinSpan apart. A window begins at a point sampled anywhere on the line, often centimetres before the
+  // line's next point, and over those centimetres the offset's slope (and the heading's) differed enough
+  // to plan the window's first point as a hairpin and the car at a third of the line's speed.
+  auto span = [&](std::size_t k) {
+    std::size_t a = k == 0 ? 0 : k - 1, b = std::min(n - 1, k + 1);
+    while (pts[b].s - pts[a].s < kMinSpan && (a > 0 || b + 1 < n)) {
+      if (b + 1 < n)
+        ++b;
+      else
+        --a;
+    }
+    return std::pair{a, b};
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a, b] = span(k);
+    const double d_prime = (d[b] - d[a]) / along(a, b);
+    const double squeeze = 1.0 - pts[k].curvature * d[k];  // metres of moved path per metre of line, across
+    heading[k] = std::atan2(d_prime, squeeze);
+    path_per_line[k] = std::max(1e-3, std::hypot(squeeze, d_prime));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto [a, b] = span(k);
+    curvature[k] = (pts[k].curvature + (heading[b] - heading[a]) / along(a, b)) / path_per_line[k];
+    pts[k].yaw = std::remainder(pts[k].yaw + heading[k], 2.0 * M_PI);
+  }
+  return curvature;
+}
+
+}  // namespace
+
+void OvertakePlanner::planMovedSpeeds(Trajectory* window, const std::vector<double>& d, const std::vector<double>& step,
+                                      const std::vector<double>& curvature, const MoveGrip& grip) const {
+  auto& pts = window->points;
+  const std::size_t n = pts.size();
   SpeedProfileOptions profile_options;
   profile_options.start_speed = -1.0;
-  profile_options.grade = slopes(out);
+  profile_options.grade = slopes(*window);
   // Where the path moves across the line the car is moving sideways as well: it is planned there with a
   // share of the grip (the whole grip at a steady offset and back on the line: a pass's window after it).
   VehicleLimits limits = limits_;
-  limits.drag_coefficient *= drag_share;
+  limits.drag_coefficient *= grip.drag_share;
   VehicleLimits offline = limits;
   offline.friction *= options_.moves.offline_grip;
   VehicleLimits settling_limits = limits;
   settling_limits.friction *= options_.moves.settle_grip;
   auto settlingAt = [&](std::size_t k) {
-    return std::isfinite(settle_s) && aheadOnLap(pts[k].s, settle_s, lapLength(line_)) < 0.0;
+    return std::isfinite(grip.settle_s) && aheadOnLap(pts[k].s, grip.settle_s, lapLength(line_)) < 0.0;
   };
   const SpeedProfile on_grip = computeSpeedProfile(step, curvature, limits, false, profile_options);
   const SpeedProfile off_grip = computeSpeedProfile(step, curvature, offline, false, profile_options);
@@ -244,19 +275,34 @@ Trajectory OvertakePlanner::shifted(const Trajectory& window, double ramp_s, dou
     const double a = decelerationAt(braking, pts[k + 1].speed, pts[k + 1].curvature, profile_options.grade[k]);
     pts[k].speed = std::min(pts[k].speed, std::sqrt(pts[k + 1].speed * pts[k + 1].speed + 2.0 * a * step[k]));
   }
-  out.lap_time = 0.0;
+  window->lap_time = 0.0;
   for (std::size_t k = 0; k + 1 < n; ++k) {
     pts[k].acceleration = (pts[k + 1].speed * pts[k + 1].speed - pts[k].speed * pts[k].speed) / (2.0 * step[k]);
     const double mean = 0.5 * (pts[k].speed + pts[k + 1].speed);
-    if (mean > 1e-6) out.lap_time += step[k] / mean;
+    if (mean > 1e-6) window->lap_time += step[k] / mean;
   }
   pts.back().acceleration = 0.0;
+}
+
+Trajectory OvertakePlanner::shifted(const Trajectory& window, const Move& move, const MoveGrip& grip) const {
+  Trajectory out = window;
+  const std::vector<double> d = moveWindow(&out, move);
+  const std::size_t n = out.points.size();
+  if (n < 3) return out;
+  std::vector<double> step(n, 0.0);
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    step[k] = std::max(1e-3, (out.points[k + 1].position - out.points[k].position).norm());
+  }
+  const std::vector<double> curvature =
+      move.pass ? differencedCurvature(&out.points, step) : frenetCurvature(&out.points, d);
+  planMovedSpeeds(&out, d, step, curvature, grip);
   return out;
 }
 
 Trajectory OvertakePlanner::shifted(const Trajectory& window, const RaceDecision& move, double settle_s) const {
-  return shifted(window, move.ramp_s, move.ramp_from, move.offset, std::numeric_limits<double>::infinity(), 1.0, false,
-                 settle_s, move.ramp_speed);
+  MoveGrip grip;
+  grip.settle_s = settle_s;
+  return shifted(window, Move::of(move), grip);
 }
 
 Trajectory OvertakePlanner::towed(const Trajectory& window, double drag_share) const {

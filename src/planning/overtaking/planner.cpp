@@ -59,7 +59,11 @@ void OvertakePlanner::settle(PlanContext& ctx) const {
     m.settle_until.reset();
   } else {
     ctx.settle_s = *m.settle_until;
-    ctx.line_base = shifted(ctx.base, ctx.s, 0.0, 0.0, kInf, 1.0, false, ctx.settle_s);
+    Move on_line;
+    on_line.ramp_s = ctx.s;
+    MoveGrip grip;
+    grip.settle_s = ctx.settle_s;
+    ctx.line_base = shifted(ctx.base, on_line, grip);
   }
 }
 

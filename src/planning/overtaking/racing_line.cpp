@@ -10,7 +10,7 @@ OvertakePlanner::Candidate OvertakePlanner::considerMove(const PlanContext& ctx,
   // Holding a lane while still drifting from the move before: settling there as on the line
   // (overtaking_test ACarHoldingItsLaneWhileStillMovingSidewaysIsPlannedOnLessGrip).
   const double settle = d.mode == RaceMode::kHold ? ctx.settle_s : -kInf;
-  Candidate c{shifted(from, d.ramp_s, d.ramp_from, d.offset, kInf, 1.0, false, settle, d.ramp_speed), d, true};
+  Candidate c{shifted(from, d, settle), d, true};
   // A move under way goes on with half the margin it needed to start: hysteresis, not dithering.
   const RaceDecision& last = ctx.last();
   const bool under_way = last.mode == d.mode && last.side == d.side && last.other == d.other;

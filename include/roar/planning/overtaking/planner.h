@@ -54,19 +54,32 @@ class OvertakePlanner {
   // metres towards the side `side` of the racing line (its lateral place times side).
   double laneRun(int side, double s, double beside, double longest) const;
 
-  // The racing line's window moved sideways: `from` metres before line s `ramp_s`, `to` a shift_length
-  // after, a smooth step between (clamped inside the road); its speeds planned afresh for the new path.
-  // back_s: where (window s) the move is undone again, back onto the racing line (infinite: never).
-  // drag_share: of the free-air drag the speeds are planned with (below 1: in a car's slipstream).
-  // for_pass: planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the
-  // moved points differenced); otherwise exactly, and a path moved by nothing is the racing line.
-  // settle_s: up to this line s the path is planned on settle_grip wherever it is (a car still moving
-  // sideways from a move it has just made). ramp_speed: m/s the car had at ramp_s, the move made in
-  // shift_time at that speed where it is below the racing line's there (0: at the line's).
-  Trajectory shifted(const Trajectory& window, double ramp_s, double from, double to,
-                     double back_s = std::numeric_limits<double>::infinity(), double drag_share = 1.0,
-                     bool for_pass = false, double settle_s = -std::numeric_limits<double>::infinity(),
-                     double ramp_speed = 0.0) const;
+  // A move of the racing line's window sideways: `from` metres left of the line before line s `ramp_s`,
+  // `to` a shift_length after, a smooth step between (clamped inside the road), undone again from window s
+  // `back_s` (infinite: never).
+  struct Move {
+    double ramp_s = 0.0;
+    double from = 0.0;
+    double to = 0.0;
+    double back_s = std::numeric_limits<double>::infinity();
+    // m/s the car had at ramp_s: the move is made in shift_time at that speed where it is below the racing
+    // line's there (0: at the line's).
+    double ramp_speed = 0.0;
+    // Planned as a pass is, more cautiously (the edge margin kept at apexes, the curvature of the moved
+    // points differenced); otherwise exactly, and a path moved by nothing is the racing line.
+    bool pass = false;
+    static Move of(const RaceDecision& decision);  // the decision's move under way
+  };
+  // What a moved window's speeds are planned on.
+  struct MoveGrip {
+    double drag_share = 1.0;  // of the free-air drag (below 1: in a car's slipstream)
+    // Up to this line s the path is planned on settle_grip wherever it is (a car still moving sideways from
+    // a move it has just made).
+    double settle_s = -std::numeric_limits<double>::infinity();
+  };
+  // The window moved as `move` goes, its speeds planned afresh for the new path.
+  Trajectory shifted(const Trajectory& window, const Move& move, const MoveGrip& grip) const;
+  Trajectory shifted(const Trajectory& window, const Move& move) const { return shifted(window, move, MoveGrip()); }
 
  private:
   struct Candidate {
@@ -110,6 +123,16 @@ class OvertakePlanner {
   // The window moved as a decision's move goes, planned as any move but a pass is, in free air.
   Trajectory shifted(const Trajectory& window, const RaceDecision& move,
                      double settle_s = -std::numeric_limits<double>::infinity()) const;
+  // ---- the pieces of a move (overtaking/paths.cpp) ----
+  // m of line a move takes from the one side to the other.
+  double shiftLength(const Move& move) const;
+  // (lowest, highest) m left of the line a pass may run at line s: the edge margin from either edge.
+  std::pair<double, double> passBounds(double s) const;
+  // Moves the window's points as `move` goes; returns each point's offset from the racing line.
+  std::vector<double> moveWindow(Trajectory* window, Move move) const;
+  // A moved window's speeds, accelerations and lap time for its offsets `d`, steps and curvatures.
+  void planMovedSpeeds(Trajectory* window, const std::vector<double>& d, const std::vector<double>& step,
+                       const std::vector<double>& curvature, const MoveGrip& grip) const;
   // The window's speeds as a car in a slipstream (drag_share of its drag) can drive them.
   Trajectory towed(const Trajectory& window, double drag_share) const;
 
