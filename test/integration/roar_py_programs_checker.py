@@ -145,6 +145,14 @@ def observe(name: str):
     return np.array([p.x, p.y, p.z]), float(np.arctan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y ** 2 + q.z ** 2)))
 
 
+def accepts_connections(port: int) -> bool:
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=0.5).close()
+        return True
+    except OSError:
+        return False
+
+
 def cars() -> list:
     return [v.name for v in rospy.ServiceProxy("/roar_sim/get_world_info", GetWorldInfo)().vehicles]
 
@@ -185,12 +193,19 @@ class RoarPyPrograms(unittest.TestCase):
         # Each program leaves roar_sim in asynchronous mode; the next one sets it as it needs.
         rospy.ServiceProxy("/roar_sim/set_stepping", SetStepping)(mode="step", real_time_factor=-1)
 
-    def drive(self, name: str, keys=("Up",), seconds: float = 6.0, car: str = "carla_vehicle", **env):
+    def drive(self, name: str, keys=("Up",), seconds: float = 6.0, car: str = "carla_vehicle", server=None, **env):
         """Runs a viewer program with keys held; returns the program, the car's (start, end) poses, the
-        viewer's pixels and the program's output after Ctrl-C."""
+        viewer's pixels and the program's output after Ctrl-C. A viewer that never opens fails with the
+        program's output so far (and its server's, for a remote client)."""
         program = Program(name, self.display, **env)
         try:
-            window = self.display.window(VIEWER)
+            try:
+                window = self.display.window(VIEWER)
+            except AssertionError as missing:
+                outputs = [f"{name}:\n{program.output()[-3000:]}"]
+                if server is not None:
+                    outputs.append(f"{server.name}:\n{server.output()[-3000:]}")
+                raise AssertionError("\n".join([str(missing)] + outputs)) from None
             wait_for_car(car)
             start = observe(car)
             self.display.hold(window, *keys)
@@ -305,8 +320,13 @@ class RoarPyPrograms(unittest.TestCase):
                 self.assertLess(time.time(), deadline, server.output())
                 self.assertIsNone(server.process.poll(), server.output())
                 time.sleep(0.2)
+            # The program says so before it listens: the client starts once the port takes a connection.
+            while not accepts_connections(int(port)):
+                self.assertLess(time.time(), deadline, server.output())
+                self.assertIsNone(server.process.poll(), server.output())
+                time.sleep(0.2)
             _, poses, pixels, client_output = self.drive("client_manual_control", car="roar_py_remote_vehicle",
-                                                         ROAR_PY_REMOTE_URI=f"ws://127.0.0.1:{port}")
+                                                         server=server, ROAR_PY_REMOTE_URI=f"ws://127.0.0.1:{port}")
             self.assertDroveForward(poses, 5.0)
             self.assertEqual(pixels.shape[:2], (400, 600), "the server's 600 x 400 camera")
             self.assertShowsTheCar(pixels)
