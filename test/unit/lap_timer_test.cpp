@@ -5,13 +5,6 @@
 
 using namespace roar;
 
-namespace {
-// Position on the (flat) circle track at arc length s (counter-clockwise from angle 0).
-Eigen::Vector3d onCircle(double s, double radius = 100.0) {
-  return {radius * std::cos(s / radius), radius * std::sin(s / radius), 0.0};
-}
-}  // namespace
-
 TEST(LapTimer, TimesLapsFromTheFirstCrossing) {
   const auto track = test::circleTrack(100.0);  // start/finish at s = 0, 3 sectors
   race::LapTimer timer(track);
@@ -19,7 +12,7 @@ TEST(LapTimer, TimesLapsFromTheFirstCrossing) {
   std::vector<race::LapRecord> laps;
   // Start 30 m behind the line, drive 3.2 laps.
   for (double t = 0; t < (3.2 * length + 30) / speed; t += dt) {
-    if (auto lap = timer.update(t, onCircle(-30 + speed * t))) laps.push_back(*lap);
+    if (auto lap = timer.update(t, test::onCircleTrack(-30 + speed * t))) laps.push_back(*lap);
   }
   ASSERT_EQ(laps.size(), 3u);
   for (const auto& lap : laps) {
@@ -40,7 +33,7 @@ TEST(LapTimer, WobblingOverTheLineCountsNoLap) {
   double t = 0;
   for (int k = 0; k < 200; ++k, t += 0.05) {
     const double s = 5.0 * std::sin(k * 0.3);  // back and forth across the start/finish line
-    if (timer.update(t, onCircle(s))) ++laps;
+    if (timer.update(t, test::onCircleTrack(s))) ++laps;
   }
   EXPECT_EQ(laps, 0);
   EXPECT_TRUE(timer.started());
@@ -51,7 +44,7 @@ TEST(LapTimer, ReversingRoundTheLoopCountsNoLap) {
   race::LapTimer timer(track);
   int laps = 0;
   for (double t = 0; t < 100; t += 0.05) {
-    if (timer.update(t, onCircle(30 - 20 * t))) ++laps;  // driving the wrong way
+    if (timer.update(t, test::onCircleTrack(30 - 20 * t))) ++laps;  // driving the wrong way
   }
   EXPECT_EQ(laps, 0);
 }

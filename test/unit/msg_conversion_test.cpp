@@ -407,10 +407,8 @@ TEST(MsgConversion, RaceStatusHasEveryCarsStanding) {
   race::RaceControl race(track, rules, {"slow", "fast"});
   double t = 0.0;
   for (; t < 40.0; t += 0.05) {
-    race.updatePosition("fast", t,
-                        {100.0 * std::cos((20.0 * t - 5) / 100.0), 100.0 * std::sin((20.0 * t - 5) / 100.0), 0});
-    race.updatePosition("slow", t,
-                        {100.0 * std::cos((10.0 * t - 10) / 100.0), 100.0 * std::sin((10.0 * t - 10) / 100.0), 0});
+    race.updatePosition("fast", t, test::onCircleTrack(-5 + 20.0 * t));
+    race.updatePosition("slow", t, test::onCircleTrack(-10 + 10.0 * t));
   }
   const roar_ros::RaceStatus msg = ros_bridge::toRaceStatus(race, t);
   EXPECT_DOUBLE_EQ(msg.header.stamp.toSec(), ros_bridge::toRosTime(t).toSec());

@@ -19,16 +19,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // On the 100 m circle track (centre line radius 100, 12 m wide), at arc length s and `lateral` to the left.
-Eigen::Vector2d onCircle(double s, double lateral = 0.0) {
-  const double r = 100.0 - lateral;
-  return {r * std::cos(s / 100.0), r * std::sin(s / 100.0)};
-}
-
-// The same on the (flat) road's surface, as odometry gives it.
-Eigen::Vector3d atCircle(double s, double lateral = 0.0) {
-  const Eigen::Vector2d p = onCircle(s, lateral);
-  return {p.x(), p.y(), 0.0};
-}
+Eigen::Vector3d atCircle(double s, double lateral = 0.0) { return test::onCircleTrack(s, 100.0, lateral); }
+Eigen::Vector2d onCircle(double s, double lateral = 0.0) { return atCircle(s, lateral).head<2>(); }
 
 int lines(const std::string& path) {
   std::ifstream in(path);

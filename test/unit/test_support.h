@@ -82,6 +82,13 @@ inline track::Track circleTrack(double radius, double width = 12.0, Eigen::Vecto
   return track::Track(pts, info);
 }
 
+// On circleTrack(radius) (centred on the origin): the road's surface at arc length s counter-clockwise from
+// angle 0, `lateral` metres to the left of the centre line, as odometry gives a car there.
+inline Eigen::Vector3d onCircleTrack(double s, double radius = 100.0, double lateral = 0.0) {
+  const double r = radius - lateral;
+  return {r * std::cos(s / radius), r * std::sin(s / radius), 0.0};
+}
+
 // Open ground for physics tests: a small circuit far away, so the area near the origin is free plane.
 inline track::Track openGround(double friction = 1.0) { return circleTrack(60.0, 12.0, {5000.0, 5000.0}, friction); }
 
