@@ -12,8 +12,11 @@
 //                                 or two environments per thread on T threads.
 // After the benchmarks, the racing table: the stack (planner, tracker, lap timer) races every shipped
 // circuit in lockstep for --laps=N (default 10) and prints achieved and promised laps, the lap of a
-// minimum-time line searched from the planner's (min_time; vs_min = promised / min_time), tracking error
-// and barrier contacts; --grip-use=F overrides the share of the road's friction the plan uses,
+// minimum-time line searched from the planner's (min_time; vs_min = promised / min_time), the car's
+// quasi-steady-state bound on the minimum-curvature line (qss_bound, sim/lap_bound.h; vs_qss = best / bound),
+// tracking error and barrier contacts; --model=NAME races that car (default the sedan), --maps-dir=DIR the
+// circuits in DIR (imported ones) instead of the shipped ones; --grip-use=F overrides the share of the road's friction
+// the plan uses,
 // --stanley races with Stanley instead of pure pursuit,
 // --minimum-time races the minimum-time line, --no-yardstick skips the minimum-time search (min_time 0). --race-only
 // skips the benchmarks; --no-race skips the table.
@@ -41,6 +44,7 @@
 #include "roar/sensors/sensor_rig.h"
 #include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
+#include "roar/sim/lap_bound.h"
 #include "roar/sim/world.h"
 #include "roar/track/map_folder.h"
 #include "roar/vehicle/vehicle_config.h"
@@ -283,34 +287,53 @@ void PlanRacingTrajectory(benchmark::State& state, const std::string& map) {
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_ring, std::string("roar_ring"))->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(PlanRacingTrajectory, roar_speedway, std::string("roar_speedway"))->Unit(benchmark::kMillisecond);
 
-void printRacingTable(int laps, double grip_use, control::LateralMethod lateral, bool minimum_time, bool yardstick) {
-  const auto car = defaultCar();
-  std::printf("\nRacing stack, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
-              laps, grip_use, lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
-  std::printf("%-16s %6s %9s %9s %9s %7s %9s %8s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap", "promised",
-              "ratio", "min_time", "vs_min", "max_err_m", "rms_err_m", "contacts");
-  for (const auto& map : track::listMaps(layout().maps())) {
-    const auto track = track::loadMapFolder(layout().maps() + "/" + map);
+struct RacingTableOptions {
+  int laps = 10;
+  double grip_use = harness::TimeTrialOptions().grip_use;
+  control::LateralMethod lateral = control::TrackerOptions().lateral;
+  bool minimum_time = false;  // the planner races the minimum-time line
+  bool yardstick = true;      // the minimum-time search's lap beside the plan's
+  std::string maps_dir;       // empty: the shipped maps
+  std::string model = config::kDefaultModel;
+};
+
+void printRacingTable(const RacingTableOptions& table) {
+  const std::string maps_dir = table.maps_dir.empty() ? layout().maps() : table.maps_dir;
+  const auto car = vehicle::loadVehicleModel(table.model, layout().urdf(), layout().vehicles());
+  std::printf("\nRacing stack, %s, %d laps per circuit, lockstep, grip_use %.2f, %s (lap times in simulated seconds)\n",
+              table.model.c_str(), table.laps, table.grip_use,
+              table.lateral == control::LateralMethod::kStanley ? "Stanley" : "pure pursuit");
+  std::printf("%-16s %6s %9s %9s %9s %7s %9s %8s %9s %8s %10s %10s %9s\n", "circuit", "km", "best_lap", "mean_lap",
+              "promised", "ratio", "min_time", "vs_min", "qss_bound", "vs_qss", "max_err_m", "rms_err_m", "contacts");
+  for (const auto& map : track::listMaps(maps_dir)) {
+    const auto track = track::loadMapFolder(maps_dir + "/" + map);
     harness::TimeTrialOptions options;
-    options.laps = laps;
-    options.grip_use = grip_use;
-    options.tracker.lateral = lateral;
-    options.planner.minimum_time = minimum_time;
+    options.laps = table.laps;
+    options.grip_use = table.grip_use;
+    options.tracker.lateral = table.lateral;
+    options.planner.minimum_time = table.minimum_time;
     const auto r = harness::runTimeTrial(track, car, options);
     double mean = 0.0;
     for (double t : r.lap_times) mean += t / static_cast<double>(r.lap_times.size());
     // The yardstick: a minimum-time line searched from the planner's, with the same car model.
     const auto limits = planning::vehicleLimits(car, track.info().friction, options.grip_use);
     planning::MinimumTimeResult fastest;
-    if (yardstick && track.closed()) {  // the search refines circuits' lines
+    if (table.yardstick && track.closed()) {  // the search refines circuits' lines
       fastest = planning::minimumTimeLine(track, planning::minimumCurvatureLine(track, options.planner.line), limits,
                                           options.planner.line);
     }
+    // The bound: the car's own model in quasi-steady state on the minimum-curvature line, no planner in it.
+    double bound = 0.0;
+    if (track.closed()) {
+      const auto line = planning::minimumCurvatureLine(track, options.planner.line);
+      bound = sim::quasiSteadyStateLap(line.curvature, line.step, true, car, track.info().friction).lap_time;
+    }
     std::fflush(stdout);
-    std::printf("%-16s %6.2f %9.2f %9.2f %9.2f %7.3f %9.2f %8.3f %10.2f %10.2f %9d%s\n", map.c_str(),
+    std::printf("%-16s %6.2f %9.2f %9.2f %9.2f %7.3f %9.2f %8.3f %9.2f %8.3f %10.2f %10.2f %9d%s\n", map.c_str(),
                 track.raceDistance() / 1000.0, r.best_lap(), mean, r.promised_lap, mean / r.promised_lap,
-                fastest.lap_time, fastest.lap_time > 0 ? r.promised_lap / fastest.lap_time : 0.0, r.max_lateral_error,
-                r.rms_lateral_error, r.barrier_contacts, r.finished ? "" : "  (did not finish)");
+                fastest.lap_time, fastest.lap_time > 0 ? r.promised_lap / fastest.lap_time : 0.0, bound,
+                bound > 0 ? r.best_lap() / bound : 0.0, r.max_lateral_error, r.rms_lateral_error, r.barrier_contacts,
+                r.finished ? "" : "  (did not finish)");
     std::fflush(stdout);
   }
 }
@@ -318,10 +341,7 @@ void printRacingTable(int laps, double grip_use, control::LateralMethod lateral,
 }  // namespace
 
 int main(int argc, char** argv) {
-  int laps = 10;
-  double grip_use = harness::TimeTrialOptions().grip_use;
-  control::LateralMethod lateral = control::TrackerOptions().lateral;
-  bool minimum_time = false, yardstick = true;
+  RacingTableOptions racing;
   bool race = true, benchmarks = true, traffic = false, scaling = false;
   bench::ScalingOptions scaling_options;
   scaling_options.max_threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -331,15 +351,19 @@ int main(int argc, char** argv) {
   try {
     for (int i = 0; i < argc; ++i) {
       if (std::strncmp(argv[i], "--laps=", 7) == 0) {
-        laps = static_cast<int>(config::wholeNumberArgument("--laps", argv[i] + 7, 1));
+        racing.laps = static_cast<int>(config::wholeNumberArgument("--laps", argv[i] + 7, 1));
       } else if (std::strncmp(argv[i], "--grip-use=", 11) == 0) {
-        grip_use = config::numberArgument("--grip-use", argv[i] + 11);
+        racing.grip_use = config::numberArgument("--grip-use", argv[i] + 11);
       } else if (std::strcmp(argv[i], "--no-yardstick") == 0) {
-        yardstick = false;
+        racing.yardstick = false;
       } else if (std::strcmp(argv[i], "--minimum-time") == 0) {
-        minimum_time = true;
+        racing.minimum_time = true;
       } else if (std::strcmp(argv[i], "--stanley") == 0) {
-        lateral = control::LateralMethod::kStanley;
+        racing.lateral = control::LateralMethod::kStanley;
+      } else if (std::strncmp(argv[i], "--maps-dir=", 11) == 0) {
+        racing.maps_dir = argv[i] + 11;
+      } else if (std::strncmp(argv[i], "--model=", 8) == 0) {
+        racing.model = argv[i] + 8;
       } else if (std::strcmp(argv[i], "--race-only") == 0) {
         benchmarks = false;
       } else if (std::strcmp(argv[i], "--no-race") == 0) {
@@ -399,7 +423,14 @@ int main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
   }
-  if (race) printRacingTable(laps, grip_use, lateral, minimum_time, yardstick);
+  if (race) {
+    try {
+      printRacingTable(racing);
+    } catch (const std::exception& e) {  // a model or maps folder that cannot be read
+      std::fprintf(stderr, "roar_bench: %s\n", e.what());
+      return 2;
+    }
+  }
   if (scaling) {
     const track::Track sprint = track::loadMapFolder(layout().maps() + "/roar_sprint");
     const vehicle::VehicleParams car = defaultCar();
