@@ -1,10 +1,12 @@
 """The ROS side of roar_py_ros: finds (or starts) roar_sim, and calls its services with errors in Python's
 terms."""
 import atexit
+import contextlib
 import os
 import re
 import select
 import shutil
+import signal
 import socket
 import subprocess
 import sys
@@ -23,6 +25,19 @@ SIM = "/roar_sim"
 WAYPOINT_SERVER = "/waypoint_server"
 _node_lock = threading.Lock()
 _private_port: typing.Optional[int] = None
+
+
+@contextlib.contextmanager
+def ros_threads():
+    """Around a rospy call that may start threads (a node, a subscriber, a publisher, a service proxy):
+    SIGINT and SIGTERM blocked in the calling thread meanwhile, so the threads it starts are born blocking
+    them and the kernel delivers them to the program's main thread, where they interrupt a sleep or a read
+    as Ctrl-C should (test_roar_py_lifecycle test_rospys_threads_leave_ctrl_c_to_the_main_thread)."""
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 class RoarSimError(RuntimeError):
@@ -126,7 +141,8 @@ def ensure_node():
     """rospy's node of this process (one per process), started once."""
     with _node_lock:
         if not rospy.core.is_initialized():
-            rospy.init_node("roar_py", anonymous=True, disable_signals=True, disable_rosout=False)
+            with ros_threads():
+                rospy.init_node("roar_py", anonymous=True, disable_signals=True, disable_rosout=False)
 
 
 def connect(map_name: typing.Optional[str], timeout: float) -> typing.Optional[PrivateSim]:
@@ -212,7 +228,8 @@ class Services:
                 proxy = rospy.ServiceProxy(name, srv_class, persistent=True)
                 self._proxies[name] = proxy
             try:
-                response = proxy.call(srv_class._request_class(**fields))
+                with ros_threads():
+                    response = proxy.call(srv_class._request_class(**fields))
             except (rospy.ServiceException, rospy.ROSException, OSError) as e:
                 self._proxies.pop(name, None)
                 proxy.close()

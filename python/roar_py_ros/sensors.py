@@ -68,8 +68,9 @@ class RosSensorMixin(_VehicleSensor):
         self._last_obs_stamp = None
         self._sub = None
         if topic is not None:
-            self._sub = rospy.Subscriber(topic, msg_class, self._on_message, queue_size=4, tcp_nodelay=True,
-                                         buff_size=1 << 24)
+            with connection.ros_threads():
+                self._sub = rospy.Subscriber(topic, msg_class, self._on_message, queue_size=4, tcp_nodelay=True,
+                                             buff_size=1 << 24)
 
     def _wait_connected(self, timeout: float = 10.0):
         """Until roar_sim itself has the connection to this subscriber: a reading published before that is

@@ -9,7 +9,7 @@ import rospy
 
 import roar_py_interface as rpi
 
-from . import conversions, sensors
+from . import connection, conversions, sensors
 from .sensor_host import SensorHost, _finite_vector
 
 
@@ -51,12 +51,14 @@ class RoarPyRosVehicle(SensorHost, rpi.RoarPyBaseVehicle, rpi.RoarPyResettableAc
         from nav_msgs.msg import Odometry
         from roar_ros.msg import CollisionEvent, QueueDepths, VehicleControl
 
-        self._odom_sub = rospy.Subscriber(f"/{ros_name}/odom", Odometry, self._on_odom, queue_size=2, tcp_nodelay=True)
-        self._collision_sub = rospy.Subscriber(f"/{ros_name}/collision", CollisionEvent, self._on_collision,
-                                               queue_size=100, tcp_nodelay=True)
-        # As deep as the C++ drivers' (msg/QueueDepths.msg): a recorder whose link lags loses no control.
-        self._control_pub = rospy.Publisher(f"/{ros_name}/control", VehicleControl, queue_size=QueueDepths.PER_TICK,
-                                            tcp_nodelay=True)
+        with connection.ros_threads():
+            self._odom_sub = rospy.Subscriber(f"/{ros_name}/odom", Odometry, self._on_odom, queue_size=2,
+                                              tcp_nodelay=True)
+            self._collision_sub = rospy.Subscriber(f"/{ros_name}/collision", CollisionEvent, self._on_collision,
+                                                   queue_size=100, tcp_nodelay=True)
+            # As deep as the C++ drivers' (msg/QueueDepths.msg): a recorder whose link lags loses no control.
+            self._control_pub = rospy.Publisher(f"/{ros_name}/control", VehicleControl,
+                                                queue_size=QueueDepths.PER_TICK, tcp_nodelay=True)
 
     def __repr__(self):
         return f"RoarPyRosVehicle(name={self.name!r}, blueprint={self.blueprint_id!r}, roar_sim name={self.ros_name!r})"

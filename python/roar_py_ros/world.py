@@ -12,7 +12,7 @@ import rospy
 
 import roar_py_interface as rpi
 
-from . import conversions
+from . import connection, conversions
 from .connection import RoarSimError
 from .sensor_host import WorldSensors, _finite_vector, ros_safe
 from .vehicle import RoarPyRosVehicle
@@ -43,11 +43,12 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         self._clock = 0.0
         self._waypoint_cache = None
         self._last_step_time = None
-        self._subs = [
-            rospy.Subscriber("/waypoints", WaypointArray, self._on_waypoints, queue_size=1),
-            rospy.Subscriber("/spawn_points", PoseArray, self._on_spawn_points, queue_size=1),
-            rospy.Subscriber("/roar_sim/map", MapInfo, self._on_map, queue_size=1),
-        ]
+        with connection.ros_threads():
+            self._subs = [
+                rospy.Subscriber("/waypoints", WaypointArray, self._on_waypoints, queue_size=1),
+                rospy.Subscriber("/spawn_points", PoseArray, self._on_spawn_points, queue_size=1),
+                rospy.Subscriber("/roar_sim/map", MapInfo, self._on_map, queue_size=1),
+            ]
         self._clock_sub = None
         self._refresh_settings()
         self._wait(lambda: self._waypoints_msg is not None and self._spawn_msg is not None,
@@ -105,7 +106,8 @@ class RoarPyRosWorld(rpi.RoarPyWorld):
         from rosgraph_msgs.msg import Clock
 
         if self.is_asynchronous and self._clock_sub is None:
-            self._clock_sub = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1, tcp_nodelay=True)
+            with connection.ros_threads():
+                self._clock_sub = rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1, tcp_nodelay=True)
         elif not self.is_asynchronous and self._clock_sub is not None:
             self._clock_sub.unregister()
             self._clock_sub = None

@@ -233,3 +233,45 @@ def test_the_watchdog_finds_an_orphan_left_in_roslaunchs_session():
         assert orphan in watchdog.descendants(leader.pid), "the orphan is in the dead leader's session"
     finally:
         os.kill(orphan, signal.SIGKILL)
+
+
+THREADS_PROGRAM = """
+import asyncio, os, threading
+import roar_py_ros
+
+async def main():
+    instance = roar_py_ros.RoarPyRosInstance(map_name="roar_sprint")
+    world = instance.world
+    world.set_asynchronous(True)
+    vehicle = world.spawn_vehicle("vehicle.tesla.model3", *world.spawn_points[0], auto_gear=True)
+    vehicle.attach_location_in_world_sensor()
+    await world.step()
+    world.set_asynchronous(False)
+    await world.step()
+    main_tid = threading.main_thread().native_id
+    for tid in sorted(os.listdir("/proc/self/task")):
+        with open(f"/proc/self/task/{tid}/status") as f:
+            blocked = int(next(l for l in f if l.startswith("SigBlk:")).split()[1], 16)
+        print(tid, int(tid) == main_tid, blocked, flush=True)
+    instance.close()
+
+asyncio.run(main())
+"""
+
+
+def test_rospys_threads_leave_ctrl_c_to_the_main_thread():
+    """The kernel gives a process's SIGINT to any thread that does not block it; a thread of rospy's that
+    took it would leave the main thread asleep in its read or sleep, and Ctrl-C would not end the program.
+    Every thread but the main one blocks SIGINT and SIGTERM (connection.ros_threads), the main one neither."""
+    env = {k: v for k, v in os.environ.items() if k not in ("ROS_MASTER_URI", "ROS_IP", "ROS_HOSTNAME")}
+    out = subprocess.run([sys.executable, "-c", THREADS_PROGRAM], env=env, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr[-3000:]
+    rows = [line.split() for line in out.stdout.splitlines()]
+    wanted = (1 << (signal.SIGINT - 1)) | (1 << (signal.SIGTERM - 1))
+    main = [int(mask) for _, is_main, mask in rows if is_main == "True"]
+    others = {tid: int(mask) for tid, is_main, mask in rows if is_main == "False"}
+    assert len(main) == 1 and main[0] & wanted == 0, rows
+    assert len(others) >= 3, f"rospy's threads were not there to check: {rows}"
+    open_to_ctrl_c = [tid for tid, mask in others.items() if mask & wanted != wanted]
+    assert open_to_ctrl_c == [], f"threads that can take SIGINT or SIGTERM: {open_to_ctrl_c} of {rows}"
