@@ -21,7 +21,7 @@
 #include "roar/control/tracker_option_table.h"
 #include "roar/control/tracker_sizing.h"
 #include "roar/control/trajectory_tracker.h"
-#include "roar/control/window_pairing.h"
+#include "roar/lockstep/window_pairing.h"
 #include "roar/ros/msg_conversion.h"
 #include "roar/ros/param_reading.h"
 #include "roar/ros/planning_msg_conversion.h"
@@ -224,7 +224,7 @@ class Driver {
   ros::WallTime last_odom_;   // of the last odometry received or answered
   ros::WallTime first_wait_;  // of the first odometry that found no trajectory
   bool driving_ = false;      // an odometry message has been answered: the watchdog starts with driving
-  control::WindowPairing pairing_;
+  lockstep::WindowPairing pairing_;
   nav_msgs::Odometry::ConstPtr held_odom_;  // the odometry pairing_ holds: no trajectory yet, or its window is late
   bool stale_ = false;
 };

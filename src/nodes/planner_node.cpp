@@ -3,7 +3,7 @@
 // trajectory latched on /racing_line (+ /racing_line/path) and, for every odometry message of each car,
 // the window ahead of it on /<vehicle>/local_trajectory (and as a path on /<vehicle>/local_path), stamped
 // with the odometry's time. A tick's windows are planned once every car's odometry of it has come (or
-// ~tick_wait s of wall time, planning::TickGathering): each sees every other car at that tick, so a
+// ~tick_wait s of wall time, lockstep::TickGathering): each sees every other car at that tick, so a
 // lockstep race runs the same every time. Which car each one follows or passes is planning::FieldPlanner's decision;
 // for rviz, /<vehicle>/manoeuvre shows that decision and the planner's prediction of the cars around the car.
 #include <nav_msgs/Odometry.h>
@@ -17,10 +17,10 @@
 #include <memory>
 #include <variant>
 
+#include "roar/lockstep/tick_gathering.h"
 #include "roar/planning/field_planner.h"
 #include "roar/planning/field_planner_sizing.h"
 #include "roar/planning/overtaking/option_table.h"
-#include "roar/planning/tick_gathering.h"
 #include "roar/planning/trajectory.h"
 #include "roar/ros/frames.h"
 #include "roar/ros/msg_conversion.h"
@@ -44,7 +44,7 @@ struct PlannerNodeOptions {
   planning::PlannerOptions planner;
   planning::FieldOptions field;
   std::string frame = ros_bridge::kMapFrame;
-  double tick_wait = 0.25;  // s of wall time a tick waits for every car's odometry (planning::TickGathering)
+  double tick_wait = 0.25;  // s of wall time a tick waits for every car's odometry (lockstep::TickGathering)
 };
 
 // ~<group>/<name> for every entry of planning::overtakeOptionTable, in the range the table gives.
@@ -142,7 +142,7 @@ class PlannerNode {
       for (const auto& [model, params] : options_.models) fields[model] = fieldFor(track, params);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
       fields_ = std::move(fields);
-      ticks_ = std::make_unique<planning::TickGathering>(options_.vehicles, options_.tick_wait);
+      ticks_ = std::make_unique<lockstep::TickGathering>(options_.vehicles, options_.tick_wait);
       for (auto& [name, car] : cars_) car.held.clear();
       // /racing_line: the line of the first car's model (the controller's fallback, rviz).
       const planning::Trajectory& line = field(options_.vehicles.front()).line();
@@ -178,7 +178,7 @@ class PlannerNode {
   }
 
   // Every car of a tick located first, then each planned: its window sees every other car at that tick.
-  void plan(const std::vector<planning::TickGathering::Tick>& ticks) {
+  void plan(const std::vector<lockstep::TickGathering::Tick>& ticks) {
     for (const auto& tick : ticks) {
       std::vector<std::pair<std::string, nav_msgs::Odometry::ConstPtr>> odoms;
       for (const auto& name : tick.cars) {
@@ -237,7 +237,7 @@ class PlannerNode {
 
   PlannerNodeOptions options_;
   std::map<std::string, std::unique_ptr<planning::FieldPlanner>> fields_;  // by model
-  std::unique_ptr<planning::TickGathering> ticks_;
+  std::unique_ptr<lockstep::TickGathering> ticks_;
   ros::WallTimer expiry_timer_, waiting_timer_;
   std::string map_name_;
   ros::Publisher line_pub_, path_pub_;

@@ -149,6 +149,7 @@ void SimNode::loadMap(const std::string& folder, const std::string& reason) {
   auto world = std::make_unique<sim::World>(*track, options_.world, clock);
   auto scene = std::make_unique<sensors::RayScene>(*track);
   io_.clear();  // the cars go (their agents refer to the old track)
+  drivers_.clear();
   scene_ticks_.clear();
   scene_posed_at_ = nullptr;
   world_ = std::move(world);
@@ -253,6 +254,7 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       name + "/control", 10, [this, name](const roar_ros::VehicleControl::ConstPtr& msg) { onControl(name, msg); },
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   io_[name] = std::move(io);
+  drivers_.add(name);
   ++spawned_count_;
   publishStaticTransforms();
   ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), params.model.c_str(), pose.position.x(),
@@ -291,6 +293,7 @@ void SimNode::removeVehicle(const std::string& name) {
   world_->destroyVehicle(name);
   scene_->removeVehicle(it->second.scene_id);
   io_.erase(it);
+  drivers_.remove(name);
 }
 
 bool SimNode::applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why) {
@@ -313,41 +316,29 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
   std::string why;
   const bool applied = applyControl(name, *msg, &why);
   if (!why.empty()) ROAR_WARN_WALL_THROTTLE(1.0, "roar_sim: %s", why.c_str());
-  if (applied) {
-    it->second.last_control_stamp = msg->header.stamp;
-    it->second.control_seen = true;
-    if (it->second.driver_lost) {
-      it->second.driver_lost = false;
-      ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(),
-               world_->time());
-      std_msgs::String back;
-      back.data = name;
-      driver_back_pub_.publish(back);
-    }
+  if (applied && drivers_.control(name, msg->header.stamp.toSec())) {
+    ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(), world_->time());
+    std_msgs::String back;
+    back.data = name;
+    driver_back_pub_.publish(back);
   }
 }
 
 void SimNode::markLostDrivers() {
-  const ros::Time now = toRosTime(world_->time());
-  for (auto& [name, io] : io_) {
-    if (io.driver_lost || io.control.getNumPublishers() == 0) continue;
-    if (io.control_seen && io.last_control_stamp >= now) continue;
+  for (const auto& name : drivers_.silent(toRosTime(world_->time()).toSec())) {
     char why[160];
     std::snprintf(why, sizeof(why), "no control for t = %.2f s within %.1f s of wall time", world_->time(),
                   options_.lockstep_timeout);
-    driverLost(name, io, why);
+    driverLost(name, why);
   }
 }
 
 void SimNode::markDisconnectedDrivers() {
-  for (auto& [name, io] : io_) {
-    if (io.driver_lost || !io.control_seen || io.control.getNumPublishers() > 0) continue;
-    driverLost(name, io, "its control publisher is gone");
-  }
+  for (const auto& name : drivers_.disconnected()) driverLost(name, "its control publisher is gone");
 }
 
-void SimNode::driverLost(const std::string& name, VehicleIo& io, const std::string& why) {
-  io.driver_lost = true;
+void SimNode::driverLost(const std::string& name, const std::string& why) {
+  drivers_.lose(name);
   // Once per loss, naming the car: a dead driver must not stall the race, nor pass unnoticed.
   ROS_WARN(
       "roar_sim: %s's driver is lost (%s) at t = %.2f s: lockstep goes on without waiting for it and the "
@@ -489,24 +480,12 @@ roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
   return out;
 }
 
-bool SimNode::everyDriverLost() const {
-  bool lost = false;
-  for (const auto& [name, io] : io_) {
-    if (io.control.getNumPublishers() > 0 && !io.driver_lost) return false;
-    lost = lost || io.driver_lost;
-  }
-  return lost;
-}
+bool SimNode::everyDriverLost() const { return drivers_.everyDriverLost(); }
 
 bool SimNode::controlsArrived() const {
-  const ros::Time now = toRosTime(world_->time());
-  for (const auto& [name, io] : io_) {
-    // Only drivers that are connected are waited for (a car nobody drives stays parked), and not one taken
-    // as lost (a killed driver's publisher can stay registered for a long time).
-    if (io.control.getNumPublishers() == 0 || io.driver_lost) continue;
-    if (!io.control_seen || io.last_control_stamp < now) return false;
-  }
-  return true;
+  // Only drivers that are connected are waited for (a car nobody drives stays parked), and not one taken
+  // as lost (a killed driver's publisher can stay registered for a long time).
+  return drivers_.answered(toRosTime(world_->time()).toSec());
 }
 
 namespace {
@@ -626,7 +605,8 @@ void SimNode::setUpRecorderPacing() {
     }
     paced.push_back(node);
   }
-  recorder_pacing_ = std::make_unique<sim::RecorderPacing>(paced, options_.world.control_dt, options_.lockstep_timeout);
+  recorder_pacing_ =
+      std::make_unique<lockstep::RecorderPacing>(paced, options_.world.control_dt, options_.lockstep_timeout);
 }
 
 bool SimNode::recordersKeptUp() {

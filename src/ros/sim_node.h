@@ -19,10 +19,11 @@
 
 #include "agent_interface.h"
 #include "debug_drawing.h"
+#include "roar/lockstep/driver_roll.h"
+#include "roar/lockstep/recorder_pacing.h"
 #include "roar/ros/unread_answers.h"
 #include "roar/ros/waking_queue.h"
 #include "roar/sensors/ray_scene.h"
-#include "roar/sim/recorder_pacing.h"
 #include "roar/sim/world.h"
 #include "roar/track/track.h"
 #include "roar_ros/AttachSensor.h"
@@ -78,9 +79,6 @@ class SimNode {
     ros::Publisher odom, status, collision, joints;
     std::array<double, 4> wheel_angles{};  // rad, integrated for the URDF's wheel joints
     ros::Subscriber control;
-    ros::Time last_control_stamp{0, 0};
-    bool control_seen = false;
-    bool driver_lost = false;  // lockstep: no control within lockstep_timeout; not waited for until one comes
     int scene_id = -1;
     std::unique_ptr<VehicleSensors> sensors;
     std::unique_ptr<AgentInterface> agent;  // when an RL agent drives the car
@@ -111,7 +109,7 @@ class SimNode {
   // A driver that had a control publisher and has none now (it died): lost at once, not after a timeout.
   void markDisconnectedDrivers();
   // Warns once, naming the car, and tells race control (~driver_lost, the car's name).
-  void driverLost(const std::string& name, VehicleIo& io, const std::string& why);
+  void driverLost(const std::string& name, const std::string& why);
   void publishStaticTransforms();
   // Builds the world of a map folder (every car gone), from the current tick and time on, and tells
   // every node on /roar_sim/map.
@@ -217,7 +215,12 @@ class SimNode {
   ros::WallTime pace_wall_start_;
   ros::WallTime idle_clock_wall_;
   double pace_sim_start_ = 0.0;
-  std::unique_ptr<sim::RecorderPacing> recorder_pacing_;
+  std::unique_ptr<lockstep::RecorderPacing> recorder_pacing_;
+  // The drivers lockstep waits for: a car's is connected while its control topic has a publisher.
+  lockstep::DriverRoll drivers_{[this](const std::string& car) {
+    const auto it = io_.find(car);
+    return it != io_.end() && it->second.control.getNumPublishers() > 0;
+  }};
   // The ray scene's state (every car's pose and velocities) at each of the last kKeptSceneTicks ticks, for
   // on-demand camera frames rendered after their tick (/roar_sim/render_sensor).
   std::deque<SceneTick> scene_ticks_;

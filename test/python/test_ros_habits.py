@@ -101,7 +101,7 @@ def test_rl_launch_ends_when_its_agent_is_done(tmp_path):
 
 def test_a_lockstep_race_of_several_cars_runs_the_same_twice(tmp_path):
     """Lockstep with four cars passing and following each other: every lap and sector time the same in
-    two runs (the planner plans each tick from every car's odometry of it, planning::TickGathering;
+    two runs (the planner plans each tick from every car's odometry of it, lockstep::TickGathering;
     planned as each message came, the multi_car scenario's lap times differed from the 5th digit on)."""
     laps = []
     for run in range(2):

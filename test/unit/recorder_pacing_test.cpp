@@ -2,10 +2,10 @@
 // for the timeout (and only it), and waits for it again once it reports.
 #include <gtest/gtest.h>
 
-#include "roar/sim/recorder_pacing.h"
+#include "roar/lockstep/recorder_pacing.h"
 
-using roar::sim::kRecorderMaxLag;
-using roar::sim::RecorderPacing;
+using roar::lockstep::kRecorderMaxLag;
+using roar::lockstep::RecorderPacing;
 
 TEST(RecorderPacing, TicksGoOutOnlyWhileEveryRecorderIsWithinTheLag) {
   const double dt = 0.05;

@@ -1,13 +1,13 @@
-// Which cars' odometry the planner node plans a tick from (planning::TickGathering): every car's window
+// Which cars' odometry the planner node plans a tick from (lockstep::TickGathering): every car's window
 // of a tick from every car's place at that tick, and no car missing from the world ever stalls the rest.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "roar/planning/tick_gathering.h"
+#include "roar/lockstep/tick_gathering.h"
 
-using roar::planning::TickGathering;
+using roar::lockstep::TickGathering;
 
 namespace {
 

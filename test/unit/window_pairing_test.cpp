@@ -3,9 +3,9 @@
 // first window, and never longer than window_wait.
 #include <gtest/gtest.h>
 
-#include "roar/control/window_pairing.h"
+#include "roar/lockstep/window_pairing.h"
 
-using roar::control::WindowPairing;
+using roar::lockstep::WindowPairing;
 
 namespace {
 
@@ -45,6 +45,17 @@ TEST(WindowPairing, WhileThePlannerAnswersOdometryATickWaitsForItsOwnWindow) {
   EXPECT_TRUE(p.onWindow(0.05)) << "its own window does";
   p.answered();
   EXPECT_TRUE(p.onOdometry(0.05, 0.02)) << "odometry again for a tick whose window is here: answered at once";
+}
+
+TEST(WindowPairing, AWindowThatComesBeforeItsOdometryShowsAPlannerThatAnswersOdometry) {
+  // The planner's answer can be quicker than the odometry's way to the controller (a loaded machine).
+  WindowPairing p(1.0);
+  EXPECT_FALSE(p.onWindow(0.05)) << "nothing held to answer";
+  EXPECT_TRUE(p.onOdometry(0.05, 0.0)) << "its window is here";
+  p.answered();
+  EXPECT_TRUE(p.plannerAnswersOdometry());
+  EXPECT_FALSE(p.onOdometry(0.10, 0.01)) << "the next tick waits for its own window, not the one here";
+  EXPECT_TRUE(p.onWindow(0.10));
 }
 
 TEST(WindowPairing, ATickWaitsNoLongerThanWindowWait) {

@@ -1,8 +1,8 @@
-#include "roar/sim/recorder_pacing.h"
+#include "roar/lockstep/recorder_pacing.h"
 
 #include <algorithm>
 
-namespace roar::sim {
+namespace roar::lockstep {
 
 RecorderPacing::RecorderPacing(const std::vector<std::string>& recorders, double tick, double timeout)
     : tick_(tick), timeout_(timeout) {
@@ -62,4 +62,4 @@ double RecorderPacing::lastRecorded(const std::string& recorder) const {
   return r ? r->recorded : -std::numeric_limits<double>::infinity();
 }
 
-}  // namespace roar::sim
+}  // namespace roar::lockstep

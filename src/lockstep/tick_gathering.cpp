@@ -1,8 +1,8 @@
-#include "roar/planning/tick_gathering.h"
+#include "roar/lockstep/tick_gathering.h"
 
 #include <algorithm>
 
-namespace roar::planning {
+namespace roar::lockstep {
 
 TickGathering::TickGathering(std::vector<std::string> cars, double wait)
     : cars_(std::move(cars)), wait_(wait), absent_(cars_.size(), 0), arrived_(cars_.size(), 0) {}
@@ -47,4 +47,4 @@ std::vector<TickGathering::Tick> TickGathering::expire(double wall) {
   return {take()};
 }
 
-}  // namespace roar::planning
+}  // namespace roar::lockstep

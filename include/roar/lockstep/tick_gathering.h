@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace roar::planning {
+namespace roar::lockstep {
 
 class TickGathering {
  public:
@@ -45,4 +45,4 @@ class TickGathering {
   double first_wall_ = 0.0;
 };
 
-}  // namespace roar::planning
+}  // namespace roar::lockstep

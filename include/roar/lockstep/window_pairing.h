@@ -8,7 +8,7 @@
 // lockstep however far behind it starts. Without any window, odometry is held until the first.
 // Times in seconds: stamps are simulated time, `wall` is wall time. ROS-free: the controller node feeds
 // it and does what it says.
-namespace roar::control {
+namespace roar::lockstep {
 
 class WindowPairing {
  public:
@@ -59,4 +59,4 @@ class WindowPairing {
   double held_since_ = 0.0;
 };
 
-}  // namespace roar::control
+}  // namespace roar::lockstep

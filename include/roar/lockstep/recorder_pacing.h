@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace roar::sim {
+namespace roar::lockstep {
 
 // Ticks a recorder may be behind: below the smallest queue (10) of any recorded topic.
 constexpr int kRecorderMaxLag = 4;
@@ -47,4 +47,4 @@ class RecorderPacing {
   double timeout_;
 };
 
-}  // namespace roar::sim
+}  // namespace roar::lockstep
