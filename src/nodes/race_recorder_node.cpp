@@ -1,6 +1,6 @@
 // race_recorder: records a race to a bag through rosbag's C++ API without losing a message, and reports
 // on ~recorded the simulated time of the last /clock it has written, so that roar_sim (its
-// ~wait_for_recorders) never runs more than a few ticks ahead of it (sim/recorder_pacing.h). rosbag record
+// ~wait_for_recorders) never runs more than a few ticks ahead of it (lockstep/recorder_pacing.h). rosbag record
 // cannot do this: its subscribers' queues hold 100 messages, and on a busy machine at 10x real time a
 // recorder that falls half a second behind loses ticks.
 //
