@@ -139,7 +139,7 @@ void OvertakePlanner::engagement(PlanContext& ctx) const {
 }
 
 void OvertakePlanner::place(PlanContext& ctx) const {
-  CarMemory& m = *ctx.memory;
+  const CarMemory& m = *ctx.memory;
   const RaceDecision& last = m.decision;
   ctx.on_line = std::abs(ctx.lateral) < kOnLine && last.mode != RaceMode::kPass;
   // Holding a place beside another car means the place planned, not wherever the car has drifted to; a
@@ -167,7 +167,6 @@ void OvertakePlanner::place(PlanContext& ctx) const {
       ctx.leader_gap < ctx.near + std::max(0.0, ctx.speed - ctx.leader->speed) * options_.moves.shift_time;
   ctx.beside_or_closing_behind = ctx.alongside || ctx.closing_behind;
   ctx.keep_place = ctx.beside_or_closing_behind || ctx.closing_ahead || ctx.way_back_brakes;
-  if (m.hold && !ctx.keep_place) m.hold.reset();
 }
 
 RaceDecision OvertakePlanner::move(const PlanContext& ctx, RaceMode mode, int side, const std::string& other,

@@ -48,13 +48,10 @@ Trajectory OvertakePlanner::decide(PlanContext& ctx) {
     m.abort_other = m.decision.other;
     m.abort_plans_left = options_.passing.retry_plans;
   }
+  // The place beside another car is remembered only while the car holds it (place() reads it back).
   const bool holding =
       ctx.keep_place && (chosen->decision.mode == RaceMode::kHold || (chosen == &follow && !ctx.on_line));
-  if (holding) {
-    m.hold = ctx.hold_at;
-  } else {
-    m.hold.reset();
-  }
+  m.hold = holding ? std::optional<double>(ctx.hold_at) : std::nullopt;
   return commit(ctx, chosen->window, chosen->decision, chosen->clear && chosen->decision.mode == RaceMode::kPass);
 }
 

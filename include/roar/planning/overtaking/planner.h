@@ -97,7 +97,11 @@ class OvertakePlanner {
     double s = 0.0;                    // its line s now
     double at(double t) const;
   };
-  // What the planner remembers of a car from one plan to the next.
+  // What the planner remembers of a car from one plan to the next. Each fact has one writer: decision and
+  // plan commit() (decide() alone on the line), predictions predictAll(), abort_* decide() (engagement()
+  // counts down), doubts and headway_* continuePass() (decide() clears headway_* when no pass is on), hold
+  // decide(), settle_until settle(), yield letByCandidate(), defended_against and defence_plans
+  // defenceCandidate().
   struct CarMemory {
     RaceDecision decision;                   // the last plan's
     std::optional<Trajectory> plan;          // its last window (none: on the racing line alone)
