@@ -52,6 +52,23 @@ def print_windows(name, windows):
         print(f"  {name:27} {part:9} n {mask.sum():4d}  speed {sm:6.1%} {sp:6.1%}  position {pm:5.2f} {pp:6.2f} m")
 
 
+def print_by_steering(windows, logs):
+    """The held corner windows' position errors by how busy the logged steering was (thirds of its travel):
+    where the model's response to steering transients differs from CARLA's car, the busy third shows it."""
+    e = measure.window_errors(windows)
+    corner = e[:, 2] == 1
+    travel = measure.steering_travel(windows, logs)[corner]
+    if len(travel) < 3:
+        return
+    edges = np.quantile(travel, [1 / 3, 2 / 3])
+    thirds = np.digitize(travel, edges)
+    cells = []
+    for k, name in enumerate(("calm", "middle", "busy")):
+        pm, pp = percentiles(e[corner][thirds == k, 0])
+        cells.append(f"{name} {pm:.2f} / {pp:.2f} m")
+    print(f"  corners held, by the steering's travel (median / p95 position): {', '.join(cells)}")
+
+
 def percentiles(values):
     return (np.median(values), np.percentile(values, 95)) if len(values) else (float("nan"), float("nan"))
 
@@ -123,6 +140,7 @@ def main():
                   and np.percentile(e[m, 0], 95) <= 2.0 for m in (e[:, 2] == 0, e[:, 2] == 1))
     print(f"  {'ok' if loop_ok else 'MISS'} (held, straights and corners apart)")
     met &= loop_ok
+    print_by_steering(fitted, logs)
     lap_log = read_telemetry(args.lap)
     print("The bench's floor: our car replaying a log it wrote itself driving the logged lap, rounded as ROAR's are")
     floor = measure.own_log(model, lap_log)

@@ -207,6 +207,11 @@ def window_errors(windows: typing.Sequence[Window]) -> np.ndarray:
                       float(w.turn >= CORNER_TURN)) for w in windows])
 
 
+def steering_travel(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry]) -> np.ndarray:
+    """Per window: how far the logged steering moved over it (the sum of its changes tick to tick)."""
+    return np.array([np.abs(np.diff(logs[w.log].steer[w.start:w.start + WINDOW])).sum() for w in windows])
+
+
 def our_accelerations(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry],
                       pedal: str) -> typing.Dict[int, np.ndarray]:
     """Per speed band (the logged speed's, so that both sides count the same ticks), our car's accelerations
