@@ -51,7 +51,7 @@ class SteadyCar {
   // Loads on the front axle's outer and inner wheel, then the rear's, at speed v, lateral acceleration ay
   // and longitudinal ax.
   std::array<double, 4> wheelLoads(double v, double ay, double ax) const {
-    const double weight = mass_ * kG, downforce = downforce_coefficient() * v * v;
+    const double weight = mass_ * kG, downforce = downforceCoefficient() * v * v;
     const double along = mass_ * ax * height_ / wheelbase_;  // moved to the rear when accelerating
     const std::array<double, 2> axle_load = {
         weight * front_share_ + downforce * car_.aero.front_downforce_share - along,
@@ -154,11 +154,11 @@ class SteadyCar {
   }
 
  private:
-  double downforce_coefficient() const { return 0.5 * car_.aero.air_density * car_.aero.downforce_area; }
+  double downforceCoefficient() const { return 0.5 * car_.aero.air_density * car_.aero.downforce_area; }
 
   double resistance(double v) const {
     const double drag = 0.5 * car_.aero.air_density * car_.aero.drag_area * v * v;
-    return drag + car_.tyre.rolling_resistance * (mass_ * kG + downforce_coefficient() * v * v);
+    return drag + car_.tyre.rolling_resistance * (mass_ * kG + downforceCoefficient() * v * v);
   }
 
   double fullThrottleForce(double v) const {
