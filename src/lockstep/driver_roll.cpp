@@ -19,7 +19,7 @@ bool DriverRoll::control(const std::string& car, double stamp) {
 
 bool DriverRoll::answered(double now) const {
   for (const auto& [car, d] : drivers_) {
-    if (waitedFor(car, d) && (!d.seen || d.stamp < now)) return false;
+    if (owes(car, d, now)) return false;
   }
   return true;
 }
@@ -27,7 +27,7 @@ bool DriverRoll::answered(double now) const {
 std::vector<std::string> DriverRoll::silent(double now) const {
   std::vector<std::string> out;
   for (const auto& [car, d] : drivers_) {
-    if (waitedFor(car, d) && (!d.seen || d.stamp < now)) out.push_back(car);
+    if (owes(car, d, now)) out.push_back(car);
   }
   return out;
 }

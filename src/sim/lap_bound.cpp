@@ -94,14 +94,19 @@ class SteadyCar {
     return {mass_ * std::abs(ay) * front_share_, mass_ * std::abs(ay) * (1.0 - front_share_)};
   }
 
+  // Whether each axle's grip at these loads carries its share of the cornering force.
+  bool axlesHold(const std::array<double, 4>& loads, double ay) const {
+    const auto grip = axleGrip(loads);
+    const auto demand = lateralDemand(ay);
+    return demand[kFront] <= grip[kFront] && demand[kRear] <= grip[kRear];
+  }
+
   // Steady on this curvature: each axle carries its cornering force, and the motor, through the grip the
   // driven axles have left, holds the speed against drag, rolling resistance and the slip angles' drag.
   bool corners(double v, double curvature) const {
     const double ay = v * v * curvature;
     const auto loads = wheelLoads(v, ay, 0.0);
-    const auto grip = axleGrip(loads);
-    const auto demand = lateralDemand(ay);
-    if (demand[kFront] > grip[kFront] || demand[kRear] > grip[kRear]) return false;
+    if (!axlesHold(loads, ay)) return false;
     const double drive = std::min(fullThrottleForce(v), tractionLimit(leftAfterCornering(loads, ay)));
     return drive >= resistance(v) + slipDrag(loads, ay);
   }
@@ -112,9 +117,7 @@ class SteadyCar {
     double lo = 0.0, hi = top_speed_;
     for (int i = 0; i < 40; ++i) {
       const double mid = 0.5 * (lo + hi), ay = mid * mid * curvature;
-      const auto grip = axleGrip(wheelLoads(mid, ay, 0.0));
-      const auto demand = lateralDemand(ay);
-      (demand[kFront] <= grip[kFront] && demand[kRear] <= grip[kRear] ? lo : hi) = mid;
+      (axlesHold(wheelLoads(mid, ay, 0.0), ay) ? lo : hi) = mid;
     }
     hi = lo;
     lo = 0.0;

@@ -44,7 +44,10 @@ class DriverRoll {
     double stamp = 0.0;  // the last one's
     bool lost = false;
   };
-  bool waitedFor(const std::string& car, const Driver& d) const { return !d.lost && connected_(car); }
+  // Waited for (connected, not lost) and without its answer to `now` yet.
+  bool owes(const std::string& car, const Driver& d, double now) const {
+    return !d.lost && connected_(car) && (!d.seen || d.stamp < now);
+  }
 
   Connected connected_;
   std::map<std::string, Driver> drivers_;
