@@ -318,14 +318,11 @@ void printRacingTable(const RacingTableOptions& table) {
     // The yardstick: a minimum-time line searched from the planner's, with the same car model.
     const auto limits = planning::vehicleLimits(car, track.info().friction, options.grip_use);
     planning::MinimumTimeResult fastest;
-    if (table.yardstick && track.closed()) {  // the search refines circuits' lines
-      fastest = planning::minimumTimeLine(track, planning::minimumCurvatureLine(track, options.planner.line), limits,
-                                          options.planner.line);
-    }
-    // The bound: the car's own model in quasi-steady state on the minimum-curvature line, no planner in it.
     double bound = 0.0;
-    if (track.closed()) {
+    if (track.closed()) {  // the search refines circuits' lines; the bound is a lap's
       const auto line = planning::minimumCurvatureLine(track, options.planner.line);
+      if (table.yardstick) fastest = planning::minimumTimeLine(track, line, limits, options.planner.line);
+      // The bound: the car's own model in quasi-steady state on the minimum-curvature line, no planner in it.
       bound = sim::quasiSteadyStateLap(line.curvature, line.step, true, car, track.info().friction).lap_time;
     }
     std::fflush(stdout);
