@@ -27,23 +27,8 @@
 namespace roar::ros_bridge {
 
 namespace {
-using track::kGridSlots;
-
-// Paint of the n-th car: distinct, saturated colours (linear RGB).
-Eigen::Vector3f paint(std::size_t n) {
-  static const Eigen::Vector3f kPalette[] = {{0.05f, 0.15f, 0.75f}, {0.75f, 0.05f, 0.04f}, {0.9f, 0.6f, 0.02f},
-                                             {0.05f, 0.5f, 0.1f},   {0.5f, 0.05f, 0.6f},   {0.02f, 0.55f, 0.6f},
-                                             {0.85f, 0.85f, 0.85f}, {0.1f, 0.1f, 0.1f}};
-  return kPalette[n % (sizeof(kPalette) / sizeof(kPalette[0]))];
-}
-
-// A car's name is its namespace and its tf prefix: a plain ROS name.
-void checkVehicleName(const std::string& name) {
-  static const std::regex valid("[A-Za-z][A-Za-z0-9_]{0,63}");
-  if (!std::regex_match(name, valid)) {
-    throw std::invalid_argument(
-        "name '" + name + "' must start with a letter and hold only letters, digits and underscores (at most 64)");
-  }
+// No car can take the name of the world's own sensors (AttachSensor's WORLD).
+void checkNotWorld(const std::string& name) {
   if (name == roar_ros::AttachSensor::Request::WORLD)
     throw std::invalid_argument("name '" + name + "' is the world's own (its sensors on no car): take another");
 }
@@ -65,11 +50,11 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   driver_back_pub_ = private_nh_.advertise<std_msgs::String>("driver_back", 10);
   loadMap(options_.map_folder, "start");
   for (const auto& v : options_.vehicles) {
-    if (v.spawn_point >= kGridSlots) {
+    if (v.spawn_point >= track::kGridSlots) {
       throw ParamError("vehicle '" + v.name + "': spawn_point " + std::to_string(v.spawn_point) +
-                       " does not exist (0.." + std::to_string(kGridSlots - 1) + ")");
+                       " does not exist (0.." + std::to_string(track::kGridSlots - 1) + ")");
     }
-    addVehicle(v.name, v.model, spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent, v.spawn_point);
+    addVehicle(v.name, v.model, session_->spawnPose(v.spawn_point), v.sensor_set, v.colour, v.agent, v.spawn_point);
   }
   serveBetweenSteps("spawn_vehicle", &SimNode::onSpawn);
   serveBetweenSteps("destroy_vehicle", &SimNode::onDestroy);
@@ -89,7 +74,7 @@ SimNode::SimNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const SimNodeOp
   serveAnyTime("draw_debug", &SimNode::onDrawDebug);
   serveAnyTime("cancel_step", &SimNode::onCancelStep);
   ROS_INFO("roar_sim: map '%s' (%.0f m), %zu vehicle(s), control_dt %.3f s, physics_dt %.4f s, mode %s",
-           track_->info().name.c_str(), track_->length(), io_.size(), options_.world.control_dt,
+           session_->track().info().name.c_str(), session_->track().length(), io_.size(), options_.world.control_dt,
            options_.world.physics_dt, modeName().c_str());
 }
 
@@ -142,24 +127,21 @@ std::string SimNode::modeName() const {
 }
 
 void SimNode::loadMap(const std::string& folder, const std::string& reason) {
-  // Everything is built before anything is replaced: a broken map leaves the running world as it was.
-  auto track = std::make_unique<track::Track>(track::loadMapFolder(folder));
-  sim::WorldClock clock;
-  if (world_) clock = {world_->tick(), world_->time()};
-  auto world = std::make_unique<sim::World>(*track, options_.world, clock);
-  auto scene = std::make_unique<sensors::RayScene>(*track);
-  io_.clear();  // the cars go (their agents refer to the old track)
-  drivers_.clear();
-  scene_ticks_.clear();
-  scene_posed_at_ = nullptr;
-  world_ = std::move(world);
-  scene_ = std::move(scene);
-  track_ = std::move(track);
+  // The cars' topics, sensors and agents go with them (agents refer to the old track); a broken map throws
+  // before anything goes.
+  const auto forget_cars = [this] {
+    io_.clear();
+    drivers_.clear();
+  };
+  if (!session_) {
+    session_ = std::make_unique<session::SimSession>(
+        session::SessionOptions{options_.world, options_.urdf_dir, options_.vehicle_config_dir}, folder);
+  } else {
+    session_->loadMap(folder, forget_cars);
+  }
   world_sensors_ =
       std::make_unique<VehicleSensors>(nh_, roar_ros::AttachSensor::Request::WORLD, options_.map_frame, rigTiming(),
-                                       track_->info().origin, options_.map_frame, sensors::kInTheWorld);
-  map_folder_ = folder;
-  if (reason != "start") ++map_generation_;
+                                       session_->track().info().origin, options_.map_frame, sensors::kInTheWorld);
   debug_.clear();
   publishDebugMarkers();
   publishMapInfo(reason);
@@ -168,61 +150,38 @@ void SimNode::loadMap(const std::string& folder, const std::string& reason) {
 
 void SimNode::publishMapInfo(const std::string& reason) {
   roar_ros::MapInfo info;
-  info.header.stamp = toRosTime(world_->time());
+  info.header.stamp = toRosTime(world().time());
   info.header.frame_id = options_.map_frame;
-  info.name = track_->info().name;
-  info.folder = map_folder_;
-  info.generation = map_generation_;
+  info.name = session_->track().info().name;
+  info.folder = session_->mapFolder();
+  info.generation = session_->mapGeneration();
   info.reason = reason;
   map_pub_.publish(info);
 }
 
 void SimNode::publishDebugMarkers() {
-  debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world_->time())));
-}
-
-track::Pose SimNode::spawnPose(int spawn_point) const {
-  return track::poseOnTrack(track_->gridSpawnPoints(kGridSlots).at(static_cast<std::size_t>(spawn_point)));
+  debug_pub_.publish(debug_.markers(options_.map_frame, toRosTime(world().time())));
 }
 
 track::Pose SimNode::requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const {
-  if (spawn_point >= kGridSlots || spawn_point < -1) {
-    throw std::invalid_argument("spawn_point " + std::to_string(spawn_point) + " does not exist (-1 for pose, 0.." +
-                                std::to_string(kGridSlots - 1) + ")");
-  }
-  if (spawn_point >= 0) return spawnPose(spawn_point);
-  const track::Pose p = fromMessage(pose);
-  if (!p.position.allFinite() || !p.orientation.coeffs().allFinite()) {
-    throw std::invalid_argument("pose must be finite");
-  }
-  // Its height picks the road where one runs over another; no road is further up or down than this.
-  if (std::abs(p.position.z()) > track::kMaxElevation) {
-    throw std::invalid_argument("pose z = " + std::to_string(p.position.z()) + " m is outside [" +
-                                std::to_string(-track::kMaxElevation) + ", " + std::to_string(track::kMaxElevation) +
-                                "]");
-  }
-  const std::string problem = track::offTrackProblem(*track_, p.position.head<2>(), "pose");
-  if (!problem.empty()) throw std::invalid_argument(problem);
-  return p;
+  return session_->requestedPose(spawn_point, spawn_point < 0 ? fromMessage(pose) : track::Pose{});
 }
 
 void SimNode::addVehicle(const std::string& name, const std::string& model, const track::Pose& pose,
                          const std::string& sensor_set, const Eigen::Vector3f& colour, const std::string& agent_env,
                          int spawn_point, sim::Placement placement) {
-  checkVehicleName(name);
-  if (io_.count(name)) throw sim::SpawnError("a vehicle named '" + name + "' already exists");
-  const vehicle::VehicleParams params =
-      vehicle::loadVehicleModel(model, options_.urdf_dir, options_.vehicle_config_dir);
+  const vehicle::VehicleParams params = session_->carToSpawn(name, model);
+  checkNotWorld(name);
   // Sensors and agent are read and checked before the car exists, so a bad set leaves nothing half made
   // (their publishers go with them).
   auto vehicle_sensors = std::make_unique<VehicleSensors>(nh_, name, baseFrame(name), rigTiming(),
-                                                          track_->info().origin, options_.map_frame);
+                                                          session_->track().info().origin, options_.map_frame);
   if (!sensor_set.empty()) {
     sensors::SensorLoad load = sensorLoad();
     for (const auto& spec : sensors::readSensorSet(sensors::resolveSensorSet(sensor_set, options_.sensors_dir))) {
       sensors::checkBudget(load, spec, sensors::kSimulatorSensorBudget);
       load += sensors::loadOf(spec);
-      vehicle_sensors->attach(spec, world_->time());
+      vehicle_sensors->attach(spec, world().time());
     }
   }
   std::unique_ptr<AgentInterface> agent;
@@ -235,16 +194,13 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
                        " s, roar_sim " + std::to_string(options_.world.control_dt) + " / " +
                        std::to_string(options_.world.physics_dt) + " s (parameters ~control_dt, ~physics_dt)");
     }
-    agent = std::make_unique<AgentInterface>(nh_, name, *track_, env, static_cast<int>(params.gearbox.ratios.size()));
+    agent = std::make_unique<AgentInterface>(nh_, name, session_->track(), env,
+                                             static_cast<int>(params.gearbox.ratios.size()));
   }
-  if (!looks_.count(params.model))
-    looks_[params.model] = sensors::readVehicleLooks(options_.urdf_dir + "/" + params.model + ".urdf");
-  world_->spawnVehicle(name, params, pose, placement);  // the last step that can refuse: overlap, no ground
+  // The last step that can refuse: overlap, no ground.
+  session_->spawn(name, params, pose, {params.model, sensor_set, colour, agent_env, spawn_point}, placement);
   VehicleIo io;
-  io.spawned = {params.model, sensor_set, (colour.array() < 0).any() ? paint(spawned_count_) : colour, agent_env,
-                spawn_point};
   io.agent = std::move(agent);
-  io.scene_id = scene_->addVehicle(looks_[params.model], io.spawned.colour);
   io.sensors = std::move(vehicle_sensors);
   io.odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", kPerTickQueue);
   io.status = nh_.advertise<roar_ros::VehicleStatus>(name + "/vehicle_status", kPerTickQueue);
@@ -255,7 +211,6 @@ void SimNode::addVehicle(const std::string& name, const std::string& model, cons
       ros::VoidConstPtr(), ros::TransportHints().tcpNoDelay());
   io_[name] = std::move(io);
   drivers_.add(name);
-  ++spawned_count_;
   publishStaticTransforms();
   ROS_INFO("roar_sim: spawned '%s' (%s) at (%.1f, %.1f)", name.c_str(), params.model.c_str(), pose.position.x(),
            pose.position.y());
@@ -288,36 +243,29 @@ std::vector<VehicleSensors*> SimNode::allSensors() {
 }
 
 void SimNode::removeVehicle(const std::string& name) {
-  auto it = io_.find(name);
-  if (it == io_.end()) throw sim::SpawnError("no vehicle named '" + name + "'");
-  world_->destroyVehicle(name);
-  scene_->removeVehicle(it->second.scene_id);
-  io_.erase(it);
+  session_->remove(name);
+  io_.erase(name);
   drivers_.remove(name);
 }
 
 bool SimNode::applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why) {
-  const int gears = static_cast<int>(world_->vehicleParams(name).gearbox.ratios.size());
-  const vehicle::CheckedControl checked = vehicle::checkControl(fromMessage(msg), gears);
-  std::string problems;
-  for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
-  if (checked.rejected) {
-    *why = "control for '" + name + "' rejected: " + problems;
-    return false;
+  const session::AppliedControl applied = session_->applyControl(name, fromMessage(msg));
+  if (!applied.applied) {
+    *why = "control for '" + name + "' rejected: " + applied.problems;
+  } else if (!applied.problems.empty()) {
+    *why = "control for '" + name + "': " + applied.problems;
   }
-  if (!problems.empty()) *why = "control for '" + name + "': " + problems;
-  world_->setControl(name, checked.control);
-  return true;
+  return applied.applied;
 }
 
 void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg) {
   auto it = io_.find(name);
-  if (it == io_.end() || !world_->hasVehicle(name)) return;
+  if (it == io_.end() || !world().hasVehicle(name)) return;
   std::string why;
   const bool applied = applyControl(name, *msg, &why);
   if (!why.empty()) ROAR_WARN_WALL_THROTTLE(1.0, "roar_sim: %s", why.c_str());
   if (applied && drivers_.control(name, msg->header.stamp.toSec())) {
-    ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(), world_->time());
+    ROS_INFO("roar_sim: %s's driver is back at t = %.2f s; lockstep waits for it again", name.c_str(), world().time());
     std_msgs::String back;
     back.data = name;
     driver_back_pub_.publish(back);
@@ -325,9 +273,9 @@ void SimNode::onControl(const std::string& name, const roar_ros::VehicleControl:
 }
 
 void SimNode::markLostDrivers() {
-  for (const auto& name : drivers_.silent(toRosTime(world_->time()).toSec())) {
+  for (const auto& name : drivers_.silent(toRosTime(world().time()).toSec())) {
     char why[160];
-    std::snprintf(why, sizeof(why), "no control for t = %.2f s within %.1f s of wall time", world_->time(),
+    std::snprintf(why, sizeof(why), "no control for t = %.2f s within %.1f s of wall time", world().time(),
                   options_.lockstep_timeout);
     driverLost(name, why);
   }
@@ -343,7 +291,7 @@ void SimNode::driverLost(const std::string& name, const std::string& why) {
   ROS_WARN(
       "roar_sim: %s's driver is lost (%s) at t = %.2f s: lockstep goes on without waiting for it and the "
       "car is brought to a stop on the road",
-      name.c_str(), why.c_str(), world_->time());
+      name.c_str(), why.c_str(), world().time());
   std_msgs::String msg;
   msg.data = name;
   driver_lost_pub_.publish(msg);
@@ -361,14 +309,14 @@ void SimNode::publishStaticTransforms() {
 void SimNode::tick() {
   // Sensor readings of a tick go out before its odometry and clock: a lockstep driver that has the
   // odometry of tick t has been sent every reading up to t.
-  world_->step([this](double t) {
+  world().step([this](double t) {
     for (auto& [name, io] : io_) {
       if (!io.sensors->empty())
-        io.sensors->rig().sampleMotion(t, sensors::motionOf(world_->vehicleState(name)), *io.sensors);
+        io.sensors->rig().sampleMotion(t, sensors::motionOf(world().vehicleState(name)), *io.sensors);
     }
   });
   sampleRaySensors(updateRayScene());
-  if (debug_.expire(world_->time())) publishDebugMarkers();
+  if (debug_.expire(world().time())) publishDebugMarkers();
   publishState();
 }
 
@@ -377,56 +325,28 @@ std::map<std::string, Eigen::Isometry3d> SimNode::updateRayScene() {
   bool any = !world_sensors_->empty();
   for (auto& [name, io] : io_) any = any || !io.sensors->empty() || (io.agent && io.agent->needsScene());
   if (!any) return poses;
-  SceneTick kept = sceneNow();
-  for (const auto& [name, car] : kept.cars) poses[name] = car.pose;
-  scene_ticks_.push_back(std::move(kept));
-  while (scene_ticks_.size() > kKeptSceneTicks) {
-    if (scene_posed_at_ == &scene_ticks_.front()) scene_posed_at_ = nullptr;
-    scene_ticks_.pop_front();
-  }
   // Posing the scene (Embree's refit) is most of a tick's cost with sensors that cast no ray this tick:
   // an unread on-demand camera, sensors between their samples (bench/roar_py_bench.py).
-  bool rays = !world_sensors_->empty() && world_sensors_->rig().castsRaysAt(world_->time(), *world_sensors_);
+  const double now = world().time();
+  bool rays = !world_sensors_->empty() && world_sensors_->rig().castsRaysAt(now, *world_sensors_);
   for (auto& [name, io] : io_) {
     rays = rays || (io.agent && io.agent->needsScene()) ||
-           (!io.sensors->empty() && io.sensors->rig().castsRaysAt(world_->time(), *io.sensors));
+           (!io.sensors->empty() && io.sensors->rig().castsRaysAt(now, *io.sensors));
   }
-  if (rays) poseRayScene(scene_ticks_.back());
+  for (const auto& [name, car] : session_->keepTick(rays).cars) poses[name] = car.pose;
   return poses;
-}
-
-SceneTick SimNode::sceneNow() const {
-  SceneTick now;
-  now.time = world_->time();
-  for (const auto& [name, io] : io_) {
-    const vehicle::VehicleState state = world_->vehicleState(name);
-    now.cars[name] = {sensors::poseOf(state), state.linear_velocity, state.angular_velocity};
-  }
-  return now;
-}
-
-void SimNode::poseRayScene(const SceneTick& tick) {
-  for (auto& [name, io] : io_) {
-    const auto car = tick.cars.find(name);
-    if (car == tick.cars.end()) {
-      scene_->setVehiclePose(io.scene_id, Eigen::Isometry3d(Eigen::Translation3d(0, 0, -1e5)));
-      continue;
-    }
-    scene_->setVehiclePose(io.scene_id, car->second.pose);
-    scene_->setVehicleVelocity(io.scene_id, car->second.linear, car->second.angular);
-  }
-  scene_->commit();
-  scene_posed_at_ = &tick;
 }
 
 void SimNode::sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses) {
   for (auto& [name, io] : io_) {
     if (!io.sensors->empty())
-      io.sensors->rig().sampleRays(world_->time(), *scene_, poses.at(name), io.scene_id, *io.sensors);
+      io.sensors->rig().sampleRays(world().time(), session_->scene(), poses.at(name), session_->sceneId(name),
+                                   *io.sensors);
   }
   // The world's sensors are mounted in the map frame and see every car.
   if (!world_sensors_->empty())
-    world_sensors_->rig().sampleRays(world_->time(), *scene_, Eigen::Isometry3d::Identity(), -1, *world_sensors_);
+    world_sensors_->rig().sampleRays(world().time(), session_->scene(), Eigen::Isometry3d::Identity(), -1,
+                                     *world_sensors_);
 }
 
 void SimNode::publishIdleClock() {
@@ -434,18 +354,18 @@ void SimNode::publishIdleClock() {
   if ((now - idle_clock_wall_).toSec() < 0.1) return;
   idle_clock_wall_ = now;
   rosgraph_msgs::Clock clock;
-  clock.clock = toRosTime(world_->time());
+  clock.clock = toRosTime(world().time());
   clock_pub_.publish(clock);
 }
 
 void SimNode::publishState() {
-  const ros::Time stamp = toRosTime(world_->time());
+  const ros::Time stamp = toRosTime(world().time());
   rosgraph_msgs::Clock clock;
   clock.clock = stamp;
   clock_pub_.publish(clock);
   std::vector<geometry_msgs::TransformStamped> transforms;
   for (auto& [name, io] : io_) {
-    const vehicle::VehicleState state = world_->vehicleState(name);
+    const vehicle::VehicleState state = world().vehicleState(name);
     const std::string base = baseFrame(name);
     io.odom.publish(toOdometry(state, stamp, options_.map_frame, base));
     io.status.publish(toStatus(state, stamp, base));
@@ -453,11 +373,13 @@ void SimNode::publishState() {
       io.wheel_angles[w] =
           std::remainder(io.wheel_angles[w] + state.wheels[w].angular_velocity * options_.world.control_dt, 2.0 * M_PI);
     }
-    io.joints.publish(toJointState(state, world_->vehicleParams(name), io.wheel_angles, stamp));
+    io.joints.publish(toJointState(state, world().vehicleParams(name), io.wheel_angles, stamp));
     transforms.push_back(toTransform(state.pose, stamp, options_.map_frame, base));
-    for (const auto& contact : world_->contacts(name))
+    for (const auto& contact : world().contacts(name))
       io.collision.publish(toCollisionEvent(contact, stamp, options_.map_frame));
-    if (io.agent) io.agent->afterTick(state, world_->contacts(name), world_->time(), scene_.get(), io.scene_id);
+    if (io.agent) {
+      io.agent->afterTick(state, world().contacts(name), world().time(), &session_->scene(), session_->sceneId(name));
+    }
   }
   if (!transforms.empty()) tf_.sendTransform(transforms);
 }
@@ -465,14 +387,14 @@ void SimNode::publishState() {
 roar_ros::VehicleSnapshot SimNode::snapshot(const std::string& name) const {
   roar_ros::VehicleSnapshot out;
   out.name = name;
-  const bool world = isWorld(name);  // its sensors' stamps alone
-  if (!world) {
-    const ros::Time stamp = toRosTime(world_->time());
-    const vehicle::VehicleState state = world_->vehicleState(name);
+  const bool of_the_world = isWorld(name);  // its sensors' stamps alone
+  if (!of_the_world) {
+    const ros::Time stamp = toRosTime(world().time());
+    const vehicle::VehicleState state = world().vehicleState(name);
     out.odometry = toOdometry(state, stamp, options_.map_frame, baseFrame(name));
     out.status = toStatus(state, stamp, baseFrame(name));
   }
-  const VehicleSensors& rig = world ? *world_sensors_ : *io_.at(name).sensors;
+  const VehicleSensors& rig = of_the_world ? *world_sensors_ : *io_.at(name).sensors;
   for (const auto& [sensor, at] : rig.lastStamps()) {
     out.sensor_names.push_back(sensor);
     out.sensor_stamps.push_back(toRosTime(at));
@@ -485,7 +407,7 @@ bool SimNode::everyDriverLost() const { return drivers_.everyDriverLost(); }
 bool SimNode::controlsArrived() const {
   // Only drivers that are connected are waited for (a car nobody drives stays parked), and not one taken
   // as lost (a killed driver's publisher can stay registered for a long time).
-  return drivers_.answered(toRosTime(world_->time()).toSec());
+  return drivers_.answered(toRosTime(world().time()).toSec());
 }
 
 namespace {
@@ -618,12 +540,12 @@ bool SimNode::recordersKeptUp() {
         recorder_pacing_->lastRecorded(node) > -1.0) {
       recorder_pacing_->gone(node);
       ROS_WARN("roar_sim: the recorder %s has gone at t = %.2f s: the race goes on and its recording ends there",
-               node.c_str(), world_->time());
+               node.c_str(), world().time());
     }
   }
   std::vector<std::string> given_up;
   const bool kept_up =
-      recorder_pacing_->waitingFor(world_->time() + options_.world.control_dt, wall, &given_up).empty();
+      recorder_pacing_->waitingFor(world().time() + options_.world.control_dt, wall, &given_up).empty();
   for (const auto& node : given_up) {
     ROS_WARN(
         "roar_sim: the recorder %s has written nothing for %.0f s (its last tick t = %.2f s): going on without "
@@ -635,12 +557,12 @@ bool SimNode::recordersKeptUp() {
 
 void SimNode::restartPacing() {
   pace_wall_start_ = ros::WallTime::now();
-  pace_sim_start_ = world_ ? world_->time() : 0.0;
+  pace_sim_start_ = session_ ? world().time() : 0.0;
 }
 
 void SimNode::paceToRealTime() {
   if (options_.real_time_factor <= 0) return;
-  const double sim_elapsed = world_->time() - pace_sim_start_;
+  const double sim_elapsed = world().time() - pace_sim_start_;
   const ros::WallTime due = pace_wall_start_ + ros::WallDuration(sim_elapsed / options_.real_time_factor);
   while (ros::ok() && ros::WallTime::now() < due) spinFor(due - ros::WallTime::now());
 }
@@ -669,7 +591,8 @@ void SimNode::run() {
   // Agents' first episodes begin where their cars were spawned; /roar_sim/reset_episode starts others.
   updateRayScene();
   for (auto& [name, io] : io_) {
-    if (io.agent) io.agent->begin(world_->vehicleState(name), world_->time(), scene_.get(), io.scene_id);
+    if (io.agent)
+      io.agent->begin(world().vehicleState(name), world().time(), &session_->scene(), session_->sceneId(name));
   }
 
   restartPacing();

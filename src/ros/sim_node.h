@@ -1,7 +1,7 @@
 #pragma once
-// The roar_sim node: owns the World, wires vehicles' topics and the simulator's services to it, and runs
-// the stepping loop. Parameters come from sim_parameters.h, messages from msg_conversion.h; the service
-// handlers live in sim_services.cpp.
+// The roar_sim node: wires vehicles' topics, their sensors' publishers and the simulator's services to a
+// ROS-free session::SimSession (the map, its cars, the ray scene's kept ticks), and runs the stepping loop. Parameters
+// come from sim_parameters.h, messages from msg_conversion.h; the service handlers live in sim_services.cpp.
 //
 // The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
 // /clock) cannot drive it. Everything it publishes is stamped with simulated time.
@@ -12,7 +12,6 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <array>
-#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -23,9 +22,7 @@
 #include "roar/lockstep/recorder_pacing.h"
 #include "roar/ros/unread_answers.h"
 #include "roar/ros/waking_queue.h"
-#include "roar/sensors/ray_scene.h"
-#include "roar/sim/world.h"
-#include "roar/track/track.h"
+#include "roar/session/sim_session.h"
 #include "roar_ros/AttachSensor.h"
 #include "roar_ros/DestroyVehicle.h"
 #include "roar_ros/DetachSensor.h"
@@ -47,17 +44,8 @@
 
 namespace roar::ros_bridge {
 
-// Ticks of the ray scene's state kept for frames rendered after their tick: 10 s at 20 Hz.
-constexpr std::size_t kKeptSceneTicks = 200;
-
-struct SceneTick {
-  struct Car {
-    Eigen::Isometry3d pose;
-    Eigen::Vector3d linear, angular;
-  };
-  double time = 0.0;
-  std::map<std::string, Car> cars;
-};
+using session::SceneTick;
+using session::SpawnRecord;
 
 class SimNode {
  public:
@@ -66,23 +54,12 @@ class SimNode {
   void run();
 
  private:
-  // What a car was spawned with, to spawn it again on another map.
-  struct SpawnRecord {
-    std::string model;
-    std::string sensor_set;
-    Eigen::Vector3f colour;
-    std::string agent;
-    int spawn_point;  // -1: spawned at a pose
-  };
-
   struct VehicleIo {
     ros::Publisher odom, status, collision, joints;
     std::array<double, 4> wheel_angles{};  // rad, integrated for the URDF's wheel joints
     ros::Subscriber control;
-    int scene_id = -1;
     std::unique_ptr<VehicleSensors> sensors;
     std::unique_ptr<AgentInterface> agent;  // when an RL agent drives the car
-    SpawnRecord spawned;
   };
 
   // Spawns a car with its topics, sensors and agent, all or nothing: on any error nothing is left behind
@@ -114,6 +91,10 @@ class SimNode {
   // Builds the world of a map folder (every car gone), from the current tick and time on, and tells
   // every node on /roar_sim/map.
   void loadMap(const std::string& folder, const std::string& reason);
+  // A service's pose request (spawn point or pose) as the session takes it.
+  track::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
+  sim::World& world() { return session_->world(); }
+  const sim::World& world() const { return session_->world(); }
   void publishMapInfo(const std::string& reason);
   // What the first tick still waits for (empty: nothing): ~wait_for_recorders, ~wait_for_listeners and
   // ~wait_for_drivers.
@@ -126,10 +107,6 @@ class SimNode {
   // returns their poses (none when nothing casts).
   std::map<std::string, Eigen::Isometry3d> updateRayScene();
   void sampleRaySensors(const std::map<std::string, Eigen::Isometry3d>& poses);
-  track::Pose spawnPose(int spawn_point) const;
-  // A service's spawn point (>= 0) or, for -1, its pose, which must lie on the track or its run-off;
-  // throws std::invalid_argument saying why not.
-  track::Pose requestedPose(int spawn_point, const geometry_msgs::Pose& pose) const;
   void onControl(const std::string& name, const roar_ros::VehicleControl::ConstPtr& msg);
   bool applyControl(const std::string& name, const roar_ros::VehicleControl& msg, std::string* why);
   void tick();
@@ -175,24 +152,13 @@ class SimNode {
   bool onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros::GetGeolocation::Response& res);
   bool onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res);
   bool onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::RenderSensor::Response& res);
-  // Puts the ray scene's cars where they were at a kept tick (cars spawned since: out of sight).
-  void poseRayScene(const struct SceneTick& tick);
-  // Every car's pose and velocities now.
-  SceneTick sceneNow() const;
-  // The kept tick of a stamp that has the car, or std::invalid_argument saying which ticks are kept.
-  const SceneTick* keptSceneTick(double stamp, const std::string& vehicle) const;
 
   ros::NodeHandle nh_, private_nh_;
   SimNodeOptions options_;
-  std::string map_folder_;
-  std::unique_ptr<track::Track> track_;
-  std::unique_ptr<sim::World> world_;
-  std::unique_ptr<sensors::RayScene> scene_;
-  std::map<std::string, sensors::VisualMesh> looks_;  // by vehicle model
+  // The map, its cars and the ray scene's kept ticks; what SimNode adds per car is in io_.
+  std::unique_ptr<session::SimSession> session_;
   std::map<std::string, VehicleIo> io_;
   std::unique_ptr<VehicleSensors> world_sensors_;  // sensors on no car (AttachSensor's WORLD), gone with the map
-  std::size_t spawned_count_ = 0;                  // for the palette
-  std::uint32_t map_generation_ = 0;
   DebugDrawing debug_;
   ros::Publisher clock_pub_, map_pub_, debug_pub_, driver_lost_pub_, driver_back_pub_;
   tf2_ros::TransformBroadcaster tf_;
@@ -221,12 +187,6 @@ class SimNode {
     const auto it = io_.find(car);
     return it != io_.end() && it->second.control.getNumPublishers() > 0;
   }};
-  // The ray scene's state (every car's pose and velocities) at each of the last kKeptSceneTicks ticks, for
-  // on-demand camera frames rendered after their tick (/roar_sim/render_sensor).
-  std::deque<SceneTick> scene_ticks_;
-  // The kept tick whose poses the ray scene has (nullptr: none kept): a tick whose sensors cast no ray does
-  // not pose it (the scene is posed when a ray is cast, at that tick or for an on-demand frame).
-  const SceneTick* scene_posed_at_ = nullptr;
   std::map<std::string, ros::Subscriber> recorded_subs_;  // each recorder's progress, by its node's name
 };
 

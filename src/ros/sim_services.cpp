@@ -65,8 +65,8 @@ bool SimNode::onDestroy(roar_ros::DestroyVehicle::Request& req, roar_ros::Destro
 
 bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehicle::Response& res) {
   try {
-    if (!io_.count(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
-    world_->resetVehicle(req.name, requestedPose(req.spawn_point, req.pose),
+    if (!session_->has(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
+    world().resetVehicle(req.name, requestedPose(req.spawn_point, req.pose),
                          placementOf(req.spawn_point, req.as_given));
     res.success = true;
     res.message = "reset " + req.name;
@@ -78,8 +78,8 @@ bool SimNode::onReset(roar_ros::ResetVehicle::Request& req, roar_ros::ResetVehic
 
 bool SimNode::onSetVelocity(roar_ros::SetVehicleVelocity::Request& req, roar_ros::SetVehicleVelocity::Response& res) {
   try {
-    if (!io_.count(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
-    world_->setVehicleVelocity(req.name, vectorOf(req.linear), vectorOf(req.angular));
+    if (!session_->has(req.name)) throw sim::SpawnError("no vehicle named '" + req.name + "'");
+    world().setVehicleVelocity(req.name, vectorOf(req.linear), vectorOf(req.angular));
     res.success = true;
     res.message = "set the velocities of " + req.name;
   } catch (const std::exception& e) {
@@ -89,8 +89,8 @@ bool SimNode::onSetVelocity(roar_ros::SetVehicleVelocity::Request& req, roar_ros
 }
 
 bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res) {
-  res.tick = world_->tick();
-  res.stamp = toRosTime(world_->time());
+  res.tick = world().tick();
+  res.stamp = toRosTime(world().time());
   if (req.ticks > 0 && options_.mode != SteppingMode::kStep) {
     return refuse(res, "step", "step is only served in mode 'step' (now " + modeName() + "; /roar_sim/set_stepping)");
   }
@@ -117,7 +117,7 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   for (std::size_t i = 0; i < req.controls.size(); ++i) {
     const vehicle::CheckedControl checked =
         vehicle::checkControl(fromMessage(req.controls[i]),
-                              static_cast<int>(world_->vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
+                              static_cast<int>(world().vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
     if (checked.rejected) {
       std::string problems;
       for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
@@ -148,8 +148,8 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
     }
     tick();
     for (const auto& name : observed) {
-      for (const auto& contact : world_->contacts(name)) {
-        collisions[name].push_back(toCollisionEvent(contact, toRosTime(world_->time()), options_.map_frame));
+      for (const auto& contact : world().contacts(name)) {
+        collisions[name].push_back(toCollisionEvent(contact, toRosTime(world().time()), options_.map_frame));
       }
     }
     long_step_->done = k + 1;
@@ -160,8 +160,8 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   if (step.cancelled) {
     res.message += "cancelled after " + std::to_string(step.done) + " of " + std::to_string(step.ticks) + " ticks";
   }
-  res.tick = world_->tick();
-  res.stamp = toRosTime(world_->time());
+  res.tick = world().tick();
+  res.stamp = toRosTime(world().time());
   for (const auto& name : observed) {
     res.vehicles.push_back(snapshot(name));
     res.vehicles.back().collisions = collisions[name];
@@ -187,21 +187,22 @@ bool SimNode::onResetEpisode(roar_ros::ResetEpisode::Request& req, roar_ros::Res
   }
   AgentInterface& agent = *it->second.agent;
   try {
-    world_->resetVehicle(req.vehicle, agent.nextSpawn(req.seed));
+    world().resetVehicle(req.vehicle, agent.nextSpawn(req.seed));
   } catch (const std::exception& e) {
     return refuse(res, "reset_episode", e.what());
   }
   // The car settles, held by its brakes, before the episode's first observation.
   agent.pause();
   for (int i = 0; i < rl::settleTicks(agent.options()); ++i) {
-    world_->setControl(req.vehicle, vehicle::parkedControl());
+    world().setControl(req.vehicle, vehicle::parkedControl());
     tick();
   }
   updateRayScene();
-  res.observation = agent.begin(world_->vehicleState(req.vehicle), world_->time(), scene_.get(), it->second.scene_id);
+  res.observation = agent.begin(world().vehicleState(req.vehicle), world().time(), &session_->scene(),
+                                session_->sceneId(req.vehicle));
   res.stamp = res.observation.header.stamp;
   res.success = true;
-  res.message = "episode of '" + req.vehicle + "' begins at t = " + std::to_string(world_->time()) + " s";
+  res.message = "episode of '" + req.vehicle + "' begins at t = " + std::to_string(world().time()) + " s";
   return true;
 }
 
@@ -217,7 +218,7 @@ bool SimNode::onAttachSensor(roar_ros::AttachSensor::Request& req, roar_ros::Att
                                   " measures the car it rides on: a sensor on no car is a camera, lidar or radar");
     }
     sensors::checkBudget(sensorLoad(), specs.front(), sensors::kSimulatorSensorBudget);
-    rig.attach(specs.front(), world_->time());
+    rig.attach(specs.front(), world().time());
     publishStaticTransforms();
     res.success = true;
     res.message = "attached " + specs.front().name + " to " + req.vehicle;
@@ -241,14 +242,12 @@ bool SimNode::onDetachSensor(roar_ros::DetachSensor::Request& req, roar_ros::Det
 bool SimNode::onLoadMap(roar_ros::LoadMap::Request& req, roar_ros::LoadMap::Response& res) {
   std::string folder;
   try {
-    folder = req.map.empty() ? map_folder_ : track::resolveMapFolder(req.map, options_.maps_dir);
+    folder = req.map.empty() ? session_->mapFolder() : track::resolveMapFolder(req.map, options_.maps_dir);
   } catch (const std::exception& e) {
     return refuse(res, "load_map", e.what());
   }
-  std::vector<std::pair<std::string, SpawnRecord>> respawn;
-  if (req.respawn_vehicles) {
-    for (const auto& [name, io] : io_) respawn.emplace_back(name, io.spawned);
-  }
+  std::map<std::string, SpawnRecord> respawn;
+  if (req.respawn_vehicles) respawn = session_->records();
   try {
     loadMap(folder, req.map.empty() ? "reload" : "load");
   } catch (const std::exception& e) {
@@ -258,14 +257,15 @@ bool SimNode::onLoadMap(roar_ros::LoadMap::Request& req, roar_ros::LoadMap::Resp
   for (const auto& [name, was] : respawn) {
     try {
       if (was.spawn_point < 0) throw std::invalid_argument("it was spawned at a pose of the old map");
-      addVehicle(name, was.model, spawnPose(was.spawn_point), was.sensor_set, was.colour, was.agent, was.spawn_point);
+      addVehicle(name, was.model, session_->spawnPose(was.spawn_point), was.sensor_set, was.colour, was.agent,
+                 was.spawn_point);
     } catch (const std::exception& e) {
       missing += (missing.empty() ? "" : "; ") + name + ": " + e.what();
     }
   }
   res.success = true;
-  res.name = track_->info().name;
-  res.folder = map_folder_;
+  res.name = session_->track().info().name;
+  res.folder = session_->mapFolder();
   res.message = "loaded " + res.name + " (" + folder + ")" + (missing.empty() ? "" : "; not respawned: " + missing);
   ROS_INFO("roar_sim: %s", res.message.c_str());
   return true;
@@ -273,7 +273,7 @@ bool SimNode::onLoadMap(roar_ros::LoadMap::Request& req, roar_ros::LoadMap::Resp
 
 bool SimNode::onListMaps(roar_ros::ListMaps::Request&, roar_ros::ListMaps::Response& res) {
   res.maps = track::listMaps(options_.maps_dir);
-  res.current = std::filesystem::path(map_folder_).filename().string();
+  res.current = std::filesystem::path(session_->mapFolder()).filename().string();
   return true;
 }
 
@@ -333,7 +333,7 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
         check_rates(*io.sensors, "vehicle '" + name + "'");
       }
       check_rates(*world_sensors_, "the world's sensors");
-      world_->setTiming(control_dt, physics_dt);
+      world().setTiming(control_dt, physics_dt);
     } catch (const std::exception& e) {
       return refuse(res, "set_stepping", e.what());
     }
@@ -354,20 +354,20 @@ bool SimNode::onSetStepping(roar_ros::SetStepping::Request& req, roar_ros::SetSt
 
 bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorldInfo::Response& res) {
   res.version = ROAR_ROS_VERSION;
-  res.map = std::filesystem::path(map_folder_).filename().string();
-  res.folder = map_folder_;
-  res.map_generation = map_generation_;
+  res.map = std::filesystem::path(session_->mapFolder()).filename().string();
+  res.folder = session_->mapFolder();
+  res.map_generation = session_->mapGeneration();
   res.mode = modeName();
   res.control_dt = options_.world.control_dt;
   res.physics_dt = options_.world.physics_dt;
   res.real_time_factor = options_.real_time_factor;
-  res.tick = world_->tick();
-  res.stamp = toRosTime(world_->time());
+  res.tick = world().tick();
+  res.stamp = toRosTime(world().time());
   for (const auto& [name, io] : io_) {
     roar_ros::VehicleInfo info;
     info.name = name;
-    info.model = io.spawned.model;
-    const vehicle::VehicleParams& params = world_->vehicleParams(name);
+    info.model = session_->record(name).model;
+    const vehicle::VehicleParams& params = world().vehicleParams(name);
     info.blueprint = params.blueprint;
     info.extent.x = params.chassis.box_size.x() / 2;
     info.extent.y = params.chassis.box_size.y() / 2;
@@ -377,7 +377,7 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
       info.sensor_names.push_back(spec.name);
       info.sensor_types.push_back(sensors::typeName(spec.type));
     }
-    info.agent = io.spawned.agent;
+    info.agent = session_->record(name).agent;
     res.vehicles.push_back(info);
   }
   for (const auto& model : vehicle::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir)) {
@@ -400,7 +400,7 @@ bool SimNode::onGetGeolocation(roar_ros::GetGeolocation::Request& req, roar_ros:
     }
   }
   for (const auto& p : req.points) {
-    const sensors::GnssFix fix = sensors::toGeodetic({p.x, p.y, p.z}, track_->info().origin);
+    const sensors::GnssFix fix = sensors::toGeodetic({p.x, p.y, p.z}, session_->track().info().origin);
     res.latitude.push_back(fix.latitude);
     res.longitude.push_back(fix.longitude);
     res.altitude.push_back(fix.altitude);
@@ -419,13 +419,12 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
     }
     // Stamp 0 is the frame of now (asynchronous readers): the world as it is, whether or not a tick's
     // scene was kept since the camera came (test_roar_py_ros test_an_asynchronous_camera_sees_now).
-    const SceneTick now = sceneNow();
+    const SceneTick now = session_->sceneNow();
     const SceneTick* tick = &now;
-    if (!req.stamp.isZero()) tick = keptSceneTick(req.stamp.toSec(), req.vehicle);
-    if (tick != scene_posed_at_) poseRayScene(*tick);
+    if (!req.stamp.isZero()) tick = &session_->keptTick(req.stamp.toSec(), world ? "" : req.vehicle);
+    session_->poseScene(*tick);
     const Eigen::Isometry3d mount_frame = world ? Eigen::Isometry3d::Identity() : tick->cars.at(req.vehicle).pose;
-    const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, *scene_, mount_frame, nullptr);
-    if (tick == &now) scene_posed_at_ = nullptr;  // posed at a moment that is not kept
+    const sensors::CameraFrame& frame = rig.renderCamera(req.sensor, session_->scene(), mount_frame, nullptr);
     res.image = toImage(frame, type, toRosTime(tick->time), req.vehicle + "/" + req.sensor + "_optical");
     res.success = true;
     res.message = "rendered " + req.vehicle + "/" + req.sensor + " at t = " + std::to_string(tick->time);
@@ -435,26 +434,14 @@ bool SimNode::onRenderSensor(roar_ros::RenderSensor::Request& req, roar_ros::Ren
   return true;
 }
 
-const SceneTick* SimNode::keptSceneTick(double stamp, const std::string& vehicle) const {
-  const auto tick = std::find_if(scene_ticks_.begin(), scene_ticks_.end(),
-                                 [&](const SceneTick& t) { return std::abs(t.time - stamp) < 1e-6; });
-  if (tick != scene_ticks_.end() && (isWorld(vehicle) || tick->cars.count(vehicle))) return &*tick;
-  throw std::invalid_argument("no frame of t = " + std::to_string(stamp) + " s is kept" +
-                              (scene_ticks_.empty()
-                                   ? std::string(" (no tick since the car's sensors came)")
-                                   : " (the last " + std::to_string(scene_ticks_.size()) +
-                                         " ticks are: t = " + std::to_string(scene_ticks_.front().time) + " to " +
-                                         std::to_string(scene_ticks_.back().time) + " s)"));
-}
-
 bool SimNode::onDrawDebug(roar_ros::DrawDebug::Request& req, roar_ros::DrawDebug::Response& res) {
   try {
     if (req.clear) {
       DebugDrawing fresh;  // a refused request clears nothing either
-      fresh.add(req.shapes, world_->time());
+      fresh.add(req.shapes, world().time());
       debug_ = std::move(fresh);
     } else {
-      debug_.add(req.shapes, world_->time());
+      debug_.add(req.shapes, world().time());
     }
   } catch (const std::exception& e) {
     res.drawn = static_cast<std::uint32_t>(debug_.size());
