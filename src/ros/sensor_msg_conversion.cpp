@@ -223,4 +223,30 @@ roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros
   return msg;
 }
 
+roar_ros::VehicleInfo toVehicleInfo(const std::string& name, const vehicle::VehicleParams& params,
+                                    const std::vector<sensors::SensorSpec>& sensors, const std::string& agent) {
+  roar_ros::VehicleInfo info;
+  info.name = name;
+  info.model = params.model;
+  info.blueprint = params.blueprint;
+  info.extent.x = params.chassis.box_size.x() / 2;
+  info.extent.y = params.chassis.box_size.y() / 2;
+  info.extent.z = params.chassis.box_size.z() / 2;
+  info.gears = static_cast<int>(params.gearbox.ratios.size());
+  for (const auto& spec : sensors) {
+    info.sensor_names.push_back(spec.name);
+    info.sensor_types.push_back(sensors::typeName(spec.type));
+  }
+  info.agent = agent;
+  return info;
+}
+
+roar_ros::BlueprintInfo toBlueprintInfo(const vehicle::VehicleModelInfo& model) {
+  roar_ros::BlueprintInfo info;
+  info.blueprint = model.blueprint;
+  info.model = model.model;
+  info.description = model.description;
+  return info;
+}
+
 }  // namespace roar::ros_bridge

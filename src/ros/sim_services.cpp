@@ -115,13 +115,9 @@ bool SimNode::onStep(roar_ros::Step::Request& req, roar_ros::Step::Response& res
   // Every control is checked before the first tick: a refused one moves nothing.
   std::string warnings;
   for (std::size_t i = 0; i < req.controls.size(); ++i) {
-    const vehicle::CheckedControl checked =
-        vehicle::checkControl(fromMessage(req.controls[i]),
-                              static_cast<int>(world().vehicleParams(req.vehicle_names[i]).gearbox.ratios.size()));
-    if (checked.rejected) {
-      std::string problems;
-      for (const auto& p : checked.problems) problems += (problems.empty() ? "" : "; ") + p;
-      return refuse(res, "step", "control for '" + req.vehicle_names[i] + "' rejected: " + problems);
+    const session::AppliedControl checked = session_->checkControl(req.vehicle_names[i], fromMessage(req.controls[i]));
+    if (!checked.applied) {
+      return refuse(res, "step", "control for '" + req.vehicle_names[i] + "' rejected: " + checked.problems);
     }
   }
   std::map<std::string, std::vector<roar_ros::CollisionEvent>> collisions;
@@ -364,29 +360,11 @@ bool SimNode::onGetWorldInfo(roar_ros::GetWorldInfo::Request&, roar_ros::GetWorl
   res.tick = world().tick();
   res.stamp = toRosTime(world().time());
   for (const auto& [name, io] : io_) {
-    roar_ros::VehicleInfo info;
-    info.name = name;
-    info.model = session_->record(name).model;
-    const vehicle::VehicleParams& params = world().vehicleParams(name);
-    info.blueprint = params.blueprint;
-    info.extent.x = params.chassis.box_size.x() / 2;
-    info.extent.y = params.chassis.box_size.y() / 2;
-    info.extent.z = params.chassis.box_size.z() / 2;
-    info.gears = static_cast<int>(params.gearbox.ratios.size());
-    for (const auto& spec : io.sensors->rig().specs()) {
-      info.sensor_names.push_back(spec.name);
-      info.sensor_types.push_back(sensors::typeName(spec.type));
-    }
-    info.agent = session_->record(name).agent;
-    res.vehicles.push_back(info);
+    res.vehicles.push_back(
+        toVehicleInfo(name, world().vehicleParams(name), io.sensors->rig().specs(), session_->record(name).agent));
   }
-  for (const auto& model : vehicle::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir)) {
-    roar_ros::BlueprintInfo info;
-    info.blueprint = model.blueprint;
-    info.model = model.model;
-    info.description = model.description;
-    res.blueprints.push_back(info);
-  }
+  for (const auto& model : vehicle::listVehicleModels(options_.urdf_dir, options_.vehicle_config_dir))
+    res.blueprints.push_back(toBlueprintInfo(model));
   res.maps = track::listMaps(options_.maps_dir);
   return true;
 }

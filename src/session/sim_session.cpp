@@ -123,15 +123,27 @@ std::map<std::string, SpawnRecord> SimSession::records() const {
   return out;
 }
 
-AppliedControl SimSession::applyControl(const std::string& name, const vehicle::VehicleControl& control) {
-  const int gears = static_cast<int>(world_->vehicleParams(name).gearbox.ratios.size());
-  const vehicle::CheckedControl checked = vehicle::checkControl(control, gears);
+vehicle::CheckedControl SimSession::checked(const std::string& name, const vehicle::VehicleControl& control) const {
+  return vehicle::checkControl(control, static_cast<int>(world_->vehicleParams(name).gearbox.ratios.size()));
+}
+
+namespace {
+AppliedControl outcomeOf(const vehicle::CheckedControl& checked) {
   AppliedControl out;
   for (const auto& p : checked.problems) out.problems += (out.problems.empty() ? "" : "; ") + p;
-  if (checked.rejected) return out;
-  world_->setControl(name, checked.control);
-  out.applied = true;
+  out.applied = !checked.rejected;
   return out;
+}
+}  // namespace
+
+AppliedControl SimSession::checkControl(const std::string& name, const vehicle::VehicleControl& control) const {
+  return outcomeOf(checked(name, control));
+}
+
+AppliedControl SimSession::applyControl(const std::string& name, const vehicle::VehicleControl& control) {
+  const vehicle::CheckedControl c = checked(name, control);
+  if (!c.rejected) world_->setControl(name, c.control);
+  return outcomeOf(c);
 }
 
 SceneTick SimSession::sceneNow() const {

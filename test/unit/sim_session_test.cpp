@@ -158,3 +158,22 @@ TEST(SimSession, LoadingAMapCountsGenerationsKeepsTheClockAndABrokenOneChangesNo
   EXPECT_EQ(s.mapFolder(), mapFolder("roar_sprint"));
   spawnOnGrid(s, "ego", 0);  // its name free again
 }
+
+TEST(SimSession, AControlCheckedAloneIsJudgedAsApplyingItWouldBeAndChangesNothing) {
+  SimSession s(options(), mapFolder("roar_ring"));
+  spawnOnGrid(s, "ego", 0);
+  vehicle::VehicleControl bad = fullThrottle();
+  bad.steer = std::nan("");
+  EXPECT_FALSE(s.checkControl("ego", bad).applied);
+  EXPECT_EQ(s.checkControl("ego", bad).problems, s.applyControl("ego", bad).problems);
+  for (int i = 0; i < 20; ++i) {  // checked, never applied: the car stays parked
+    EXPECT_TRUE(s.checkControl("ego", fullThrottle()).applied);
+    s.world().step();
+  }
+  EXPECT_LT(s.world().vehicleState("ego").linear_velocity.norm(), 0.1);
+  for (int i = 0; i < 20; ++i) {
+    s.applyControl("ego", fullThrottle());
+    s.world().step();
+  }
+  EXPECT_GT(s.world().vehicleState("ego").linear_velocity.norm(), 1.0);
+}

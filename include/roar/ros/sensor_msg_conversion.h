@@ -3,7 +3,9 @@
 #include <geometry_msgs/PointStamped.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <geometry_msgs/Vector3Stamped.h>
+#include <roar_ros/BlueprintInfo.h>
 #include <roar_ros/CollisionEvent.h>
+#include <roar_ros/VehicleInfo.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/Imu.h>
@@ -15,7 +17,9 @@
 #include "roar/sensors/lidar.h"
 #include "roar/sensors/occupancy_map.h"
 #include "roar/sensors/radar.h"
+#include "roar/sensors/sensor_spec.h"
 #include "roar/sim/world.h"
+#include "roar/vehicle/vehicle_config.h"
 
 namespace roar::ros_bridge {
 
@@ -48,5 +52,10 @@ sensors::OccupancyFrame occupancyFromImage(const sensor_msgs::Image& image);  //
 // A contact of the car's body as CARLA's collision sensor reports it.
 roar_ros::CollisionEvent toCollisionEvent(const sim::Contact& contact, const ros::Time& stamp,
                                           const std::string& map_frame);
+// A spawned car as /roar_sim/get_world_info lists it: its model, blueprint, half extents, gears, sensors and
+// the RL environment of the agent that drives it ("": none).
+roar_ros::VehicleInfo toVehicleInfo(const std::string& name, const vehicle::VehicleParams& params,
+                                    const std::vector<sensors::SensorSpec>& sensors, const std::string& agent);
+roar_ros::BlueprintInfo toBlueprintInfo(const vehicle::VehicleModelInfo& model);
 
 }  // namespace roar::ros_bridge

@@ -97,6 +97,8 @@ class SimSession {
 
   // A driver's control, checked against the car's gearbox: a rejected one changes nothing.
   AppliedControl applyControl(const std::string& name, const vehicle::VehicleControl& control);
+  // The same check alone (`applied`: whether applyControl would apply it), for requests checked whole first.
+  AppliedControl checkControl(const std::string& name, const vehicle::VehicleControl& control) const;
 
   // Every car's pose and velocities now.
   SceneTick sceneNow() const;
@@ -116,6 +118,7 @@ class SimSession {
     SpawnRecord spawned;
     int scene_id = -1;
   };
+  vehicle::CheckedControl checked(const std::string& name, const vehicle::VehicleControl& control) const;
 
   SessionOptions options_;
   std::string map_folder_;
