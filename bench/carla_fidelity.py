@@ -69,6 +69,28 @@ def print_by_steering(windows, logs):
     print(f"  corners held, by the steering's travel (median / p95 position): {', '.join(cells)}")
 
 
+def print_resolution(model, held, logs, starts, fitted, lap_log):
+    """What the telemetry can resolve: the held windows again, the car turned at its start by the heading
+    error of a ROAR log's rounded locations (its median, measured on a lap our car drives), against the
+    windows as held. However exact a model, its windows are no nearer the log than this."""
+    heading = float(np.median(measure.rounding_heading_error(model, lap_log)))
+    turned = [held.window(logs, k, i, turned=heading) for k, i in starts]
+    apart = measure.apart(fitted, turned)
+    e = measure.window_errors(fitted)
+    print(f"The telemetry's resolution: the same windows with the start heading {heading * 1e3:.1f} mrad off (the "
+          "median error of the direction 0.1 m locations give), how far apart they end")
+    for part, mask in (("straights", e[:, 2] == 0), ("corners", e[:, 2] == 1)):
+        pm, pp = percentiles(apart[mask])
+        print(f"  {'turned by the rounding':27} {part:9} n {mask.sum():4d}  {'':25}position {pm:5.2f} {pp:6.2f} m")
+    corner = e[:, 2] == 1
+    travel = measure.steering_travel(fitted, logs)[corner]
+    if len(travel) >= 3:
+        thirds = np.digitize(travel, np.quantile(travel, [1 / 3, 2 / 3]))
+        cells = [f"{name} {'{:.2f} / {:.2f}'.format(*percentiles(apart[corner][thirds == k]))} m"
+                 for k, name in enumerate(("calm", "middle", "busy"))]
+        print(f"  corners by the steering's travel (median / p95 apart): {', '.join(cells)}")
+
+
 def percentiles(values):
     return (np.median(values), np.percentile(values, 95)) if len(values) else (float("nan"), float("nan"))
 
@@ -142,6 +164,7 @@ def main():
     met &= loop_ok
     print_by_steering(fitted, logs)
     lap_log = read_telemetry(args.lap)
+    print_resolution(model, held, logs, starts, fitted, lap_log)
     print("The bench's floor: our car replaying a log it wrote itself driving the logged lap, rounded as ROAR's are")
     floor = measure.own_log(model, lap_log)
     floor_starts = measure.windows_of([floor], args.stride)

@@ -180,7 +180,9 @@ class Replayer:
             slip = np.remainder(s["yaw"] - np.arctan2(velocity[1], velocity[0]) + np.pi, 2 * np.pi) - np.pi
         w.move("ego", log.loc[i + 1, 0], log.loc[i + 1, 1], direction[i + 1] + slip, log.speed[i + 1])
 
-    def window(self, logs: typing.Sequence[Telemetry], k: int, i: int) -> Window:
+    def window(self, logs: typing.Sequence[Telemetry], k: int, i: int, turned: float = 0.0) -> Window:
+        """The window from tick i of log k; with `turned` (rad), the car turned by it when let go (its velocity
+        with it, its slip and yaw rate kept): what a start heading that much off makes of the window."""
         log = logs[k]
         if id(log) not in self.motion:
             self.motion[id(log)] = (log, *log.smoothed_motion())
@@ -189,6 +191,9 @@ class Replayer:
         self._start(log, first, direction, rate)
         for j in range(first, i):
             self._hold(log, j, direction)
+        if turned:
+            s = self.world.state("ego")
+            self.world.move("ego", s["position"][0], s["position"][1], s["yaw"] + turned, s["speed"])
         ours = np.zeros((WINDOW, 3))
         for q in range(WINDOW):
             self._control(log, i + q)
@@ -248,15 +253,36 @@ def closed_loop_lap(model: Model, lap: Telemetry, pedals: bool = True, maps_dir:
     return r
 
 
+def _own_telemetry(trace: np.ndarray, rounded: bool) -> Telemetry:
+    """A closed_loop_lap trace as a ROAR log pairs it (each row is the state after a tick with the control it was
+    stepped with: a tick's state goes with the control sent from it, the next row's); rounded as ROAR's logs
+    are (locations to 0.1 m, speeds to 0.001 km/h) or exact."""
+    loc, speed = trace[:-1, 1:3].copy(), trace[:-1, 3].copy()
+    if rounded:
+        loc, speed = np.round(loc, 1), np.round(speed * 3.6, 3) / 3.6
+    n = len(speed)
+    return Telemetry("own log", np.arange(1, n + 1), loc, trace[1:, 4], trace[1:, 5], -trace[1:, 6], speed,
+                     np.ones(n, dtype=int))
+
+
+def rounding_heading_error(model: Model, lap: Telemetry, maps_dir: typing.Optional[str] = None) -> np.ndarray:
+    """Per moving tick of a lap our car drives (closed_loop_lap), how far (rad) the direction of travel the
+    bench derives from locations rounded to 0.1 m, as ROAR's logs have them, is from the one it derives from
+    the exact locations: how well a ROAR log's locations fix a window's start heading."""
+    trace = np.array(closed_loop_lap(model, lap, maps_dir=maps_dir)["trace"])
+    exact, _ = _own_telemetry(trace, rounded=False).smoothed_motion()
+    rounded, _ = _own_telemetry(trace, rounded=True).smoothed_motion()
+    error = np.abs(np.remainder(rounded - exact + np.pi, 2 * np.pi) - np.pi)
+    return error[trace[:-1, 3] > 10.0]
+
+
+def apart(windows: typing.Sequence[Window], others: typing.Sequence[Window]) -> np.ndarray:
+    """Per window pair: how far apart (m) their cars end."""
+    return np.array([np.linalg.norm(a.ours[-1, :2] - b.ours[-1, :2]) for a, b in zip(windows, others)])
+
+
 def own_log(model: Model, lap: Telemetry, maps_dir: typing.Optional[str] = None) -> Telemetry:
     """A log our car writes itself, as ROAR's entries write theirs (locations to 0.1 m, speeds to 0.001 km/h, the
     controls it was sent), driving the logged lap with its pedals (closed_loop_lap): what the open-loop bench
     gives for a model that is exactly the car (the bench's floor)."""
-    trace = np.array(closed_loop_lap(model, lap, maps_dir=maps_dir)["trace"])
-    # Each trace row is the state after a tick with the control it was stepped with: the log pairs a tick's
-    # state with the control sent from it, the next row's.
-    loc = np.round(trace[:-1, 1:3], 1)
-    speed = np.round(trace[:-1, 3] * 3.6, 3) / 3.6
-    n = len(speed)
-    return Telemetry("own log", np.arange(1, n + 1), loc, trace[1:, 4], trace[1:, 5], -trace[1:, 6], speed,
-                     np.ones(n, dtype=int))
+    return _own_telemetry(np.array(closed_loop_lap(model, lap, maps_dir=maps_dir)["trace"]), rounded=True)
