@@ -233,7 +233,9 @@ void VehicleDynamics::applyForces(double dt, const SurfaceFriction& friction) {
     anti_roll_load_[2 * axle] = bars[axle] * twist;
     anti_roll_load_[2 * axle + 1] = -bars[axle] * twist;
   }
-  for (int i = 0; i < 4; ++i) updateWheel(i, 0.5 * drive * (i < 2 ? front : rear), dt, friction);
+  const auto shares = vehicle::driveShares(params_.differential, front,
+                                           {wheels_[0].omega, wheels_[1].omega, wheels_[2].omega, wheels_[3].omega});
+  for (int i = 0; i < 4; ++i) updateWheel(i, drive * shares[i], dt, friction);
 
   // Aerodynamics: drag against the motion, downforce on each axle.
   const btMatrix3x3& basis = body_->getCenterOfMassTransform().getBasis();

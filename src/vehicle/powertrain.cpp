@@ -2,9 +2,60 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 
 namespace roar::vehicle {
+
+namespace {
+
+// PhysX's limited-slip split of a torque of 1 between two outputs turning at w1 and w2 (the same way):
+// `split` to the first while neither turns more than `bias` times the other, the excess's share of the
+// faster's speed moved to the slower past it.
+std::array<double, 2> limitedSlipSplit(double w1, double w2, double bias, double split) {
+  const double a1 = std::abs(w1), a2 = std::abs(w2);
+  const double fastest = std::max(a1, a2), slowest = std::min(a1, a2);
+  const double excess = fastest - bias * slowest;
+  const double moved = excess >= 0 && fastest > 0 ? excess / fastest : 0.0;
+  const bool first_faster = a1 >= a2;
+  const double f1 = split * (first_faster ? 1.0 - moved : 1.0 + moved);
+  const double f2 = (1.0 - split) * (first_faster ? 1.0 + moved : 1.0 - moved);
+  return {f1 / (f1 + f2), f2 / (f1 + f2)};
+}
+
+bool sameWay(std::initializer_list<double> omegas) {
+  const double first = *omegas.begin();
+  if (first == 0.0) return false;
+  for (const double w : omegas) {
+    if (w == 0.0 || (w > 0) != (first > 0)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::array<double, 4> driveShares(const DifferentialParams& differential, double front_share,
+                                  const std::array<double, 4>& w) {
+  const double front = std::clamp(front_share, 0.0, 1.0), rear = 1.0 - front;
+  std::array<double, 4> shares{0.5 * front, 0.5 * front, 0.5 * rear, 0.5 * rear};
+  if (differential.type == DifferentialType::kOpen) return shares;
+  // As PhysX: an axle's wheels, or all four, turning different ways share as open differentials do.
+  const bool four_wheel = front > 0.0 && rear > 0.0;
+  if (four_wheel) {
+    if (!sameWay({w[0], w[1], w[2], w[3]})) return shares;
+    const auto axles = limitedSlipSplit(w[0] + w[1], w[2] + w[3], differential.centre_bias, front);
+    const auto fronts = limitedSlipSplit(w[0], w[1], differential.front_bias, 0.5);
+    const auto rears = limitedSlipSplit(w[2], w[3], differential.rear_bias, 0.5);
+    return {axles[0] * fronts[0], axles[0] * fronts[1], axles[1] * rears[0], axles[1] * rears[1]};
+  }
+  const int first = front > 0.0 ? 0 : 2;
+  if (!sameWay({w[first], w[first + 1]})) return shares;
+  const auto pair =
+      limitedSlipSplit(w[first], w[first + 1], first == 0 ? differential.front_bias : differential.rear_bias, 0.5);
+  shares[first] = pair[0];
+  shares[first + 1] = pair[1];
+  return shares;
+}
 
 namespace {
 constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);

@@ -155,6 +155,19 @@ void readVehicleYaml(const std::string& yaml_path, VehicleParams* params) {
   p.front_drive_share = inRange(drivetrain, "front_drive_share", 0, 1);
   p.traction_control = flag(drivetrain, "traction_control", true);
   p.rear_grip_share = inRange(drivetrain, "rear_grip_share", 0, 1);
+  std::string differential = "open";
+  drivetrain.read("differential", &differential);
+  if (differential == "limited_slip") {
+    p.differential.type = DifferentialType::kLimitedSlip;
+    // PhysX's biases: the ratio of output speeds the differential allows before it moves torque.
+    for (auto [key, bias] :
+         {std::pair{"centre_bias", &p.differential.centre_bias}, std::pair{"front_bias", &p.differential.front_bias},
+          std::pair{"rear_bias", &p.differential.rear_bias}}) {
+      if (drivetrain.has(key)) *bias = inRange(drivetrain, key, 1, 100);
+    }
+  } else if (differential != "open") {
+    drivetrain.fail("drivetrain.differential", "'" + differential + "' is neither open nor limited_slip");
+  }
   drivetrain.finish();
 
   p.engine.idle_rpm = above(engine, "idle_rpm", 0, 5000, " rpm");

@@ -200,3 +200,36 @@ TEST(Powertrain, APutDownCarStandsInNeutralThenSurgesAsTheClutchTakesUpTheEngine
   EXPECT_FALSE(pt.standing()) << "a car set moving is in gear";
   EXPECT_GT(pt.update({1.0, false, false, 0}, 30.0, 0.005), 0.0);
 }
+
+TEST(DriveShares, OpenDifferentialsSplitEachAxleInHalvesWhateverTheSpeeds) {
+  const DifferentialParams open;
+  const auto shares = driveShares(open, 0.3, {10.0, 30.0, 5.0, 50.0});
+  EXPECT_DOUBLE_EQ(shares[0], 0.15);
+  EXPECT_DOUBLE_EQ(shares[1], 0.15);
+  EXPECT_DOUBLE_EQ(shares[2], 0.35);
+  EXPECT_DOUBLE_EQ(shares[3], 0.35);
+}
+
+TEST(DriveShares, LimitedSlipMovesTorqueToTheSlowerWheel) {
+  DifferentialParams ls;
+  ls.type = DifferentialType::kLimitedSlip;
+  // Rear-wheel drive, the wheels within the bias (12 < 1.3 x 10): as open.
+  auto shares = driveShares(ls, 0.0, {10.0, 10.0, 10.0, 12.0});
+  EXPECT_DOUBLE_EQ(shares[2], 0.5);
+  EXPECT_DOUBLE_EQ(shares[3], 0.5);
+  // The inner wheel spinning at twice the outer's: 20 - 1.3 x 10 = 7, 35 % of 20, moved to the outer.
+  shares = driveShares(ls, 0.0, {10.0, 10.0, 10.0, 20.0});
+  EXPECT_NEAR(shares[2], 0.5 * 1.35, 1e-12);
+  EXPECT_NEAR(shares[3], 0.5 * 0.65, 1e-12);
+  EXPECT_DOUBLE_EQ(shares[0] + shares[1], 0.0) << "nothing to the undriven axle";
+  // Four-wheel drive, the rear axle spinning at twice the front's: the centre moves torque forward.
+  shares = driveShares(ls, 0.45, {10.0, 10.0, 20.0, 20.0});
+  const double front = 0.45 * 1.35, rear = 0.55 * 0.65;
+  EXPECT_NEAR(shares[0] + shares[1], front / (front + rear), 1e-12);
+  EXPECT_NEAR(shares[0], shares[1], 1e-12);
+  EXPECT_NEAR(shares[0] + shares[1] + shares[2] + shares[3], 1.0, 1e-12);
+  // Wheels turning different ways (a car rocking at rest): shared as open differentials do.
+  shares = driveShares(ls, 0.45, {1.0, -1.0, 2.0, 2.0});
+  EXPECT_DOUBLE_EQ(shares[0], 0.225);
+  EXPECT_DOUBLE_EQ(shares[3], 0.275);
+}

@@ -120,6 +120,35 @@ TEST(VehicleConfig, MisspeltKeysAndValuesOutsidePhysicalRangesAreRefused) {
   EXPECT_NE(errorWith("stiffness_n_per_m: 45000", "stifness_n_per_m: 45000")
                 .find("suspension.stiffness_n_per_m: is missing (is 'stifness_n_per_m' a misspelling of it?)"),
             std::string::npos);
+  const std::string split = "  front_drive_share: 0.4";
+  EXPECT_NE(errorWith(split, split + "\n  differential: locked")
+                .find("drivetrain.differential: 'locked' is neither open nor limited_slip"),
+            std::string::npos);
+  EXPECT_NE(errorWith(split, split + "\n  differential: limited_slip\n  rear_bias: 0.5")
+                .find("drivetrain.rear_bias: 0.5 is outside [1, 100]"),
+            std::string::npos)
+      << "a bias below 1 would move torque with the wheels turning alike";
+  EXPECT_NE(errorWith(split, split + "\n  rear_bias: 2").find("drivetrain.rear_bias: is not a known key"),
+            std::string::npos)
+      << "biases only with a limited-slip differential";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(VehicleConfig, ALimitedSlipDifferentialReadsItsBiases) {
+  const auto dir = std::filesystem::temp_directory_path() / ("roar_vc_diff_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ifstream in(test::sourceDir() + "/config/vehicles/sedan.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string split = "  front_drive_share: 0.4";
+  text.replace(text.find(split), split.size(), split + "\n  differential: limited_slip\n  centre_bias: 2.5");
+  const auto path = (dir / "car.yaml").string();
+  std::ofstream(path) << text;
+  vehicle::VehicleParams p;
+  vehicle::readVehicleYaml(path, &p);
+  EXPECT_EQ(p.differential.type, vehicle::DifferentialType::kLimitedSlip);
+  EXPECT_DOUBLE_EQ(p.differential.centre_bias, 2.5);
+  EXPECT_DOUBLE_EQ(p.differential.rear_bias, 1.3) << "PhysX's default";
+  EXPECT_EQ(test::sedan().differential.type, vehicle::DifferentialType::kOpen);
   std::filesystem::remove_all(dir);
 }
 

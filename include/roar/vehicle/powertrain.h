@@ -2,13 +2,20 @@
 // Engine with a full-throttle torque curve and engine braking, a gearbox with automatic shifting (with a
 // torque gap while shifting, and kickdown to the strongest gear at full throttle, not back straight after a
 // shift up unless the car has slowed) or manual selection, and
-// open differentials. The clutch slips below idle, so the car can pull away from rest, and, for a car that
-// stands in neutral after it is put down (GearboxParams::engage_time), while it takes up the engine it let
-// rev: the engine then turns on its own inertia until the clutch has brought it down to the wheels' speed.
-// The torque follows the pedal with the engine's response time.
+// open or limited-slip differentials (driveShares). The clutch slips below idle, so the car can pull away from rest,
+// and, for a car that stands in neutral after it is put down (GearboxParams::engage_time), while it takes up the engine
+// it let rev: the engine then turns on its own inertia until the clutch has brought it down to the wheels' speed. The
+// torque follows the pedal with the engine's response time.
+#include <array>
+
 #include "roar/vehicle/vehicle_params.h"
 
 namespace roar::vehicle {
+
+// Each wheel's share of the drive torque (front left, front right, rear left, rear right; they sum to 1) for
+// the wheels' angular speeds (rad/s): the front axle's share `front_share`, split as the differentials do.
+std::array<double, 4> driveShares(const DifferentialParams& differential, double front_share,
+                                  const std::array<double, 4>& wheel_omega);
 
 struct DriveRequest {
   double throttle = 0.0;

@@ -136,6 +136,19 @@ struct AeroParams {
   double air_density = 1.2;  // kg/m^3
 };
 
+// How the drive torque is shared between the driven wheels. Open differentials give each wheel of an axle
+// half the axle's share whatever their speeds; limited-slip ones are PhysX's (PxVehicleDifferential4WData's
+// LS types, which CARLA's cars have by default): while the faster of two outputs (left and right of an axle,
+// or the front axle and the rear) turns more than `bias` times the slower, torque moves to the slower by the
+// excess's share of the faster's speed (powertrain_test LimitedSlipMovesTorqueToTheSlowerWheel).
+enum class DifferentialType { kOpen, kLimitedSlip };
+struct DifferentialParams {
+  DifferentialType type = DifferentialType::kOpen;
+  double centre_bias = 1.3;  // front axle against rear (four-wheel drive only)
+  double front_bias = 1.3;   // left against right
+  double rear_bias = 1.3;
+};
+
 struct VehicleParams {
   std::string model;
   std::string blueprint;  // the CARLA-style id ROAR_PY programs spawn it by, e.g. vehicle.tesla.model3
@@ -150,8 +163,9 @@ struct VehicleParams {
   SteeringParams steering;
   AeroParams aero;
   double front_drive_share = 0.4;  // share of drive torque to the front axle (0: rear-wheel drive)
-  bool traction_control = true;    // keeps driving slip below the tyre's peak
-  double rear_grip_share = 0.8;    // traction control lets the rear wheels drive with at most this share of their grip
+  DifferentialParams differential;
+  bool traction_control = true;  // keeps driving slip below the tyre's peak
+  double rear_grip_share = 0.8;  // traction control lets the rear wheels drive with at most this share of their grip
 
   double wheelbase() const { return wheels[0].position.x() - wheels[2].position.x(); }
   // s the pedals take to act: the longer of the torque's response and the brakes' build, from half the pedal's
