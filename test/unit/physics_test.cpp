@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include "roar/sim/world.h"
 #include "test_support.h"
@@ -391,4 +392,36 @@ TEST(Physics, IdenticalRunsEndInIdenticalStates) {
   EXPECT_EQ(a.linear_velocity, b.linear_velocity);
   for (int w = 0; w < 4; ++w) EXPECT_EQ(a.wheels[w].angular_velocity, b.wheels[w].angular_velocity);
   EXPECT_GT(a.pose.position.norm(), 20.0) << "the run went somewhere";
+}
+
+// A rear-wheel-drive car pulling out of a tight turn at full throttle: the inner rear wheel, unloaded,
+// spins up through an open differential; a limited-slip one (PhysX's, bias 1.3) moves the torque to the
+// outer wheel and holds the two nearer together (vehicle::driveShares).
+TEST(Physics, ALimitedSlipDifferentialHoldsTheInnerWheelFromSpinningUp) {
+  auto spin_ratio = [](vehicle::DifferentialType type) {
+    const track::Track track = test::openGround();
+    sim::World world(track, Drive::options());
+    vehicle::VehicleParams car = test::vehicle("racecar");
+    car.traction_control = false;
+    car.differential.type = type;
+    world.spawnVehicle("ego", car, track::Pose());
+    for (int i = 0; i < 20; ++i) world.step();
+    world.setVehicleVelocity("ego", {8.0, 0.0, 0.0}, {0.0, 0.0, 0.0});
+    vehicle::VehicleControl c = throttle(1.0);
+    c.steer = 0.8;  // left: the rear left wheel is the inner one
+    double worst = 1.0;
+    for (int i = 0; i < 30; ++i) {
+      world.setControl("ego", c);
+      world.step();
+      const auto s = world.vehicleState("ego");
+      const double inner = std::abs(s.wheels[2].angular_velocity), outer = std::abs(s.wheels[3].angular_velocity);
+      worst = std::max(worst, inner / std::max(outer, 1e-6));
+    }
+    return worst;
+  };
+  const double open = spin_ratio(vehicle::DifferentialType::kOpen);
+  const double limited = spin_ratio(vehicle::DifferentialType::kLimitedSlip);
+  std::printf("inner / outer rear wheel speed at worst: open %.2f, limited slip %.2f\n", open, limited);
+  EXPECT_GT(open, 2.5) << "the open differential lets the inner wheel spin";
+  EXPECT_LT(limited, 0.6 * open);
 }
