@@ -250,8 +250,11 @@ async def main():
     await world.step()
     main_tid = threading.main_thread().native_id
     for tid in sorted(os.listdir("/proc/self/task")):
-        with open(f"/proc/self/task/{tid}/status") as f:
-            blocked = int(next(l for l in f if l.startswith("SigBlk:")).split()[1], 16)
+        try:
+            with open(f"/proc/self/task/{tid}/status") as f:
+                blocked = int(next(l for l in f if l.startswith("SigBlk:")).split()[1], 16)
+        except FileNotFoundError:
+            continue  # a thread that ended since the listing (rospy's short-lived ones) takes no signal
         print(tid, int(tid) == main_tid, blocked, flush=True)
     instance.close()
 
