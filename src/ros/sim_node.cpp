@@ -8,7 +8,6 @@
 
 #include <filesystem>
 #include <map>
-#include <regex>
 #include <set>
 #include <type_traits>
 
@@ -19,10 +18,7 @@
 #include "roar/ros/sensor_msg_conversion.h"
 #include "roar/ros/service_refusal.h"
 #include "roar/ros/wall_throttle.h"
-#include "roar/sensors/vehicle_looks.h"
 #include "roar/sensors/vehicle_motion.h"
-#include "roar/track/map_folder.h"
-#include "roar/vehicle/vehicle_config.h"
 
 namespace roar::ros_bridge {
 

@@ -1,7 +1,8 @@
 #pragma once
 // The roar_sim node: wires vehicles' topics, their sensors' publishers and the simulator's services to a
-// ROS-free session::SimSession (the map, its cars, the ray scene's kept ticks), and runs the stepping loop. Parameters
-// come from sim_parameters.h, messages from msg_conversion.h; the service handlers live in sim_services.cpp.
+// ROS-free session::SimSession (the map, its cars, the ray scene's kept ticks), and runs the stepping
+// loop. Parameters come from sim_parameters.h, messages from msg_conversion.h; the service handlers live
+// in sim_services.cpp.
 //
 // The loop runs on wall time on purpose: this node is the source of /clock, so ros::Timer (which follows
 // /clock) cannot drive it. Everything it publishes is stamped with simulated time.

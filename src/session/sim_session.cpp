@@ -162,7 +162,7 @@ const SceneTick& SimSession::keepTick(bool pose_scene) {
     if (scene_posed_at_ == &scene_ticks_.front()) scene_posed_at_ = nullptr;
     scene_ticks_.pop_front();
   }
-  if (pose_scene) poseScene(scene_ticks_.back());
+  if (pose_scene) pose(scene_ticks_.back(), true);
   return scene_ticks_.back();
 }
 
@@ -180,6 +180,10 @@ const SceneTick& SimSession::keptTick(double stamp, const std::string& vehicle) 
 
 void SimSession::poseScene(const SceneTick& tick) {
   if (&tick == scene_posed_at_) return;
+  pose(tick, std::any_of(scene_ticks_.begin(), scene_ticks_.end(), [&](const SceneTick& t) { return &t == &tick; }));
+}
+
+void SimSession::pose(const SceneTick& tick, bool kept) {
   for (const auto& [name, car] : cars_) {
     const auto at = tick.cars.find(name);
     if (at == tick.cars.end()) {
@@ -190,8 +194,6 @@ void SimSession::poseScene(const SceneTick& tick) {
     scene_->setVehicleVelocity(car.scene_id, at->second.linear, at->second.angular);
   }
   scene_->commit();
-  const bool kept =
-      std::any_of(scene_ticks_.begin(), scene_ticks_.end(), [&](const SceneTick& t) { return &t == &tick; });
   scene_posed_at_ = kept ? &tick : nullptr;
 }
 

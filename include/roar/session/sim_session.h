@@ -119,6 +119,8 @@ class SimSession {
     int scene_id = -1;
   };
   vehicle::CheckedControl checked(const std::string& name, const vehicle::VehicleControl& control) const;
+  // Poses the ray scene at a tick; `kept`: one of scene_ticks_, remembered as posed.
+  void pose(const SceneTick& tick, bool kept);
 
   SessionOptions options_;
   std::string map_folder_;
