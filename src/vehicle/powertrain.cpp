@@ -32,6 +32,18 @@ bool sameWay(std::initializer_list<double> omegas) {
   return true;
 }
 
+constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
+// Kickdown needs the pedal nearly floored, like a road car's; a part-throttle cruise keeps its gear.
+constexpr double kKickdownThrottle = 0.9;
+// A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
+constexpr double kKickdownHeadroomRpm = 300.0;
+// For this long after a shift up at full throttle, no kickdown back while the pedal has stayed floored and the
+// car has lost less than kKickdownHoldLoss of the speed it shifted up at: on a climb the car loses a little speed in
+// each shift's torque gap, and the gear just left, stronger at that speed but at its limit, would take it straight
+// back, shift up again at once, and so on, never pulling the higher gear up the hill (the hatchback hunted 1-2 for 15 s
+// up Roar Hillclimb). A car that lifted (behind another) or slowed by more kicks down as before.
+constexpr double kKickdownHoldTime = 1.0;
+constexpr double kKickdownHoldLoss = 0.1;
 }  // namespace
 
 std::array<double, 4> driveShares(const DifferentialParams& differential, double front_share,
@@ -56,21 +68,6 @@ std::array<double, 4> driveShares(const DifferentialParams& differential, double
   shares[first + 1] = pair[1];
   return shares;
 }
-
-namespace {
-constexpr double kRadPerSecToRpm = 60.0 / (2.0 * M_PI);
-// Kickdown needs the pedal nearly floored, like a road car's; a part-throttle cruise keeps its gear.
-constexpr double kKickdownThrottle = 0.9;
-// A kickdown gear must leave this much below the shift-up rpm, or the next tick would shift back up.
-constexpr double kKickdownHeadroomRpm = 300.0;
-// For this long after a shift up at full throttle, no kickdown back while the pedal has stayed floored and the
-// car has lost less than kKickdownHoldLoss of the speed it shifted up at: on a climb the car loses a little speed in
-// each shift's torque gap, and the gear just left, stronger at that speed but at its limit, would take it straight
-// back, shift up again at once, and so on, never pulling the higher gear up the hill (the hatchback hunted 1-2 for 15 s
-// up Roar Hillclimb). A car that lifted (behind another) or slowed by more kicks down as before.
-constexpr double kKickdownHoldTime = 1.0;
-constexpr double kKickdownHoldLoss = 0.1;
-}  // namespace
 
 Powertrain::Powertrain(const VehicleParams& params) : engine_(params.engine), gearbox_(params.gearbox) { reset(true); }
 
