@@ -25,6 +25,7 @@ from roar_fidelity import measure, read_telemetry
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LAP_TARGET = 0.02  # the closed-loop lap within 2 % of the log's
+DRIFT_SHARE = 0.1  # a window countersteered on this share of its ticks or its history's is a drift's
 
 
 def band_table(title, carla, ours, tolerance, min_samples, lo_band, hi_band):
@@ -67,6 +68,17 @@ def print_by_steering(windows, logs):
         pm, pp = percentiles(e[corner][thirds == k, 0])
         cells.append(f"{name} {pm:.2f} / {pp:.2f} m")
     print(f"  corners held, by the steering's travel (median / p95 position): {', '.join(cells)}")
+
+
+def print_by_drift(windows, logs):
+    """The held corner windows' position errors split by whether CARLA's car was drifting, held there by
+    countersteer on a tenth or more of the window's ticks or of its history's (measure.countersteering)."""
+    e = measure.window_errors(windows)
+    corner = e[:, 2] == 1
+    drifting = measure.countersteering(windows, logs)[corner] >= DRIFT_SHARE
+    cells = [f"{name} n {mask.sum()} {'{:.2f} / {:.2f}'.format(*percentiles(e[corner][mask, 0]))} m"
+             for name, mask in (("countersteered", drifting), ("not", ~drifting))]
+    print(f"  corners held, by whether CARLA's car countersteers (median / p95 position): {', '.join(cells)}")
 
 
 def print_resolution(model, held, logs, starts, fitted, lap_log):
@@ -163,6 +175,7 @@ def main():
     print(f"  {'ok' if loop_ok else 'MISS'} (held, straights and corners apart)")
     met &= loop_ok
     print_by_steering(fitted, logs)
+    print_by_drift(fitted, logs)
     lap_log = read_telemetry(args.lap)
     print_resolution(model, held, logs, starts, fitted, lap_log)
     print("The bench's floor: our car replaying a log it wrote itself driving the logged lap, rounded as ROAR's are")

@@ -16,6 +16,7 @@ STRAIGHT_STEER = 0.02     # |steer| of a straight-line tick
 FULL = 0.999              # a pedal this far down is floored
 WINDOW = 40               # ticks of an open-loop window: 2 s
 CORNER_TURN = np.radians(5.0)  # a window whose path turns more is a corner's
+COUNTERSTEER = 0.005      # steer (share of lock) x path yaw rate (rad/s) beyond which the wheel is turned out
 # The log holds neither the car's heading nor its yaw rate, slip, wheel spin, steering or pedal states: before
 # each window the car is held on the logged path for HISTORY ticks (put back each tick where the log has it,
 # going its way at its speed) while those states are its own, then let go. A log written by our own car,
@@ -215,6 +216,21 @@ def window_errors(windows: typing.Sequence[Window]) -> np.ndarray:
 def steering_travel(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry]) -> np.ndarray:
     """Per window: how far the logged steering moved over it (the sum of its changes tick to tick)."""
     return np.array([np.abs(np.diff(logs[w.log].steer[w.start:w.start + WINDOW])).sum() for w in windows])
+
+
+def countersteering(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry],
+                    history: int = HISTORY) -> np.ndarray:
+    """Per window: the share of ticks, over the window or over the history it was held on (the larger), on
+    which the logged steering points out of the turn the logged path makes, by more than COUNTERSTEER: CARLA's
+    car held in a drift. The log has no heading, so a replay starts a drift with our car's own slip."""
+    out = []
+    for w in windows:
+        log = logs[w.log]
+        _, rate = log.smoothed_motion()
+        # ROAR_PY's steer is positive right, the path's rate positive left: the same sign is a countersteer.
+        against = log.steer * rate > COUNTERSTEER
+        out.append(max(against[w.start:w.start + WINDOW].mean(), against[max(0, w.start - history):w.start].mean()))
+    return np.array(out)
 
 
 def our_accelerations(windows: typing.Sequence[Window], logs: typing.Sequence[Telemetry],

@@ -80,6 +80,7 @@ def test_the_fidelity_bench_compares_our_car_with_the_log():
     for band in ("120-140", "140-160", "160-180", "180-200", "200-220", "220-240"):
         assert rows[band][-1] == "ok", out.stdout
     assert "The telemetry's resolution" in out.stdout
+    assert "by whether CARLA's car countersteers" in out.stdout
     assert "(no log starts at rest" in out.stdout, "lap 2 starts at speed: no standing start to compare"
 
 
@@ -130,3 +131,24 @@ def test_a_start_heading_off_by_the_logs_rounding_moves_a_window_by_its_lever():
     lever = np.array([np.linalg.norm(held[n].ours[-1, :2] - held[n].ours[0, :2]) * heading for n in straight])
     ratio = measure.apart([held[n] for n in straight], turned) / lever
     assert 0.5 < np.median(ratio) < 2.0, ratio
+
+
+def arc_log(tmp_path, left, steer_of_tick):
+    """A log driving a 50 m circle at 10 m/s (0.2 rad/s), turning left or right, with the given steering."""
+    side = 1.0 if left else -1.0
+    ticks = {}
+    for i in range(200):
+        angle = 0.01 * i
+        loc = [50.0 * np.sin(angle), side * 50.0 * (1.0 - np.cos(angle))]
+        ticks[str(i + 1)] = {**tick(0.0), "loc": loc, "steer": steer_of_tick(i)}
+    return read_telemetry(write(tmp_path, ticks, "arc.json"))
+
+
+def test_countersteering_counts_the_ticks_the_wheel_points_out_of_the_turn(tmp_path):
+    # ROAR_PY's steer is positive right: on a left turn, steering right is countersteering.
+    log = arc_log(tmp_path, True, lambda i: 0.3 if 60 <= i < 80 else -0.1)
+    windows = [measure.Window(0, start, 0.4, None, None) for start in (60, 100, 140)]
+    shares = measure.countersteering(windows, [log])
+    assert shares == pytest.approx([0.5, 0.5, 0.0]), "in the window, in the history it was held on, in neither"
+    into_a_right_turn = arc_log(tmp_path, False, lambda i: 0.3)
+    assert measure.countersteering(windows, [into_a_right_turn]) == pytest.approx([0.0, 0.0, 0.0])
